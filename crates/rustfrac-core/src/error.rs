@@ -1,0 +1,103 @@
+//! One error type for the whole core. Every fallible public entry point returns [`Result`].
+
+use std::fmt;
+
+/// Errors raised by the numerical core.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Error {
+    /// A parameter is outside its valid range. `param` names it, `expected` states the range.
+    InvalidInput {
+        param: String,
+        expected: String,
+        got: String,
+    },
+    /// Array or matrix sizes do not match.
+    SizeMismatch {
+        what: String,
+        expected: usize,
+        got: usize,
+    },
+    /// The system matrix is singular: a rigid-body mode is not removed, or the body separated.
+    Singular { detail: String },
+    /// A matrix expected to be symmetric positive definite is not (numerically).
+    NotPositiveDefinite { detail: String },
+    /// The body has separated into parts (SLA runs end with this status, never with NaN).
+    Separated { detail: String },
+    /// An internal failure (a caught panic of a dependency, an allocation failure).
+    Internal { detail: String },
+}
+
+pub type Result<T> = std::result::Result<T, Error>;
+
+impl Error {
+    /// Shorthand for [`Error::InvalidInput`].
+    pub fn invalid(param: &str, expected: &str, got: impl fmt::Display) -> Self {
+        Error::InvalidInput {
+            param: param.to_string(),
+            expected: expected.to_string(),
+            got: got.to_string(),
+        }
+    }
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Error::InvalidInput {
+                param,
+                expected,
+                got,
+            } => write!(f, "invalid {param}: expected {expected}, got {got}"),
+            Error::SizeMismatch {
+                what,
+                expected,
+                got,
+            } => write!(f, "size mismatch in {what}: expected {expected}, got {got}"),
+            Error::Singular { detail } => write!(f, "singular system: {detail}"),
+            Error::NotPositiveDefinite { detail } => {
+                write!(f, "matrix not positive definite: {detail}")
+            }
+            Error::Separated { detail } => write!(f, "body separated: {detail}"),
+            Error::Internal { detail } => write!(f, "internal error: {detail}"),
+        }
+    }
+}
+
+impl std::error::Error for Error {}
+
+/// Check that `v` is finite and strictly positive.
+pub fn check_positive(param: &str, v: f64) -> Result<()> {
+    if v.is_finite() && v > 0.0 {
+        Ok(())
+    } else {
+        Err(Error::invalid(param, "a finite number > 0", v))
+    }
+}
+
+/// Check that `v` is finite.
+pub fn check_finite(param: &str, v: f64) -> Result<()> {
+    if v.is_finite() {
+        Ok(())
+    } else {
+        Err(Error::invalid(param, "a finite number", v))
+    }
+}
+
+/// Run `f`, turning a panic inside it (e.g. from a dependency) into [`Error::Internal`].
+pub fn catch_panic<T>(what: &str, f: impl FnOnce() -> Result<T>) -> Result<T> {
+    match std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)) {
+        Ok(r) => r,
+        Err(p) => {
+            let msg = if let Some(s) = p.downcast_ref::<&str>() {
+                s.to_string()
+            } else if let Some(s) = p.downcast_ref::<String>() {
+                s.clone()
+            } else {
+                "unknown panic".to_string()
+            };
+            Err(Error::Internal {
+                detail: format!("{what}: {msg}"),
+            })
+        }
+    }
+}
