@@ -15,6 +15,7 @@ pub mod loading;
 pub mod material;
 pub mod mesh;
 pub mod pd;
+pub mod plate;
 pub mod quadrature;
 pub mod sif;
 pub mod sla;
