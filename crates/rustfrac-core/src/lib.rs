@@ -14,6 +14,7 @@ pub mod fem;
 pub mod loading;
 pub mod material;
 pub mod mesh;
+pub mod ordering;
 pub mod pd;
 pub mod plate;
 pub mod quadrature;

@@ -90,7 +90,7 @@ pub fn run(p: &FemPlateParams) -> Result<FemPlateResult> {
         bottom,
     };
     let (bc, f, anchor) = plate_conditions(&edges, &p.load, model.n_dofs(), p.material.thickness)?;
-    let sys = LinearSystem::new(model.stiffness(), &bc)?;
+    let sys = LinearSystem::with_positions(model.stiffness(), &bc, Some(&model.dof_positions()))?;
     let sol = sys.solve(&f, 1.0)?;
     let s22 = sigma22(&edges, &sol.reactions, &f, p.width, p.material.thickness);
     let cmod = mouth.map_or(0.0, |(lo, up)| sol.u[2 * up + 1] - sol.u[2 * lo + 1]);

@@ -1,0 +1,65 @@
+//! Phase timings of the FEM plate pipeline: `cargo run --release --example plate_phases -- NX NY`.
+use rustfrac_core::fem::FemModel;
+use rustfrac_core::loading::{plate_conditions, tributary_lengths, Grip, PlateEdges, PlateLoad};
+use rustfrac_core::material::{Elastic, Plane};
+use rustfrac_core::mesh::{Mesh, Side};
+use rustfrac_core::solver::Cholesky;
+use rustfrac_core::sparse::Reduction;
+use std::time::Instant;
+
+fn main() {
+    let a: Vec<usize> = std::env::args()
+        .skip(1)
+        .map(|s| s.parse().expect("NX NY"))
+        .collect();
+    let (nx, ny) = (a[0], a[1]);
+    let t = Instant::now();
+    let lap = |s: &str, t: &Instant| println!("{s:>12}: {:.3} s", t.elapsed().as_secs_f64());
+    let mesh = Mesh::uniform(0.0, 0.0, 11.0, 21.0, nx, ny).unwrap();
+    let mat = Elastic::new(10000.0, 0.25, Plane::Strain, 1.0).unwrap();
+    let model = FemModel::new(mesh, mat, 2).unwrap();
+    lap("pattern", &t);
+    let t = Instant::now();
+    let k = model.stiffness();
+    lap("assemble", &t);
+    let m = &model.mesh;
+    let (top, bottom) = (m.side_nodes(Side::Top), m.side_nodes(Side::Bottom));
+    let xt: Vec<f64> = top.iter().map(|&n| m.coords[n][0]).collect();
+    let edges = PlateEdges {
+        top_len: tributary_lengths(&xt),
+        bottom_len: tributary_lengths(&xt),
+        top,
+        bottom,
+    };
+    let load = PlateLoad {
+        grip: Grip::Free,
+        u0: 0.01,
+        traction: 0.0,
+    };
+    let (bc, f, _) = plate_conditions(&edges, &load, model.n_dofs(), 1.0).unwrap();
+    let t = Instant::now();
+    let (mask, up) = bc.to_mask(k.ncols).unwrap();
+    let red = Reduction::new(&k, &mask).unwrap();
+    let kff = red.reduce(&k);
+    let rhs = red.rhs(&k, &f, &up);
+    lap("reduce", &t);
+    let t = Instant::now();
+    let xy: Vec<[f64; 2]> = red.free.iter().map(|&d| m.coords[d / 2]).collect();
+    let mut ch = if std::env::var("AMD").is_ok() {
+        Cholesky::analyze(&kff).unwrap()
+    } else {
+        Cholesky::analyze_with(&kff, Some(&xy)).unwrap()
+    };
+    lap("symbolic", &t);
+    println!("factor nnz {}", ch.factor_nnz());
+    let t = Instant::now();
+    ch.factorize(&kff).unwrap();
+    lap("numeric", &t);
+    let t = Instant::now();
+    let x = ch.solve(&rhs).unwrap();
+    lap("solve", &t);
+    let t = Instant::now();
+    let _ = model.gauss_stresses(&red.expand(&x, &up));
+    let _ = model.nodal_stresses(&red.expand(&x, &up));
+    lap("post", &t);
+}
