@@ -2,7 +2,7 @@
 
 ``Result.save(dir)`` writes, each atomically (a temporary file in ``dir``, then ``os.replace``):
 
-- ``result.json``: scalars and metadata (version, scene, boundary-condition variant, anchor node,
+- ``result.json`` (written last): scalars and metadata (version, scene, boundary-condition variant, anchor node,
   timings) -- plain JSON, floats written with full precision;
 - ``fields.npz``: the arrays (mesh, displacement, stresses, ...) and the history;
 - ``result.vtu``: the deformed-state mesh for ParaView (ASCII VTK unstructured grid of quads with
@@ -144,9 +144,7 @@ class Result:
             "fields": sorted(self.fields),
             "history": sorted(self.history),
         }
-        with _atomic(d / JSON_NAME, "w") as f:
-            json.dump(_jsonable(doc), f, indent=2, allow_nan=False)
-            f.write("\n")
+        text = json.dumps(_jsonable(doc), indent=2, allow_nan=False) + "\n"  # fails before writing
         arrays = dict(self.fields)
         arrays.update({_HISTORY_PREFIX + k: v for k, v in self.history.items()})
         with _atomic(d / NPZ_NAME, "wb") as f:
@@ -154,6 +152,9 @@ class Result:
         if vtu and "coords" in self.fields and "elements" in self.fields:
             with _atomic(d / VTU_NAME, "w") as f:
                 write_vtu(f, self)
+        # the JSON goes last: it names the fields, so a reader never sees it before them
+        with _atomic(d / JSON_NAME, "w") as f:
+            f.write(text)
         return d
 
 
