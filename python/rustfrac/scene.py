@@ -27,6 +27,7 @@ TOML layout (only ``method`` is required; omitted sections and keys take the pap
 from __future__ import annotations
 
 import dataclasses
+import json
 import math
 import sys
 from collections.abc import Mapping
@@ -535,7 +536,8 @@ def _toml_value(v: Any) -> str:
     if isinstance(v, float):
         return repr(v)  # shortest round-trip repr; finite by validation
     if isinstance(v, str):
-        return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
+        # JSON escapes (\", \\, \n, \uXXXX) are valid TOML; TOML also forbids DEL
+        return json.dumps(v, ensure_ascii=False).replace("\x7f", "\\u007f")
     if isinstance(v, (list, tuple)):
         return "[" + ", ".join(_toml_value(x) for x in v) + "]"
     raise TypeError(f"cannot write {type(v).__name__} to TOML")
