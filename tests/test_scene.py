@@ -198,3 +198,16 @@ def test_run_accepts_dict_and_path(root: Path) -> None:
     assert r1.sigma22 == r2.sigma22
     with pytest.raises(rf.InvalidTypeError):
         rf.run(42)  # type: ignore[arg-type]
+
+
+def test_scene_from_keywords_and_dicts() -> None:
+    s = Scene(method="fem", material={"E": 200.0, "nu": 0.3}, mesh={"nx": 4, "ny": 8})
+    assert s.material.E == 200.0 and s.material.nu == 0.3 and s.material.G0 == 0.367
+    assert s.crack.kind == "seam"
+    assert Scene(method="xfem").crack.kind == "edge"
+    assert Scene(method="xfem") == rf.scenes.edge_crack_plate(method="xfem")
+    assert Scene(method="pd").crack == Scene.from_dict({"method": "pd"}).crack
+    with pytest.raises(rf.UnknownParameterError, match=r"material\.G"):
+        Scene(material={"G": 1.0})
+    with pytest.raises(rf.InvalidTypeError, match="material"):
+        Scene(material=3)  # type: ignore[arg-type]

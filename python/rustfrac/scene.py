@@ -326,7 +326,8 @@ class Scene:
     plate: Plate = field(default_factory=Plate)
     material: Material = field(default_factory=Material)
     load: Load = field(default_factory=Load)
-    crack: Crack = field(default_factory=Crack)
+    #: default: the paper's crack, as a seam for "fem" and as an "edge" crack for the others
+    crack: Crack = None  # type: ignore[assignment]
     mesh: MeshOptions = field(default_factory=MeshOptions)
     xfem: XfemOptions = field(default_factory=XfemOptions)
     pd: PdOptions = field(default_factory=PdOptions)
@@ -335,6 +336,10 @@ class Scene:
     def __post_init__(self) -> None:
         _coerce("method", _choice(*METHODS), self.method)
         _coerce("name", _Spec("str", "a string"), self.name)
+        if self.crack is None:
+            object.__setattr__(
+                self, "crack", Crack(kind="seam" if self.method == "fem" else "edge")
+            )
         for key, cls in _SECTIONS.items():
             v = getattr(self, key)
             if isinstance(v, Mapping):
@@ -428,8 +433,6 @@ class Scene:
         for key in METHOD_SECTIONS[method]:
             if key in d:
                 kwargs[key] = _SECTIONS[key].from_dict(d[key])
-            elif key == "crack" and method != "fem":
-                kwargs[key] = Crack(kind="edge")
         return cls(**kwargs)
 
     @classmethod
