@@ -104,3 +104,15 @@ def test_plot(seam: rf.Result, tmp_path: Path) -> None:
 
     p = save_plot(seam, tmp_path / "s22.png")
     assert p.stat().st_size > 1000
+
+
+def test_saved_files_respect_umask(uncracked: rf.Result, tmp_path: Path) -> None:
+    import os
+
+    old = os.umask(0o022)
+    try:
+        uncracked.save(tmp_path)
+    finally:
+        os.umask(old)
+    for p in tmp_path.iterdir():
+        assert p.stat().st_mode & 0o777 == 0o644, p

@@ -16,7 +16,7 @@ from __future__ import annotations
 import json
 import math
 import os
-import tempfile
+import secrets
 from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, field
@@ -214,7 +214,9 @@ def _jsonable(v: Any) -> Any:
 @contextmanager
 def _atomic(path: Path, mode: str) -> Iterator[IO[Any]]:
     """Writes to a temporary file next to ``path`` and renames it over ``path`` on success."""
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    # like mkstemp, but the file gets the usual permissions (0666 minus the umask), not 0600
+    tmp = path.parent / f".{path.name}.{os.getpid()}.{secrets.token_hex(6)}.tmp"
+    fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
     try:
         with os.fdopen(fd, mode, **({} if "b" in mode else {"encoding": "utf-8"})) as f:
             yield f
