@@ -117,7 +117,16 @@ impl Progress {
         let Some(cb) = &self.callback else {
             return true;
         };
-        let mut st = self.state.lock().unwrap_or_else(|p| p.into_inner());
+        // a throttled report from one of several worker threads never waits for another's callback
+        let mut st = if force {
+            self.state.lock().unwrap_or_else(|p| p.into_inner())
+        } else {
+            match self.state.try_lock() {
+                Ok(g) => g,
+                Err(std::sync::TryLockError::Poisoned(p)) => p.into_inner(),
+                Err(std::sync::TryLockError::WouldBlock) => return true,
+            }
+        };
         if st.error.is_some() {
             return false;
         }
