@@ -59,12 +59,8 @@ fn py_error(py: Python<'_>, name: &str, msg: String) -> PyErr {
 fn core_err(py: Python<'_>, e: CoreError) -> PyErr {
     let msg = e.to_string();
     let name = match e {
-        CoreError::InvalidInput { .. } | CoreError::SizeMismatch { .. } => {
-            "InvalidParameterError"
-        }
-        CoreError::Singular { .. } | CoreError::NotPositiveDefinite { .. } => {
-            "SingularSystemError"
-        }
+        CoreError::InvalidInput { .. } | CoreError::SizeMismatch { .. } => "InvalidParameterError",
+        CoreError::Singular { .. } | CoreError::NotPositiveDefinite { .. } => "SingularSystemError",
         CoreError::Separated { .. } => "SeparatedError",
         CoreError::Internal { .. } => "InternalError",
     };
@@ -131,7 +127,11 @@ impl Progress {
             return false;
         }
         let now = Instant::now();
-        if !force && st.last.is_some_and(|t| now.duration_since(t) < self.interval) {
+        if !force
+            && st
+                .last
+                .is_some_and(|t| now.duration_since(t) < self.interval)
+        {
             return true;
         }
         st.last = Some(now);
