@@ -1,1 +1,383 @@
+//! PyO3 bindings of rustfrac: the native module `rustfrac._core`.
+//!
+//! Bindings only. Each function takes plain numbers and strings (the Python package validates the
+//! scene first), releases the GIL around the Rust call (`py.detach`), catches panics at the
+//! boundary, and returns a dict of numpy arrays (moved, not copied, from Rust vectors) and
+//! scalars. Core errors map to the exception classes of `rustfrac.errors`:
+//!
+//! | core error                         | Python exception                                 |
+//! |------------------------------------|--------------------------------------------------|
+//! | `InvalidInput` / `SizeMismatch`    | `InvalidParameterError` (a `ValueError`)         |
+//! | `Singular` / `NotPositiveDefinite` | `SingularSystemError`                            |
+//! | `Separated`                        | `SeparatedError` (a `SingularSystemError`)       |
+//! | `Internal`, caught panic           | `InternalError`                                  |
+//!
+//! Progress: long runs take an optional Python callable `progress(done, total, message)`. It is
+//! called from the worker thread at most every [`PROGRESS_INTERVAL_S`] seconds (plus once at the
+//! end), and the GIL is acquired only for that call. If the callback raises (e.g.
+//! `KeyboardInterrupt`), the run is asked to stop and the exception is re-raised afterwards.
+//!
+//! Adding a driver (XFEM, CCM-PD): a `#[pyfunction] solve_<method>(..., progress = None)` that
+//! builds the core params, runs `detached(py, "<method>", || core::run(&params, |done, total|
+//! prog.report(done, total, "<method>", false)))`, and returns a dict like [`solve_fem_plate`]
+//! (history arrays as `history_<name>` keys); on the Python side one `_run_<method>` entry in
+//! `rustfrac.runner._RUNNERS`.
 
+use numpy::ndarray::Array2;
+use numpy::{IntoPyArray, PyArray1};
+use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use rustfrac_core::error::Error as CoreError;
+use rustfrac_core::fem::{Dirichlet, FemModel, LinearSystem};
+use rustfrac_core::loading::{Grip, PlateLoad};
+use rustfrac_core::material::{Elastic, Plane};
+use rustfrac_core::mesh::Mesh;
+use rustfrac_core::plate::{self, FemPlateParams};
+use std::sync::Mutex;
+use std::time::{Duration, Instant};
+
+/// Minimum time between two progress callbacks.
+pub const PROGRESS_INTERVAL_S: f64 = 0.1;
+
+// ---------------------------------------------------------------------------------------------
+// errors
+
+/// Raises `rustfrac.errors.<name>(msg)`, falling back to a builtin if the package is missing.
+fn py_error(py: Python<'_>, name: &str, msg: String) -> PyErr {
+    let made = py
+        .import("rustfrac.errors")
+        .and_then(|m| m.getattr(name))
+        .and_then(|cls| cls.call1((msg.clone(),)));
+    match made {
+        Ok(inst) => PyErr::from_value(inst),
+        Err(_) if name == "InvalidParameterError" => PyValueError::new_err(msg),
+        Err(_) => PyRuntimeError::new_err(msg),
+    }
+}
+
+fn core_err(py: Python<'_>, e: CoreError) -> PyErr {
+    let msg = e.to_string();
+    let name = match e {
+        CoreError::InvalidInput { .. } | CoreError::SizeMismatch { .. } => "InvalidParameterError",
+        CoreError::Singular { .. } | CoreError::NotPositiveDefinite { .. } => "SingularSystemError",
+        CoreError::Separated { .. } => "SeparatedError",
+        CoreError::Internal { .. } => "InternalError",
+    };
+    py_error(py, name, msg)
+}
+
+/// Runs `f` without the GIL, turning a panic into `CoreError::Internal`.
+fn detached<T: Send>(
+    py: Python<'_>,
+    what: &str,
+    f: impl FnOnce() -> Result<T, CoreError> + Send,
+) -> PyResult<T> {
+    let r = py.detach(|| rustfrac_core::error::catch_panic(what, f));
+    r.map_err(|e| core_err(py, e))
+}
+
+// ---------------------------------------------------------------------------------------------
+// throttled progress
+
+/// A progress sink usable from worker threads: forwards `(done, total, message)` to a Python
+/// callable at most every [`PROGRESS_INTERVAL_S`] seconds, acquiring the GIL only then.
+pub struct Progress {
+    callback: Option<Py<PyAny>>,
+    interval: Duration,
+    state: Mutex<ProgressState>,
+}
+
+struct ProgressState {
+    last: Option<Instant>,
+    error: Option<PyErr>,
+    calls: usize,
+}
+
+impl Progress {
+    pub fn new(callback: Option<Py<PyAny>>) -> Self {
+        Self {
+            callback,
+            interval: Duration::from_secs_f64(PROGRESS_INTERVAL_S),
+            state: Mutex::new(ProgressState {
+                last: None,
+                error: None,
+                calls: 0,
+            }),
+        }
+    }
+
+    /// Reports progress; `force` bypasses the throttle (first and last report). Returns `false`
+    /// when the run should stop (the callback raised).
+    pub fn report(&self, done: usize, total: usize, message: &str, force: bool) -> bool {
+        let Some(cb) = &self.callback else {
+            return true;
+        };
+        // a throttled report from one of several worker threads never waits for another's callback
+        let mut st = if force {
+            self.state.lock().unwrap_or_else(|p| p.into_inner())
+        } else {
+            match self.state.try_lock() {
+                Ok(g) => g,
+                Err(std::sync::TryLockError::Poisoned(p)) => p.into_inner(),
+                Err(std::sync::TryLockError::WouldBlock) => return true,
+            }
+        };
+        if st.error.is_some() {
+            return false;
+        }
+        let now = Instant::now();
+        if !force
+            && st
+                .last
+                .is_some_and(|t| now.duration_since(t) < self.interval)
+        {
+            return true;
+        }
+        st.last = Some(now);
+        st.calls += 1;
+        let r = Python::attach(|py| cb.call1(py, (done, total, message)).map(|_| ()));
+        match r {
+            Ok(()) => true,
+            Err(e) => {
+                st.error = Some(e);
+                false
+            }
+        }
+    }
+
+    /// Number of callbacks made so far.
+    pub fn calls(&self) -> usize {
+        self.state.lock().map(|s| s.calls).unwrap_or(0)
+    }
+
+    /// The exception the callback raised, if any (to re-raise once the GIL is held again).
+    pub fn take_error(&self) -> Option<PyErr> {
+        self.state
+            .lock()
+            .unwrap_or_else(|p| p.into_inner())
+            .error
+            .take()
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// array helpers (moves, no copies, except index conversion to int64)
+
+fn arr2<'py, const N: usize>(py: Python<'py>, v: Vec<[f64; N]>) -> Bound<'py, PyAny> {
+    let n = v.len();
+    let flat: Vec<f64> = v.into_flattened();
+    Array2::from_shape_vec((n, N), flat)
+        .expect("shape matches length")
+        .into_pyarray(py)
+        .into_any()
+}
+
+fn arr1<'py>(py: Python<'py>, v: Vec<f64>) -> Bound<'py, PyAny> {
+    PyArray1::from_vec(py, v).into_any()
+}
+
+fn elements_i64<'py>(py: Python<'py>, e: &[[usize; 4]]) -> Bound<'py, PyAny> {
+    let flat: Vec<i64> = e.iter().flatten().map(|&i| i as i64).collect();
+    Array2::from_shape_vec((e.len(), 4), flat)
+        .expect("shape matches length")
+        .into_pyarray(py)
+        .into_any()
+}
+
+fn material(e: f64, nu: f64, plane: &str, thickness: f64) -> Result<Elastic, CoreError> {
+    Elastic::new(e, nu, Plane::parse(plane)?, thickness)
+}
+
+// ---------------------------------------------------------------------------------------------
+// functions
+
+/// Solves the paper's plate with plain Q4 FEM: uncracked, or with a seam crack
+/// `seam = (a0, crack_y)` (duplicated nodes from x1 = 0 to a0 on the grid line nearest crack_y).
+///
+/// Returns a dict: coords (n,2), elements (m,4) int64, u (2n,), reactions (2n,),
+/// nodal_stress (n,3) [s11, s22, s12], gauss_points (g,2), gauss_stress (g,3); scalars sigma22,
+/// cmod, energy, residual, n_dofs, anchor_node, seam_y (or None), wall_time_s, bc.
+#[pyfunction]
+#[pyo3(signature = (*, width, height, nx, ny, e, nu, plane = "strain", thickness = 1.0,
+                    bc = "free", u0 = 0.0, traction = 0.0, seam = None, gauss = 2,
+                    progress = None))]
+#[allow(clippy::too_many_arguments)]
+fn solve_fem_plate<'py>(
+    py: Python<'py>,
+    width: f64,
+    height: f64,
+    nx: usize,
+    ny: usize,
+    e: f64,
+    nu: f64,
+    plane: &str,
+    thickness: f64,
+    bc: &str,
+    u0: f64,
+    traction: f64,
+    seam: Option<(f64, f64)>,
+    gauss: usize,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let prog = Progress::new(progress);
+    let params = (|| {
+        Ok::<_, CoreError>(FemPlateParams {
+            width,
+            height,
+            nx,
+            ny,
+            material: material(e, nu, plane, thickness)?,
+            load: PlateLoad {
+                grip: Grip::parse(bc)?,
+                u0,
+                traction,
+            },
+            seam,
+            gauss,
+        })
+    })()
+    .map_err(|err| core_err(py, err))?;
+    let r = detached(py, "fem plate", || {
+        prog.report(0, 1, "fem: assemble + factorise + solve", true);
+        let r = plate::run(&params);
+        prog.report(1, 1, "fem: done", true);
+        r
+    });
+    if let Some(err) = prog.take_error() {
+        return Err(err);
+    }
+    let r = r?;
+    let d = PyDict::new(py);
+    d.set_item("coords", arr2(py, r.coords))?;
+    d.set_item("elements", elements_i64(py, &r.elements))?;
+    d.set_item("u", arr1(py, r.u))?;
+    d.set_item("reactions", arr1(py, r.reactions))?;
+    d.set_item("nodal_stress", arr2(py, r.nodal_stress))?;
+    d.set_item("gauss_points", arr2(py, r.gauss_points))?;
+    d.set_item("gauss_stress", arr2(py, r.gauss_stress))?;
+    d.set_item("sigma22", r.sigma22)?;
+    d.set_item("cmod", r.cmod)?;
+    d.set_item("energy", r.energy)?;
+    d.set_item("residual", r.residual)?;
+    d.set_item("n_dofs", r.n_dofs)?;
+    d.set_item("anchor_node", r.anchor_node)?;
+    d.set_item("seam_y", r.seam_y)?;
+    d.set_item("wall_time_s", r.wall_time_s)?;
+    d.set_item("bc", params.load.grip.name())?;
+    Ok(d)
+}
+
+/// Solves a uniform rectangular Q4 grid (origin 0, size width x height, nx x ny elements) with
+/// explicit Dirichlet conditions `fixed_dofs` -> `fixed_values` (dof = 2 node + component) and
+/// nodal forces `forces` (length 2 (nx+1) (ny+1), or empty for none). Nodes are numbered row by
+/// row from the bottom-left corner. Too few conditions raise `SingularSystemError`.
+///
+/// Returns a dict: coords, elements, u, reactions, nodal_stress, energy, residual, n_dofs.
+#[pyfunction]
+#[pyo3(signature = (*, width, height, nx, ny, e, nu, plane = "strain", thickness = 1.0,
+                    fixed_dofs, fixed_values, forces = Vec::new()))]
+#[allow(clippy::too_many_arguments)]
+fn solve_fem_grid<'py>(
+    py: Python<'py>,
+    width: f64,
+    height: f64,
+    nx: usize,
+    ny: usize,
+    e: f64,
+    nu: f64,
+    plane: &str,
+    thickness: f64,
+    fixed_dofs: Vec<usize>,
+    fixed_values: Vec<f64>,
+    forces: Vec<f64>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let (model, sol) = detached(py, "fem grid", || {
+        if fixed_dofs.len() != fixed_values.len() {
+            return Err(CoreError::SizeMismatch {
+                what: "fixed_values".into(),
+                expected: fixed_dofs.len(),
+                got: fixed_values.len(),
+            });
+        }
+        let mat = material(e, nu, plane, thickness)?;
+        let mesh = Mesh::uniform(0.0, 0.0, width, height, nx, ny)?;
+        let model = FemModel::new(mesh, mat, 2)?;
+        let n = model.n_dofs();
+        let f = if forces.is_empty() {
+            vec![0.0; n]
+        } else if forces.len() == n {
+            forces
+        } else {
+            return Err(CoreError::SizeMismatch {
+                what: "forces".into(),
+                expected: n,
+                got: forces.len(),
+            });
+        };
+        let bc = Dirichlet {
+            dofs: fixed_dofs.into_iter().zip(fixed_values).collect(),
+        };
+        let sys = LinearSystem::new(model.stiffness(), &bc)?;
+        let sol = sys.solve(&f, 1.0)?;
+        Ok((model, sol))
+    })?;
+    let nodal = model.nodal_stresses(&sol.u);
+    let d = PyDict::new(py);
+    d.set_item("coords", arr2(py, model.mesh.coords.clone()))?;
+    d.set_item("elements", elements_i64(py, &model.mesh.elements))?;
+    d.set_item("n_dofs", model.n_dofs())?;
+    d.set_item("u", arr1(py, sol.u))?;
+    d.set_item("reactions", arr1(py, sol.reactions))?;
+    d.set_item("nodal_stress", arr2(py, nodal))?;
+    d.set_item("energy", sol.energy)?;
+    d.set_item("residual", sol.residual)?;
+    Ok(d)
+}
+
+/// Exercises the progress mechanism: `steps` steps of `step_s` seconds each without the GIL,
+/// reporting every step through the throttle. Returns the number of callbacks made.
+#[pyfunction]
+#[pyo3(signature = (steps, step_s, progress = None))]
+fn _progress_demo(
+    py: Python<'_>,
+    steps: usize,
+    step_s: f64,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<usize> {
+    let prog = Progress::new(progress);
+    let dt = Duration::from_secs_f64(step_s.max(0.0));
+    detached(py, "progress demo", || {
+        for i in 0..steps {
+            std::thread::sleep(dt);
+            if !prog.report(i + 1, steps, "demo", i + 1 == steps) {
+                break;
+            }
+        }
+        Ok(())
+    })?;
+    if let Some(err) = prog.take_error() {
+        return Err(err);
+    }
+    Ok(prog.calls())
+}
+
+/// Raises a Rust panic inside the detached region (tests that it reaches Python as
+/// `InternalError`, not as a crash).
+#[pyfunction]
+fn _panic_demo(py: Python<'_>) -> PyResult<()> {
+    detached(py, "panic demo", || -> Result<(), CoreError> {
+        panic!("deliberate panic for testing")
+    })
+}
+
+#[pymodule]
+fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add("PROGRESS_INTERVAL_S", PROGRESS_INTERVAL_S)?;
+    m.add_function(wrap_pyfunction!(solve_fem_plate, m)?)?;
+    m.add_function(wrap_pyfunction!(solve_fem_grid, m)?)?;
+    m.add_function(wrap_pyfunction!(_progress_demo, m)?)?;
+    m.add_function(wrap_pyfunction!(_panic_demo, m)?)?;
+    Ok(())
+}

@@ -1,0 +1,127 @@
+"""Command line: ``rustfrac run SCENE.toml --out DIR [--quiet]``.
+
+Exit codes: 0 success, 1 the run failed (singular system, internal error), 2 bad input (unreadable
+or invalid scene file, bad arguments).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+from typing import TextIO
+
+from .errors import InvalidParameterError, MethodNotAvailableError, RustfracError
+
+__all__ = ["ProgressBar", "main"]
+
+
+class ProgressBar:
+    """A plain-text progress bar on a stream; draws only once a run has lasted ``delay`` seconds
+    (short runs stay quiet), at most every 0.1 s (the native side throttles too)."""
+
+    def __init__(self, stream: TextIO = sys.stderr, width: int = 30, delay: float = 0.5) -> None:
+        self.stream, self.width, self.delay = stream, width, delay
+        self.t0 = time.perf_counter()
+        self.drawn = False
+
+    def __call__(self, done: int, total: int, message: str) -> None:
+        elapsed = time.perf_counter() - self.t0
+        if elapsed < self.delay and not self.drawn:
+            return
+        frac = done / total if total > 0 else 0.0
+        n = round(self.width * min(max(frac, 0.0), 1.0))
+        bar = "#" * n + "." * (self.width - n)
+        end = "\r" if self.stream.isatty() else "\n"
+        self.stream.write(f"[{bar}] {100 * frac:5.1f}% {elapsed:7.1f} s  {message}{end}")
+        self.stream.flush()
+        self.drawn = True
+
+    def close(self) -> None:
+        if self.drawn and self.stream.isatty():
+            self.stream.write("\n")
+            self.stream.flush()
+
+
+def _parser() -> argparse.ArgumentParser:
+    from . import __version__
+
+    p = argparse.ArgumentParser(
+        prog="rustfrac", description="rustfrac: crack propagation (FEM, XFEM, CCM-PD)"
+    )
+    p.add_argument("--version", action="version", version=f"rustfrac {__version__}")
+    sub = p.add_subparsers(dest="command", required=True)
+    r = sub.add_parser("run", help="run a scene TOML file and save its results")
+    r.add_argument("scene", type=Path, help="scene file (TOML)")
+    r.add_argument("--out", type=Path, required=True, help="output directory")
+    r.add_argument("--quiet", "-q", action="store_true", help="print nothing but errors")
+    r.add_argument("--no-vtu", action="store_true", help="skip the ParaView .vtu file")
+    r.add_argument("--plot", action="store_true", help="also save a PNG of the s22 field")
+    return p
+
+
+def _cmd_run(args: argparse.Namespace) -> int:
+    from .result import Result
+    from .runner import run
+    from .scene import Scene
+
+    log = (lambda *a: None) if args.quiet else (lambda *a: print(*a, flush=True))
+    try:
+        scene = Scene.from_toml(args.scene)
+    except OSError as e:
+        print(
+            f"rustfrac: error: cannot read scene {args.scene}: {e.strerror or e}", file=sys.stderr
+        )
+        return 2
+    except InvalidParameterError as e:
+        print(f"rustfrac: error: invalid scene {args.scene}: {e}", file=sys.stderr)
+        return 2
+    log(f"scene   {args.scene}: {scene.describe()}")
+    bar = None if args.quiet else ProgressBar()
+    try:
+        res: Result = run(scene, progress=bar)
+    except MethodNotAvailableError as e:
+        print(f"rustfrac: error: {e}", file=sys.stderr)
+        return 2
+    except InvalidParameterError as e:
+        print(f"rustfrac: error: invalid input: {e}", file=sys.stderr)
+        return 2
+    except RustfracError as e:
+        print(f"rustfrac: run failed: {type(e).__name__}: {e}", file=sys.stderr)
+        return 1
+    finally:
+        if bar is not None:
+            bar.close()
+    anchor = res.meta.get("anchor_node")
+    log(
+        f"built   {res.n_dofs} unknowns, method {res.method}, bc {res.meta.get('bc')}: "
+        f"{res.meta.get('bc_description', '')}"
+        + (f"; anchor node {anchor}" if anchor is not None else "")
+    )
+    log(
+        f"result  sigma22 = {res.sigma22:.10g}, CMOD = {res.cmod:.10g}, "
+        f"solve {res.wall_time_s:.3f} s"
+    )
+    out = res.save(args.out, vtu=not args.no_vtu)
+    if args.plot:
+        from .plotting import save_plot
+
+        save_plot(res, out / "s22.png")
+    log(
+        f"saved   {out}/ (result.json, fields.npz{'' if args.no_vtu else ', result.vtu'}"
+        f"{', s22.png' if args.plot else ''})"
+    )
+    return 0
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point of the ``rustfrac`` console script; returns the exit code."""
+    args = _parser().parse_args(argv)
+    if args.command == "run":
+        return _cmd_run(args)
+    return 2  # pragma: no cover (argparse enforces the subcommands)
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,59 @@
+"""Exception hierarchy of rustfrac.
+
+Every error rustfrac raises derives from :class:`RustfracError`. Bad input (a parameter out of
+range, a wrong type, an unknown or missing key) is also a :class:`ValueError` (or
+:class:`TypeError` for wrong types), so generic handlers keep working. The native module
+``rustfrac._core`` raises these same classes.
+"""
+
+from __future__ import annotations
+
+__all__ = [
+    "InternalError",
+    "InvalidParameterError",
+    "InvalidTypeError",
+    "MethodNotAvailableError",
+    "RustfracError",
+    "SeparatedError",
+    "SingularSystemError",
+    "UnknownParameterError",
+]
+
+
+class RustfracError(Exception):
+    """Base class of every rustfrac error."""
+
+
+class InvalidParameterError(RustfracError, ValueError):
+    """A parameter is outside its valid range; the message names it and the range.
+
+    ``param`` holds the parameter name when known.
+    """
+
+    def __init__(self, message: str, param: str | None = None) -> None:
+        super().__init__(message)
+        self.param = param
+
+
+class UnknownParameterError(InvalidParameterError):
+    """A scene holds a key rustfrac does not know (a typo, most often), or lacks a required one."""
+
+
+class InvalidTypeError(InvalidParameterError, TypeError):
+    """A parameter has the wrong type (e.g. a string where a number is expected)."""
+
+
+class SingularSystemError(RustfracError):
+    """The system matrix is singular or not positive definite: a rigid-body mode is not removed."""
+
+
+class SeparatedError(SingularSystemError):
+    """The body separated into disconnected parts (e.g. the crack cut through the plate)."""
+
+
+class InternalError(RustfracError, RuntimeError):
+    """An internal failure of the numerical core (e.g. a caught Rust panic). Please report it."""
+
+
+class MethodNotAvailableError(RustfracError, NotImplementedError):
+    """The scene is valid, but its method is not bound in this build yet."""

@@ -1,0 +1,546 @@
+"""Scenes: complete, validated descriptions of one run.
+
+A :class:`Scene` says which method runs (``"fem" | "xfem" | "pd" | "ccm_pd"``) on which plate,
+material, load and crack, with the method's own options. It is validated when it is built, before
+any Rust runs: every bad value raises :class:`~rustfrac.errors.InvalidParameterError` (a
+``ValueError``) naming the parameter (``section.key``) and its valid range; unknown keys raise
+:class:`~rustfrac.errors.UnknownParameterError` listing the allowed ones; wrong types raise
+:class:`~rustfrac.errors.InvalidTypeError` (also a ``TypeError``).
+
+Units are consistent and up to the user; the paper's case uses N, mm and MPa (E = 10000 MPa).
+
+TOML layout (only ``method`` is required; omitted sections and keys take the paper's values)::
+
+    method = "fem"            # "fem" | "xfem" | "pd" | "ccm_pd"
+    name = "paper plate"      # optional label
+
+    [plate]     width = 11.0, height = 21.0                         # W along x1, L along x2
+    [material]  E = 10000.0, nu = 0.25, plane = "strain", thickness = 1.0, G0 = 0.367
+    [load]      bc = "free", u0 = 0.01, traction = 9.993            # bc: free | clamped | traction
+    [crack]     kind = "seam", a0 = 1.1, y = 10.5                   # fem: none | seam; else none | edge
+    [mesh]      nx = 44, ny = 83, gauss = 2                         # fem and xfem
+    [xfem]      nsub = 4, r_I = 2.5, growth_steps = 0, da = 0.25     # xfem only
+    [pd]        dx = 0.0666..., m = 4, center = [1.70, 10.5], size = [2.73, 1.67],
+                sla_steps = 500                                     # pd and ccm_pd only
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+import sys
+from collections.abc import Mapping
+from dataclasses import dataclass, field, fields
+from pathlib import Path
+from typing import Any, Callable, ClassVar, Union
+
+from .errors import InvalidParameterError, InvalidTypeError, UnknownParameterError
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover
+    import tomli as tomllib
+
+__all__ = [
+    "METHODS",
+    "Crack",
+    "Load",
+    "Material",
+    "MeshOptions",
+    "PdOptions",
+    "Plate",
+    "Scene",
+    "XfemOptions",
+]
+
+METHODS: tuple[str, ...] = ("fem", "xfem", "pd", "ccm_pd")
+BCS: tuple[str, ...] = ("free", "clamped", "traction")
+PD_NU = 0.25
+PathLike = Union[str, Path]
+
+# ----------------------------------------------------------------------------------------------
+# field specifications
+
+
+@dataclass(frozen=True)
+class _Spec:
+    """How one key is checked: its kind, a predicate and the valid range in words."""
+
+    kind: str  # "float" | "int" | "str" | "pair"
+    valid: str
+    ok: Callable[[Any], bool] = lambda v: True
+
+
+def _finite(v: float) -> bool:
+    return math.isfinite(v)
+
+
+def _pos(v: float) -> bool:
+    return math.isfinite(v) and v > 0
+
+
+_POS = _Spec("float", "a finite number > 0", _pos)
+_FINITE = _Spec("float", "a finite number", _finite)
+
+
+def _choice(*opts: str) -> _Spec:
+    return _Spec("str", "one of " + ", ".join(repr(o) for o in opts), lambda v: v in opts)
+
+
+def _int_at_least(lo: int, hi: int | None = None) -> _Spec:
+    valid = f"an integer >= {lo}" if hi is None else f"an integer in {lo}..{hi}"
+    return _Spec("int", valid, lambda v: v >= lo and (hi is None or v <= hi))
+
+
+def _coerce(name: str, spec: _Spec, v: Any) -> Any:
+    """Checks the type of ``v`` (ints are accepted for floats) and its range."""
+    if spec.kind == "float":
+        if isinstance(v, bool) or not isinstance(v, (int, float)):
+            raise InvalidTypeError(
+                f"{name} must be a number ({spec.valid}), got {type(v).__name__} {v!r}", name
+            )
+        v = float(v)
+    elif spec.kind == "int":
+        if isinstance(v, bool) or not isinstance(v, int):
+            raise InvalidTypeError(
+                f"{name} must be an integer ({spec.valid}), got {type(v).__name__} {v!r}", name
+            )
+    elif spec.kind == "str":
+        if not isinstance(v, str):
+            raise InvalidTypeError(
+                f"{name} must be a string ({spec.valid}), got {type(v).__name__} {v!r}", name
+            )
+    elif spec.kind == "pair":
+        if (
+            not isinstance(v, (list, tuple))
+            or len(v) != 2
+            or any(isinstance(x, bool) or not isinstance(x, (int, float)) for x in v)
+        ):
+            raise InvalidTypeError(
+                f"{name} must be a pair of numbers ({spec.valid}), got {v!r}", name
+            )
+        v = (float(v[0]), float(v[1]))
+    if not spec.ok(v):
+        raise InvalidParameterError(f"invalid {name}: expected {spec.valid}, got {v!r}", name)
+    return v
+
+
+class _Section:
+    """Base of the scene sections: validates its fields against ``_specs`` after init."""
+
+    _name: ClassVar[str] = ""
+    _specs: ClassVar[dict[str, _Spec]] = {}
+
+    def __post_init__(self) -> None:
+        for f in fields(self):  # type: ignore[arg-type]
+            spec = self._specs[f.name]
+            object.__setattr__(
+                self, f.name, _coerce(f"{self._name}.{f.name}", spec, getattr(self, f.name))
+            )
+
+    @classmethod
+    def from_dict(cls, d: Any) -> Any:
+        if not isinstance(d, Mapping):
+            raise InvalidTypeError(
+                f"[{cls._name}] must be a table/dict, got {type(d).__name__}", cls._name
+            )
+        allowed = [f.name for f in fields(cls)]  # type: ignore[arg-type]
+        unknown = sorted(set(d) - set(allowed))
+        if unknown:
+            raise UnknownParameterError(
+                f"unknown key(s) {', '.join(cls._name + '.' + str(k) for k in unknown)}; "
+                f"allowed in [{cls._name}]: {', '.join(allowed)}",
+                f"{cls._name}.{unknown[0]}",
+            )
+        return cls(**d)
+
+    def to_dict(self) -> dict[str, Any]:
+        out = {}
+        for f in fields(self):  # type: ignore[arg-type]
+            v = getattr(self, f.name)
+            out[f.name] = list(v) if isinstance(v, tuple) else v
+        return out
+
+
+# ----------------------------------------------------------------------------------------------
+# sections
+
+
+@dataclass(frozen=True)
+class Plate(_Section):
+    """The rectangle [0, width] x [0, height]: width W along x1, height L along x2."""
+
+    width: float = 11.0
+    height: float = 21.0
+    _name: ClassVar[str] = "plate"
+    _specs: ClassVar[dict[str, _Spec]] = {"width": _POS, "height": _POS}
+
+
+@dataclass(frozen=True)
+class Material(_Section):
+    """Isotropic linear elasticity: Young's modulus E, Poisson's ratio nu, plane strain or stress,
+    thickness, and the critical energy release rate G0 (PD bond strength; force/length)."""
+
+    E: float = 10000.0
+    nu: float = 0.25
+    plane: str = "strain"
+    thickness: float = 1.0
+    G0: float = 0.367
+    _name: ClassVar[str] = "material"
+    _specs: ClassVar[dict[str, _Spec]] = {
+        "E": _POS,
+        "nu": _Spec("float", "-1 < nu < 0.5", lambda v: math.isfinite(v) and -1.0 < v < 0.5),
+        "plane": _choice("strain", "stress"),
+        "thickness": _POS,
+        "G0": _POS,
+    }
+
+
+@dataclass(frozen=True)
+class Load(_Section):
+    """Loading on the top and bottom edges (eq. 61): ``bc = "free"`` (u2 = +-u0, u1 free, one
+    anchor node removes the rigid translation), ``"clamped"`` (u2 = +-u0, u1 = 0) or
+    ``"traction"`` (uniform normal stress ``traction`` on both edges)."""
+
+    bc: str = "free"
+    u0: float = 0.01
+    traction: float = 9.993
+    _name: ClassVar[str] = "load"
+    _specs: ClassVar[dict[str, _Spec]] = {
+        "bc": _choice(*BCS),
+        "u0": _FINITE,
+        "traction": _FINITE,
+    }
+
+
+@dataclass(frozen=True)
+class Crack(_Section):
+    """Edge crack along x2 = ``y`` from x1 = 0 to x1 = ``a0``. ``kind``: "none" (uncracked),
+    "seam" (FEM: duplicated nodes on the nearest grid line) or "edge" (XFEM level set / PD
+    pre-broken bonds)."""
+
+    kind: str = "seam"
+    a0: float = 1.1
+    y: float = 10.5
+    _name: ClassVar[str] = "crack"
+    _specs: ClassVar[dict[str, _Spec]] = {
+        "kind": _choice("none", "seam", "edge"),
+        "a0": _POS,
+        "y": _POS,
+    }
+
+
+@dataclass(frozen=True)
+class MeshOptions(_Section):
+    """Structured Q4 mesh of nx x ny elements (FEM and XFEM); ``gauss`` points per direction."""
+
+    nx: int = 44
+    ny: int = 83
+    gauss: int = 2
+    _name: ClassVar[str] = "mesh"
+    _specs: ClassVar[dict[str, _Spec]] = {
+        "nx": _int_at_least(1),
+        "ny": _int_at_least(1),
+        "gauss": _int_at_least(1, 5),
+    }
+
+
+@dataclass(frozen=True)
+class XfemOptions(_Section):
+    """XFEM: enriched elements split into nsub x nsub sub-quads; I-integral radius r_I in element
+    lengths; ``growth_steps`` crack increments of length ``da`` (0: the reference load only)."""
+
+    nsub: int = 4
+    r_I: float = 2.5
+    growth_steps: int = 0
+    da: float = 0.25
+    _name: ClassVar[str] = "xfem"
+    _specs: ClassVar[dict[str, _Spec]] = {
+        "nsub": _int_at_least(1),
+        "r_I": _POS,
+        "growth_steps": _int_at_least(0),
+        "da": _POS,
+    }
+
+
+@dataclass(frozen=True)
+class PdOptions(_Section):
+    """Peridynamics: grid spacing dx, horizon delta = m dx, the PD rectangle (``center``,
+    ``size``; CCM-PD only, pure PD covers the plate) and the number of SLA steps (bond breaks)."""
+
+    dx: float = 1.0 / 15.0
+    m: int = 4
+    center: tuple[float, float] = (1.70, 10.5)
+    size: tuple[float, float] = (2.73, 1.67)
+    sla_steps: int = 500
+    _name: ClassVar[str] = "pd"
+    _specs: ClassVar[dict[str, _Spec]] = {
+        "dx": _POS,
+        "m": _int_at_least(1),
+        "center": _Spec("pair", "two finite numbers", lambda v: all(map(math.isfinite, v))),
+        "size": _Spec("pair", "two finite numbers > 0", lambda v: all(map(_pos, v))),
+        "sla_steps": _int_at_least(1),
+    }
+
+
+_SECTIONS: dict[str, type] = {
+    "plate": Plate,
+    "material": Material,
+    "load": Load,
+    "crack": Crack,
+    "mesh": MeshOptions,
+    "xfem": XfemOptions,
+    "pd": PdOptions,
+}
+_COMMON = ("plate", "material", "load", "crack")
+#: sections each method reads (the others must not appear in its scene files)
+METHOD_SECTIONS: dict[str, tuple[str, ...]] = {
+    "fem": (*_COMMON, "mesh"),
+    "xfem": (*_COMMON, "mesh", "xfem"),
+    "pd": (*_COMMON, "pd"),
+    "ccm_pd": (*_COMMON, "pd"),
+}
+_CRACK_KINDS: dict[str, tuple[str, ...]] = {
+    "fem": ("none", "seam"),
+    "xfem": ("none", "edge"),
+    "pd": ("none", "edge"),
+    "ccm_pd": ("none", "edge"),
+}
+
+
+def _bad(param: str, msg: str) -> InvalidParameterError:
+    return InvalidParameterError(f"invalid {param}: {msg}", param)
+
+
+# ----------------------------------------------------------------------------------------------
+# the scene
+
+
+@dataclass(frozen=True)
+class Scene:
+    """One validated run description. Build it with :func:`rustfrac.scenes.edge_crack_plate`,
+    :meth:`from_dict`, :meth:`from_toml`, or directly from section objects."""
+
+    method: str = "fem"
+    plate: Plate = field(default_factory=Plate)
+    material: Material = field(default_factory=Material)
+    load: Load = field(default_factory=Load)
+    #: default: the paper's crack, as a seam for "fem" and as an "edge" crack for the others
+    crack: Crack = None  # type: ignore[assignment]
+    mesh: MeshOptions = field(default_factory=MeshOptions)
+    xfem: XfemOptions = field(default_factory=XfemOptions)
+    pd: PdOptions = field(default_factory=PdOptions)
+    name: str = ""
+
+    def __post_init__(self) -> None:
+        _coerce("method", _choice(*METHODS), self.method)
+        _coerce("name", _Spec("str", "a string"), self.name)
+        if self.crack is None:
+            object.__setattr__(
+                self, "crack", Crack(kind="seam" if self.method == "fem" else "edge")
+            )
+        for key, cls in _SECTIONS.items():
+            v = getattr(self, key)
+            if isinstance(v, Mapping):
+                object.__setattr__(self, key, cls.from_dict(v))
+            elif not isinstance(v, cls):
+                raise InvalidTypeError(
+                    f"{key} must be a {cls.__name__} or a dict, got {type(v).__name__}", key
+                )
+        self._check_consistency()
+
+    def _check_consistency(self) -> None:
+        m, p, c = self.method, self.plate, self.crack
+        kinds = _CRACK_KINDS[m]
+        if c.kind not in kinds:
+            raise _bad(
+                "crack.kind",
+                f"method {m!r} takes one of {', '.join(map(repr, kinds))}, got {c.kind!r}",
+            )
+        if c.kind != "none":
+            if not c.a0 < p.width:
+                raise _bad("crack.a0", f"expected 0 < a0 < plate.width = {p.width}, got {c.a0}")
+            if not c.y < p.height:
+                raise _bad("crack.y", f"expected 0 < y < plate.height = {p.height}, got {c.y}")
+        if m in ("pd", "ccm_pd"):
+            if self.material.nu != PD_NU:
+                raise _bad(
+                    "material.nu",
+                    f"bond-based peridynamics (method {m!r}) fixes nu = {PD_NU}, "
+                    f"got {self.material.nu}",
+                )
+            if self.material.plane != "strain":
+                raise _bad("material.plane", f"method {m!r} supports 'strain' only")
+            d = self.pd
+            for i, (n, length) in enumerate((("x1", p.width), ("x2", p.height))):
+                cells = length / d.dx
+                if abs(cells - round(cells)) > 1e-9 * max(1.0, cells):
+                    raise _bad(
+                        "pd.dx",
+                        f"the grid must fit the plate: {n} size {length} / dx = {cells:.6g} "
+                        "is not an integer",
+                    )
+                if m == "ccm_pd":
+                    lo, hi = d.center[i] - d.size[i] / 2, d.center[i] + d.size[i] / 2
+                    if lo < 0 or hi > length:
+                        raise _bad(
+                            "pd.center",
+                            f"the PD rectangle must lie inside the plate: its {n} range "
+                            f"[{lo:.6g}, {hi:.6g}] leaves [0, {length}]",
+                        )
+            if m == "ccm_pd" and c.kind != "none":
+                x0 = d.center[0] - d.size[0] / 2
+                x1 = d.center[0] + d.size[0] / 2
+                y0 = d.center[1] - d.size[1] / 2
+                y1 = d.center[1] + d.size[1] / 2
+                if not (x0 <= c.a0 <= x1 and y0 <= c.y <= y1):
+                    raise _bad(
+                        "pd.center",
+                        f"the crack tip ({c.a0}, {c.y}) must lie in the PD rectangle "
+                        f"[{x0:.6g}, {x1:.6g}] x [{y0:.6g}, {y1:.6g}]",
+                    )
+
+    # -- construction -------------------------------------------------------------------------
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> Scene:
+        """Builds a scene from a (TOML-shaped) dict; ``method`` is required."""
+        if not isinstance(d, Mapping):
+            raise InvalidTypeError(f"a scene must be a dict, got {type(d).__name__}", "scene")
+        if "method" not in d:
+            raise UnknownParameterError(
+                f"missing required key 'method' (one of {', '.join(map(repr, METHODS))})",
+                "method",
+            )
+        method = _coerce("method", _choice(*METHODS), d["method"])
+        allowed = ["method", "name", *METHOD_SECTIONS[method]]
+        unknown = sorted(set(d) - set(allowed))
+        if unknown:
+            other = [k for k in unknown if k in _SECTIONS]
+            hint = (
+                f" (section(s) {', '.join(other)} do not apply to method {method!r})"
+                if other
+                else ""
+            )
+            raise UnknownParameterError(
+                f"unknown key(s) {', '.join(map(str, unknown))}{hint}; allowed: {', '.join(allowed)}",
+                str(unknown[0]),
+            )
+        kwargs: dict[str, Any] = {"method": method}
+        if "name" in d:
+            kwargs["name"] = d["name"]
+        for key in METHOD_SECTIONS[method]:
+            if key in d:
+                kwargs[key] = _SECTIONS[key].from_dict(d[key])
+        return cls(**kwargs)
+
+    @classmethod
+    def from_toml(cls, path: PathLike) -> Scene:
+        """Reads a scene from a TOML file (see the module docstring for the layout)."""
+        text = Path(path).read_text(encoding="utf-8")
+        return cls.from_toml_str(text)
+
+    @classmethod
+    def from_toml_str(cls, text: str) -> Scene:
+        """Reads a scene from TOML text."""
+        try:
+            data = tomllib.loads(text)
+        except tomllib.TOMLDecodeError as e:
+            raise InvalidParameterError(f"scene is not valid TOML: {e}", "toml") from e
+        return cls.from_dict(data)
+
+    def replace(self, **changes: Any) -> Scene:
+        """A copy with some fields replaced; ``"section.key"`` names are accepted as
+        ``section__key`` (e.g. ``scene.replace(material__E=2e5, load__bc="clamped")``)."""
+        top: dict[str, Any] = {}
+        nested: dict[str, dict[str, Any]] = {}
+        for k, v in changes.items():
+            if "__" in k:
+                sec, key = k.split("__", 1)
+                if sec not in _SECTIONS:
+                    raise UnknownParameterError(
+                        f"unknown section {sec!r}; allowed: {', '.join(_SECTIONS)}", sec
+                    )
+                nested.setdefault(sec, {})[key] = v
+            else:
+                top[k] = v
+        for sec, kv in nested.items():
+            cur = getattr(self, sec).to_dict()
+            unknown = sorted(set(kv) - set(cur))
+            if unknown:
+                raise UnknownParameterError(
+                    f"unknown key(s) {', '.join(sec + '.' + k for k in unknown)}; "
+                    f"allowed in [{sec}]: {', '.join(cur)}",
+                    f"{sec}.{unknown[0]}",
+                )
+            top[sec] = _SECTIONS[sec].from_dict({**cur, **kv})
+        unknown = sorted(set(top) - {f.name for f in fields(self)})
+        if unknown:
+            raise UnknownParameterError(
+                f"unknown scene field(s) {', '.join(unknown)}; allowed: "
+                + ", ".join(f.name for f in fields(self)),
+                unknown[0],
+            )
+        return dataclasses.replace(self, **top)
+
+    # -- export -------------------------------------------------------------------------------
+
+    def to_dict(self) -> dict[str, Any]:
+        """The scene as a TOML-shaped dict holding only the sections its method reads."""
+        out: dict[str, Any] = {"method": self.method}
+        if self.name:
+            out["name"] = self.name
+        for key in METHOD_SECTIONS[self.method]:
+            out[key] = getattr(self, key).to_dict()
+        return out
+
+    def to_toml(self) -> str:
+        """The scene as TOML text; ``Scene.from_toml_str(s.to_toml()) == s``."""
+        d = self.to_dict()
+        lines = [f"{k} = {_toml_value(v)}" for k, v in d.items() if not isinstance(v, dict)]
+        for k, v in d.items():
+            if isinstance(v, dict):
+                lines.append("")
+                lines.append(f"[{k}]")
+                lines.extend(f"{kk} = {_toml_value(vv)}" for kk, vv in v.items())
+        return "\n".join(lines) + "\n"
+
+    def save_toml(self, path: PathLike) -> Path:
+        """Writes :meth:`to_toml` to ``path``."""
+        p = Path(path)
+        p.write_text(self.to_toml(), encoding="utf-8")
+        return p
+
+    def describe(self) -> str:
+        """One line: method, plate, crack, load variant and discretisation."""
+        c = self.crack
+        crack = "uncracked" if c.kind == "none" else f"{c.kind} crack a0={c.a0:g} at x2={c.y:g}"
+        if self.method in ("fem", "xfem"):
+            disc = f"mesh {self.mesh.nx}x{self.mesh.ny} Q4"
+        else:
+            disc = f"PD grid dx={self.pd.dx:.6g}, m={self.pd.m}"
+        load = (
+            f"traction {self.load.traction:g}"
+            if self.load.bc == "traction"
+            else f"u0 = +-{self.load.u0:g}"
+        )
+        return (
+            f"method {self.method}, plate {self.plate.width:g} x {self.plate.height:g}, {crack}, "
+            f"bc {self.load.bc} ({load}), {disc}"
+        )
+
+
+def _toml_value(v: Any) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, int):
+        return str(v)
+    if isinstance(v, float):
+        return repr(v)  # shortest round-trip repr; finite by validation
+    if isinstance(v, str):
+        # JSON escapes (\", \\, \n, \uXXXX) are valid TOML; TOML also forbids DEL
+        return json.dumps(v, ensure_ascii=False).replace("\x7f", "\\u007f")
+    if isinstance(v, (list, tuple)):
+        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
+    raise TypeError(f"cannot write {type(v).__name__} to TOML")

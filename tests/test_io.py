@@ -1,0 +1,118 @@
+"""Saving and loading results; VTU; plots."""
+
+from __future__ import annotations
+
+import json
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import rustfrac as rf
+
+
+def test_save_load_round_trip(seam: rf.Result, tmp_path: Path) -> None:
+    out = seam.save(tmp_path / "a" / "b")
+    assert sorted(p.name for p in out.iterdir()) == ["fields.npz", "result.json", "result.vtu"]
+    back = rf.load(out)
+    assert back.method == seam.method
+    assert back.sigma22 == seam.sigma22  # identical, not approximately
+    assert back.cmod == seam.cmod
+    assert back.n_dofs == seam.n_dofs
+    assert back.wall_time_s == seam.wall_time_s
+    assert back.scalars == seam.scalars
+    assert set(back.fields) == set(seam.fields)
+    for k, v in seam.fields.items():
+        np.testing.assert_array_equal(back.fields[k], v)
+        assert back.fields[k].dtype == v.dtype
+    doc = json.loads((out / "result.json").read_text())
+    assert doc["meta"]["bc"] == "free"
+    assert doc["meta"]["version"] == rf.__version__
+    assert doc["meta"]["scene"] == rf.scenes.edge_crack_plate().to_dict()
+    assert rf.Scene.from_dict(back.meta["scene"]) == rf.scenes.edge_crack_plate()
+
+
+def test_history_round_trip(tmp_path: Path) -> None:
+    h = {
+        "load_factor": np.linspace(0, 1, 5),
+        "sigma22": np.arange(5.0),
+        "cmod": np.ones(5),
+        "u0": np.full(5, 0.01),
+    }
+    r = rf.Result(
+        method="pd",
+        sigma22=1.0,
+        cmod=2.0,
+        n_dofs=3,
+        wall_time_s=0.5,
+        history=h,
+        scalars={"gamma": 0.988895997195466},
+    )
+    back = rf.load(r.save(tmp_path))
+    assert back.gamma == r.gamma
+    for k in h:
+        np.testing.assert_array_equal(back.history[k], h[k])
+    assert not (tmp_path / "result.vtu").exists()  # no mesh, no VTU
+    with pytest.raises(ValueError, match="equal lengths"):
+        rf.Result(
+            method="pd",
+            sigma22=1,
+            cmod=1,
+            n_dofs=1,
+            wall_time_s=0,
+            history={"a": np.ones(2), "b": np.ones(3)},
+        )
+
+
+def test_save_is_atomic_and_overwrites(uncracked: rf.Result, tmp_path: Path) -> None:
+    uncracked.save(tmp_path)
+    uncracked.save(tmp_path)  # overwriting works
+    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".") or "tmp" in p.name]
+
+
+def test_failed_save_leaves_no_temp_file(tmp_path: Path) -> None:
+    r = rf.Result(
+        method="fem", sigma22=1.0, cmod=0.0, n_dofs=1, wall_time_s=0.0, scalars={"bad": object()}
+    )
+    with pytest.raises(TypeError):
+        r.save(tmp_path)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_vtu_is_valid_unstructured_grid(uncracked: rf.Result, tmp_path: Path) -> None:
+    uncracked.save(tmp_path)
+    root = ET.parse(tmp_path / "result.vtu").getroot()
+    piece = root.find("UnstructuredGrid/Piece")
+    assert piece is not None
+    n, m = len(uncracked.coords), len(uncracked.elements)
+    assert int(piece.get("NumberOfPoints")) == n
+    assert int(piece.get("NumberOfCells")) == m
+    arrays = {a.get("Name"): a for a in piece.iter("DataArray")}
+    assert {"displacement", "stress", "Points", "connectivity", "offsets", "types"} <= set(arrays)
+    pts = np.array(arrays["Points"].text.split(), dtype=float).reshape(-1, 3)
+    np.testing.assert_array_equal(pts[:, :2], uncracked.coords)
+    conn = np.array(arrays["connectivity"].text.split(), dtype=np.int64).reshape(-1, 4)
+    np.testing.assert_array_equal(conn, uncracked.elements)
+    assert set(arrays["types"].text.split()) == {"9"}
+    disp = np.array(arrays["displacement"].text.split(), dtype=float).reshape(-1, 3)
+    np.testing.assert_array_equal(disp[:, :2], uncracked.displacement)
+
+
+def test_plot(seam: rf.Result, tmp_path: Path) -> None:
+    from rustfrac.plotting import save_plot
+
+    p = save_plot(seam, tmp_path / "s22.png")
+    assert p.stat().st_size > 1000
+
+
+def test_saved_files_respect_umask(uncracked: rf.Result, tmp_path: Path) -> None:
+    import os
+
+    old = os.umask(0o022)
+    try:
+        uncracked.save(tmp_path)
+    finally:
+        os.umask(old)
+    for p in tmp_path.iterdir():
+        assert p.stat().st_mode & 0o777 == 0o644, p
