@@ -276,26 +276,37 @@ impl SyncPtr {
 /// Greedy colouring of the blocks: a block takes the lowest colour not yet used by a block that
 /// shares one of its row dofs.
 fn colour_blocks(n: usize, rows_of: &[Vec<usize>]) -> Vec<Vec<usize>> {
-    let mut used: Vec<Vec<u64>> = vec![Vec::new(); n]; // per dof: bitset of colours (64 per word)
+    // per dof: bitset of the colours of the blocks writing it; word 0 flat (the common case),
+    // further words only when a dof meets more than 64 colours
+    let mut first = vec![0u64; n];
+    let mut more: Vec<Vec<u64>> = vec![Vec::new(); n];
     let mut colours: Vec<Vec<usize>> = Vec::new();
     for (b, rows) in rows_of.iter().enumerate() {
-        let mut c = 0usize;
-        loop {
-            let (w, bit) = (c / 64, c % 64);
-            let taken = rows
-                .iter()
-                .any(|&d| used[d].get(w).is_some_and(|m| m & (1u64 << bit) != 0));
-            if !taken {
-                break;
+        let m0 = rows.iter().fold(0u64, |m, &d| m | first[d]);
+        let c = if m0 != u64::MAX {
+            (!m0).trailing_zeros() as usize
+        } else {
+            let mut w = 1usize;
+            loop {
+                let m = rows
+                    .iter()
+                    .fold(0u64, |m, &d| m | more[d].get(w - 1).copied().unwrap_or(0));
+                if m != u64::MAX {
+                    break 64 * w + (!m).trailing_zeros() as usize;
+                }
+                w += 1;
             }
-            c += 1;
-        }
+        };
         let (w, bit) = (c / 64, c % 64);
         for &d in rows {
-            if used[d].len() <= w {
-                used[d].resize(w + 1, 0);
+            if w == 0 {
+                first[d] |= 1u64 << bit;
+            } else {
+                if more[d].len() < w {
+                    more[d].resize(w, 0);
+                }
+                more[d][w - 1] |= 1u64 << bit;
             }
-            used[d][w] |= 1u64 << bit;
         }
         if colours.len() <= c {
             colours.resize(c + 1, Vec::new());
@@ -406,6 +417,14 @@ mod tests {
         let blocks: Vec<Vec<usize>> = (0..n - 1).map(|i| vec![i, i + 1]).collect();
         let p = Pattern::symmetric(n, &blocks).unwrap();
         assert!(p.colours.len() == 2);
+        // a star: 100 blocks sharing dof 0 need 100 colours (beyond one 64-bit word)
+        let star: Vec<Vec<usize>> = (1..=100).map(|i| vec![0, i]).collect();
+        let ps = Pattern::symmetric(101, &star).unwrap();
+        assert_eq!(ps.colours.len(), 100);
+        let a = ps.assemble(&star, &star, |_, out| {
+            out.extend_from_slice(&[1.0, -1.0, -1.0, 1.0])
+        });
+        assert_eq!(a.get(0, 0), 100.0);
         let a = p.assemble(&blocks, &blocks, |b, out| {
             let k = 1.0 + b as f64;
             out.extend_from_slice(&[k, -k, -k, k]);
