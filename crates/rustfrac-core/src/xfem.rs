@@ -24,10 +24,13 @@
 //!   area of its support (the elements containing it) and A+/A- the parts on either side of the
 //!   crack (computed exactly by clipping each element of the support with the line of the crack
 //!   segment that runs longest through it; exact for straight cracks, approximate where a kink lies
-//!   inside an element). Such a node's enrichment is nearly (or exactly, e.g. for a crack running
-//!   along a grid line) linearly dependent on the standard functions and would make the matrix
-//!   singular or badly conditioned. Default threshold: 1e-4 (Dolbow 1999; Moes et al. 1999 use the
-//!   same order).
+//!   inside an element). The same fraction is also measured with the quadrature weights of the
+//!   rule each support element uses (sub-quads do not follow the crack, so a sliver without a
+//!   Gauss point on one side would give a zero stiffness column), and the smaller of the two
+//!   fractions is compared. Such a node's enrichment is nearly (or exactly, e.g. for a crack
+//!   running along a grid line) linearly dependent on the standard functions and would make the
+//!   matrix singular or badly conditioned. Default threshold: 1e-4 (Dolbow 1999; Moes et al. 1999
+//!   use the same order).
 //! * Numbering: standard dofs 2n, 2n+1 for node n (0 .. n_std), then 2 dofs per Heaviside node in
 //!   increasing node order, then for each tip 8 dofs per tip node in increasing node order
 //!   (branch function j of node I: dofs base + 2 j (u1) and base + 2 j + 1 (u2)).
@@ -627,43 +630,54 @@ impl XfemModel {
         cand.sort_unstable();
         cand.dedup();
         // small-area rule
-        let mut pos_area: HashMap<usize, (f64, f64)> = HashMap::new();
-        let mut elem_areas = |e: usize| -> (f64, f64) {
+        // per element: (geometric positive area, area, positive area seen by the quadrature rule
+        // the element will use)
+        let (rule_s, rule_t) = (
+            subquad_rule(options.nsub, 2),
+            subquad_rule(options.tip_nsub, 2),
+        );
+        let mut pos_area: HashMap<usize, (f64, f64, f64)> = HashMap::new();
+        let mut elem_areas = |e: usize| -> (f64, f64, f64) {
             *pos_area.entry(e).or_insert_with(|| {
                 let (lo, hi) = ebox(e);
                 let area = (hi[0] - lo[0]) * (hi[1] - lo[1]);
-                let ap = match crossed.get(&e) {
-                    Some(&(k, _)) => {
-                        let poly = [lo, [hi[0], lo[1]], hi, [lo[0], hi[1]]];
-                        positive_area(&poly, crack.points[k], crack.points[k + 1])
-                    }
-                    None => {
-                        let c = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
-                        if crack.level_set(c) > 0.0 {
-                            area
-                        } else {
-                            0.0
-                        }
-                    }
+                let Some(&(k, _)) = crossed.get(&e) else {
+                    let c = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
+                    let ap = if crack.level_set(c) > 0.0 { area } else { 0.0 };
+                    return (ap, area, ap);
                 };
-                (ap, area)
+                let poly = [lo, [hi[0], lo[1]], hi, [lo[0], hi[1]]];
+                let ap = positive_area(&poly, crack.points[k], crack.points[k + 1]);
+                let rule = if is_tip_elem(e) { &rule_t } else { &rule_s };
+                let mut aq = 0.0;
+                for q in rule.iter() {
+                    let x = [
+                        lo[0] + 0.5 * (q.xi + 1.0) * (hi[0] - lo[0]),
+                        lo[1] + 0.5 * (q.eta + 1.0) * (hi[1] - lo[1]),
+                    ];
+                    if crack.level_set(x) > 0.0 {
+                        aq += 0.25 * q.w * area;
+                    }
+                }
+                (ap, area, aq)
             })
         };
         let mut heaviside_nodes = Vec::new();
         let mut dropped_nodes = Vec::new();
         for &n in &cand {
             let (i, j) = (n % (nx + 1), n / (nx + 1));
-            let (mut ap, mut at) = (0.0, 0.0);
+            let (mut ap, mut at, mut aq) = (0.0, 0.0, 0.0);
             for jj in [j.wrapping_sub(1), j] {
                 for ii in [i.wrapping_sub(1), i] {
                     if ii < nx && jj < ny {
-                        let (a, t) = elem_areas(mesh.element(ii, jj));
+                        let (a, t, q) = elem_areas(mesh.element(ii, jj));
                         ap += a;
                         at += t;
+                        aq += q;
                     }
                 }
             }
-            let frac = ap.min(at - ap) / at;
+            let frac = (ap.min(at - ap) / at).min(aq.min(at - aq) / at);
             if frac > options.area_threshold && frac > 1e-12 {
                 heaviside_nodes.push(n);
             } else {
@@ -979,13 +993,12 @@ impl XfemModel {
             .min(tp.pos[1] - mesh.ys[0])
             .min(mesh.ys[0] + h - tp.pos[1]);
         let h_el = self.tip_element_size(tip);
-        if radius + h_el * 1.5 > dist_b {
+        // q must vanish on the plate boundary (a traction-free edge with q != 0 would add a
+        // boundary term the domain form lacks): every boundary node must lie outside the circle
+        if radius >= dist_b {
             return Err(Error::invalid(
                 "r_I",
-                &format!(
-                    "a q-domain radius + 1.5 element lengths below the tip's distance to the plate \
-                     boundary ({dist_b})"
-                ),
+                &format!("a q-domain radius below the tip's distance to the plate boundary ({dist_b})"),
                 radius,
             ));
         }
