@@ -936,8 +936,9 @@ impl XfemModel {
         let p = &self.crack.points;
         if self.crack.mouth {
             let t = unit(sub(p[1], p[0]));
-            // a hair inside the plate along the crack so the point is located in the first element
-            let eps = 1e-9 * self.mesh.min_spacing();
+            // a hair inside the plate along the crack (well above the normal offset of
+            // `opening_at`) so both evaluation points lie inside the plate
+            let eps = 1e-6 * self.mesh.min_spacing();
             let x = [p[0][0] + eps * t[0], p[0][1] + eps * t[1]];
             return self.opening_at(u, x, [-t[1], t[0]]);
         }
@@ -966,6 +967,26 @@ impl XfemModel {
         let e = self.tip_elements[tip][0];
         let xy = self.mesh.element_coords(e);
         ((xy[1][0] - xy[0][0]) * (xy[3][1] - xy[0][1])).sqrt()
+    }
+
+    /// Length of the chord of the (first) tip element along the crack direction at tip `tip`:
+    /// the default growth increment ("one element length").
+    pub fn tip_element_length(&self, tip: usize) -> f64 {
+        let e = self.tip_elements[tip][0];
+        let xy = self.mesh.element_coords(e);
+        let (dx, dy) = (xy[1][0] - xy[0][0], xy[3][1] - xy[0][1]);
+        let d = self.crack.tips[tip].dir;
+        let lx = if d[0].abs() > 1e-12 {
+            dx / d[0].abs()
+        } else {
+            f64::INFINITY
+        };
+        let ly = if d[1].abs() > 1e-12 {
+            dy / d[1].abs()
+        } else {
+            f64::INFINITY
+        };
+        lx.min(ly)
     }
 
     /// SIFs of tip `tip` from the domain interaction integral with q-radius `radius` (absolute).
@@ -998,7 +1019,9 @@ impl XfemModel {
         if radius >= dist_b {
             return Err(Error::invalid(
                 "r_I",
-                &format!("a q-domain radius below the tip's distance to the plate boundary ({dist_b})"),
+                &format!(
+                    "a q-domain radius below the tip's distance to the plate boundary ({dist_b})"
+                ),
                 radius,
             ));
         }
@@ -1163,7 +1186,8 @@ pub struct DeformedPatch {
 pub struct GrowthParams {
     /// fracture energy G0 (K_Ic = sqrt(G0 E'))
     pub g0: f64,
-    /// crack extension per step; None = one element length (the tip element's sqrt(dx dy))
+    /// crack extension per step; None = one element length (the tip element's chord along the
+    /// crack direction)
     pub da: Option<f64>,
     /// stop once the crack length `a` (see [`Crack::a`]) would exceed this
     pub a_stop: f64,
@@ -1521,7 +1545,7 @@ pub fn run(params: &XfemParams, progress: &(dyn Fn(usize, usize) + Sync)) -> Res
             sol = solve_plate(&model, &edges, &params.load, params.width)?;
         }
         let h_t = model.tip_element_size(0);
-        let da = g.da.unwrap_or(h_t);
+        let da = g.da.unwrap_or_else(|| model.tip_element_length(0));
         let r = params.r_i_factor * h_t;
         let mut crit: Option<(usize, f64, DomainSifs, f64)> = None;
         let mut kinks = Vec::new();
