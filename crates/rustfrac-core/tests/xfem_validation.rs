@@ -348,9 +348,13 @@ fn convergence(levels: &[(usize, usize)]) {
     }
     // cross-check against the FEM seam-crack model on a fine mesh
     let t = std::time::Instant::now();
-    let (c_fem, s_fem) = fem_seam(180, 344);
+    // seam mesh about as fine as the finest XFEM level: nx a multiple of 10 (tip x = 1.1 on a
+    // grid node) and ny even (crack line on a grid line)
+    let nxs = levels.last().unwrap().0.div_ceil(10) * 10;
+    let nys = 2 * ((21.0 / (11.0 / nxs as f64) / 2.0).round() as usize);
+    let (c_fem, s_fem) = fem_seam(nxs, nys);
     println!(
-        "FEM seam 180 x 344: CMOD {c_fem:.7} sigma22 {s_fem:.5} ({:?})",
+        "FEM seam {nxs} x {nys}: CMOD {c_fem:.7} sigma22 {s_fem:.5} ({:?})",
         t.elapsed()
     );
     let (c, s) = (cm[n - 1], sg[n - 1]);
