@@ -790,6 +790,28 @@ impl XfemModel {
         })
     }
 
+    /// Position of every dof (its node's coordinates; enriched dofs take their node's position),
+    /// e.g. for a geometric nested-dissection ordering of the solver.
+    pub fn dof_positions(&self) -> Vec<[f64; 2]> {
+        let mut xy: Vec<[f64; 2]> = self.mesh.coords.iter().flat_map(|&c| [c, c]).collect();
+        xy.resize(self.n_dofs, [0.0; 2]);
+        let mut next = self.n_std;
+        for &n in &self.heaviside_nodes {
+            xy[next] = self.mesh.coords[n];
+            xy[next + 1] = self.mesh.coords[n];
+            next += 2;
+        }
+        for nodes in &self.tip_nodes {
+            for &n in nodes {
+                for k in 0..8 {
+                    xy[next + k] = self.mesh.coords[n];
+                }
+                next += 8;
+            }
+        }
+        xy
+    }
+
     /// Number of elements carrying enriched functions.
     pub fn n_enriched_elements(&self) -> usize {
         self.enr.len()

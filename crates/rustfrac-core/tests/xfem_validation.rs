@@ -457,7 +457,6 @@ fn mixed_mode_growth_turns_as_the_criterion_says() {
     });
     let r = run(&p, &no_progress).unwrap();
     let alpha0 = (0.4f64).atan2(1.1);
-    let mut dir = alpha0;
     for (k, h) in r.history[1..].iter().enumerate() {
         println!(
             "step {k}: tip {:?} K_I {:.3} K_II {:.3} kink {:.2} deg",
@@ -468,7 +467,6 @@ fn mixed_mode_growth_turns_as_the_criterion_says() {
         );
         // Erdogan-Sih: the kink has the sign opposite to K_II
         assert!(h.k_ii != 0.0 && h.kink_angle * h.k_ii < 0.0);
-        dir += h.kink_angle;
     }
     let h1 = r.history[1];
     // tension normal to x2 = const drives the crack back towards the horizontal
