@@ -336,15 +336,10 @@ fn convergence(levels: &[(usize, usize)]) {
             "{name}: last successive differences {d1:.3e}, {d2:.3e} (relative {:.3e}); observed rate {p:.2}",
             d2 / f[n - 1].abs()
         );
-        match name {
-            // K_I and sigma22 converge slowly with the paper's topological enrichment (the
-            // enriched zone and the r_I = 2.5 h ring shrink with h, so the blending-zone error
-            // does not): over 44 .. 176 their successive changes stay about constant, so only
-            // small changes are required here (and agreement with the FEM seam model below)
-            "K_I" => assert!(d2 < 5e-3 * f[n - 1], "K_I changes too much: {f:?}"),
-            "sigma22" => assert!(d2 < 5e-4 * f[n - 1], "sigma22 changes too much: {f:?}"),
-            _ => assert!(d2 < 0.75 * d1, "{name} does not converge: {f:?}"),
-        }
+        // K_I and sigma22 converge slowly on the coarse levels with the paper's topological
+        // enrichment (the enriched zone and the r_I = 2.5 h ring shrink with h): their changes
+        // 44 -> 88 -> 176 are about equal; from 176 to 352 they drop by 2.3 and 4.8
+        assert!(d2 < 0.75 * d1, "{name} does not converge: {f:?}");
     }
     // cross-check against the FEM seam-crack model on a fine mesh
     let t = std::time::Instant::now();
@@ -367,14 +362,9 @@ fn convergence(levels: &[(usize, usize)]) {
     assert!((s / s_fem - 1.0).abs() < 0.002);
 }
 
+/// 44 x 83 up to 352 x 665 (about 8 s in release).
 #[test]
 fn paper_case_mesh_convergence() {
-    convergence(&[(44, 83), (88, 167), (176, 333)]);
-}
-
-#[test]
-#[ignore = "about a minute in release on a shared 2-core machine; run with --ignored"]
-fn paper_case_mesh_convergence_to_352() {
     convergence(&[(44, 83), (88, 167), (176, 333), (352, 665)]);
 }
 
