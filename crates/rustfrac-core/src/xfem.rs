@@ -1470,8 +1470,9 @@ fn validate(p: &XfemParams) -> Result<()> {
 /// solution to the critical state, recorded as (lambda, lambda sigma22, lambda CMOD, lambda u0,
 /// a, lambda K_I, lambda K_II, theta_c, tip). Each tip then advances by `da` in the direction
 /// theta_c from its current direction. The run stops with `status` "a_stop reached" once the next
-/// crack would be longer than `a_stop`, "ligament used up" when a new tip would come within half
-/// an element length of the plate boundary, "max_steps reached", or "crack closes (K_eq <= 0)".
+/// crack would be longer than `a_stop`, "ligament used up" when a new tip would come closer to the
+/// plate boundary than r_I (the remaining ligament no longer holds the SIF domain), "max_steps
+/// reached", or "crack closes (K_eq <= 0)".
 /// `progress(step, max_steps)` is called after each step.
 pub fn run(params: &XfemParams, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<XfemResult> {
     validate(params)?;
@@ -1609,7 +1610,8 @@ pub fn run(params: &XfemParams, progress: &(dyn Fn(usize, usize) + Sync)) -> Res
                 tip.dir[0] * sn + tip.dir[1] * cs,
             ];
             let p = [tip.pos[0] + da * d[0], tip.pos[1] + da * d[1]];
-            let margin = 0.5 * h_t;
+            // the q-domain of the next step must still fit between the tip and the boundary
+            let margin = r.max(0.5 * h_t);
             if p[0] < margin || p[0] > x_max - margin || p[1] < margin || p[1] > y_max - margin {
                 ligament = true;
             }

@@ -434,6 +434,32 @@ fn mode_i_growth_stays_on_the_crack_line() {
 }
 
 #[test]
+fn growth_stops_when_the_ligament_is_used_up() {
+    let mut p = XfemParams::paper(Grip::Clamped);
+    p.extra_radius_factors = vec![];
+    p.growth = Some(GrowthParams {
+        g0: 0.367,
+        da: Some(1.0),
+        a_stop: 100.0,
+        max_steps: 100,
+    });
+    let r = run(&p, &no_progress).unwrap();
+    let last = r.history.last().unwrap();
+    println!(
+        "status '{}' after {} states, last a {:.3}",
+        r.status,
+        r.history.len(),
+        last.a
+    );
+    assert_eq!(r.status, "ligament used up");
+    // the last recorded tip leaves less than r_I + da to the right edge
+    assert!(11.0 - last.tip[0] < r.r_i + 1.0 + 1e-9 && last.tip[0] > 9.0);
+    // with growth off, the status says so
+    p.growth = None;
+    assert_eq!(run(&p, &no_progress).unwrap().status, "single solve");
+}
+
+#[test]
 fn mixed_mode_growth_turns_as_the_criterion_says() {
     // an edge crack inclined upwards by about 20 degrees in the paper's plate under tension
     let mut p = XfemParams::paper(Grip::Traction);
