@@ -52,6 +52,17 @@
 //!
 //! # Growth
 //! See [`run`] and [`GrowthParams`].
+//!
+//! # Validation (tests/xfem_validation.rs) and the paper's case
+//! Exact Williams fields: K within 0.4 %, other mode below 0.2 %. Tall edge-cracked strip vs Tada,
+//! a/W = 0.1 .. 0.6: within 1.2 %. Inclined centre crack, beta = 0 .. 75 deg: within 0.7 %.
+//! Paper's case (free grips), 44 x 83 -> 352 x 665: K_I 20.755 -> 20.858, CMOD 0.005853 ->
+//! 0.006000, sigma22 9.959 -> 9.952 (observed rates 1.2, 2.2, 2.3 on the last levels); an
+//! independent FEM seam-crack model (360 x 688) agrees to 0.4 % (CMOD) and 0.02 % (sigma22).
+//! The paper's XFEM values (sigma22 9.993, CMOD 0.005317, K_I 19.85; 20.71 under traction 9.993)
+//! describe a stiffer plate than both our converged XFEM and the seam FEM (CMOD 11 % and K_I 5 %
+//! lower, sigma22 0.4 % higher); nothing here is tuned to them. Under traction our 44 x 83 K_I is
+//! 21.90, below Tada's long-strip 22.21 as expected for a plate with half-height / width 0.95.
 
 use crate::error::{check_finite, check_positive, Error, Result};
 use crate::fem::{add_btdb, element_stiffness, geometry, shape, LinearSystem};
