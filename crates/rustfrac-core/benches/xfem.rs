@@ -1,0 +1,89 @@
+//! XFEM benchmarks (issue 3 performance targets), each with a plain-FEM baseline on the same mesh
+//! in the same run:
+//! * growth of the paper's edge crack from a = 1.1 to 0.7 W on 44 x 83 (target < 1 s);
+//! * a single solve with SIFs on 352 x 664 (target < 2 s).
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use rustfrac_core::fem::{FemModel, LinearSystem};
+use rustfrac_core::loading::{plate_conditions, tributary_lengths, Grip, PlateEdges, PlateLoad};
+use rustfrac_core::mesh::{Mesh, Side};
+use rustfrac_core::xfem::{run, GrowthParams, XfemParams};
+use std::hint::black_box;
+use std::time::Duration;
+
+fn fem_uncracked(nx: usize, ny: usize) -> f64 {
+    let p = XfemParams::paper(Grip::Free);
+    let mesh = Mesh::uniform(0.0, 0.0, 11.0, 21.0, nx, ny).unwrap();
+    let model = FemModel::new(mesh, p.material, 2).unwrap();
+    let m = &model.mesh;
+    let top = m.side_nodes(Side::Top);
+    let bottom = m.side_nodes(Side::Bottom);
+    let xt: Vec<f64> = top.iter().map(|&n| m.coords[n][0]).collect();
+    let edges = PlateEdges {
+        top_len: tributary_lengths(&xt),
+        bottom_len: tributary_lengths(&xt),
+        top,
+        bottom,
+    };
+    let load = PlateLoad {
+        grip: Grip::Free,
+        u0: 0.01,
+        traction: 0.0,
+    };
+    let (bc, f, _) = plate_conditions(&edges, &load, model.n_dofs(), 1.0).unwrap();
+    let sol = LinearSystem::new(model.stiffness(), &bc)
+        .unwrap()
+        .solve(&f, 1.0)
+        .unwrap();
+    sol.energy
+}
+
+fn growth_params() -> XfemParams {
+    let mut p = XfemParams::paper(Grip::Free);
+    p.extra_radius_factors = vec![];
+    p.growth = Some(GrowthParams {
+        g0: 0.367,
+        da: None,
+        a_stop: 0.7 * 11.0,
+        max_steps: 1000,
+    });
+    p
+}
+
+fn single_params(nx: usize, ny: usize) -> XfemParams {
+    let mut p = XfemParams::paper(Grip::Free);
+    p.nx = nx;
+    p.ny = ny;
+    p.extra_radius_factors = vec![];
+    p
+}
+
+fn benches(c: &mut Criterion) {
+    let mut g = c.benchmark_group("xfem_44x83");
+    g.sample_size(10).measurement_time(Duration::from_secs(8));
+    g.bench_function("baseline_fem_uncracked_single_solve", |b| {
+        b.iter(|| black_box(fem_uncracked(44, 83)))
+    });
+    g.bench_function("xfem_single_solve_sifs", |b| {
+        let p = single_params(44, 83);
+        b.iter(|| black_box(run(&p, &|_, _| {}).unwrap().k_i))
+    });
+    g.bench_function("xfem_growth_1.1_to_0.7W", |b| {
+        let p = growth_params();
+        b.iter(|| black_box(run(&p, &|_, _| {}).unwrap().history.len()))
+    });
+    g.finish();
+    let mut g = c.benchmark_group("xfem_352x664");
+    g.sample_size(10).measurement_time(Duration::from_secs(20));
+    g.bench_function("baseline_fem_uncracked_single_solve", |b| {
+        b.iter(|| black_box(fem_uncracked(352, 664)))
+    });
+    g.bench_function("xfem_single_solve_sifs", |b| {
+        let p = single_params(352, 664);
+        b.iter(|| black_box(run(&p, &|_, _| {}).unwrap().k_i))
+    });
+    g.finish();
+}
+
+criterion_group!(xfem, benches);
+criterion_main!(xfem);
