@@ -1390,7 +1390,7 @@ fn solve_plate(
 ) -> Result<PlateSolve> {
     let t = model.material.thickness;
     let (bc, f, anchor) = plate_conditions(edges, load, model.n_dofs, t)?;
-    let sys = LinearSystem::new(model.stiffness()?, &bc)?;
+    let sys = LinearSystem::with_positions(model.stiffness()?, &bc, Some(&model.dof_positions()))?;
     let sol = sys.solve(&f, 1.0)?;
     let s22 = sigma22(edges, &sol.reactions, &f, width, t);
     let cmod = model.cmod(&sol.u)?;
