@@ -278,8 +278,8 @@ struct Oracle<'a> {
 }
 
 impl<'a> Oracle<'a> {
-    fn new(model: &'a SpliceModel, broken: &[bool]) -> Result<Self> {
-        let k = model.assemble(broken);
+    fn new(model: &'a SpliceModel, broken: &[bool], k: &CscMatrix) -> Result<Self> {
+        let k = k.clone();
         let red = Reduction::new(&k, &model.mask)?;
         let kff = red.reduce(&k);
         let lu = Lu::new(&kff)?;
@@ -378,10 +378,12 @@ struct Fast<'a> {
     refactor_every: usize,
     n_fact: usize,
     u_full: Vec<f64>,
+    /// the matrix at the start (its FEM rows never change)
+    k0: CscMatrix,
 }
 
 impl<'a> Fast<'a> {
-    fn new(model: &'a SpliceModel, broken: &[bool], refactor_every: usize) -> Result<Self> {
+    fn new(model: &'a SpliceModel, k: &CscMatrix, refactor_every: usize) -> Result<Self> {
         let n = model.n_dofs();
         let mut cls = vec![CLS_FIXED; n];
         let mut idx = vec![usize::MAX; n];
@@ -402,7 +404,8 @@ impl<'a> Fast<'a> {
             }
         }
         let np = p_dofs.len();
-        let k = model.assemble(broken);
+        let t0 = Instant::now();
+        let k = k.clone();
         // K_FF and its Cholesky factorisation
         let mask_f: Vec<bool> = (0..n).map(|d| cls[d] != CLS_F).collect();
         let f_red = Reduction::new(&k, &mask_f)?;
@@ -415,6 +418,7 @@ impl<'a> Fast<'a> {
         } else {
             None
         };
+        timing("fast: Cholesky of K_FF", t0);
         let y0 = match &chol {
             Some(c) => c.solve(&f_red.rhs(&k, &model.f, &model.prescribed))?,
             None => Vec::new(),
@@ -504,10 +508,13 @@ impl<'a> Fast<'a> {
         let mut z_ring = vec![0.0; ring.len() * npc];
         if let Some(ch) = &chol {
             let f_dofs = &f_red.free;
-            const BLK: usize = 48;
-            let mut buf = vec![0.0; nf * BLK];
-            for c0 in (0..npc).step_by(BLK) {
-                let nb = BLK.min(npc - c0);
+            let blk_size: usize = std::env::var("RUSTFRAC_ZBLK")
+                .ok()
+                .and_then(|s| s.parse().ok())
+                .unwrap_or(64);
+            let mut buf = vec![0.0; nf * blk_size];
+            for c0 in (0..npc).step_by(blk_size) {
+                let nb = blk_size.min(npc - c0);
                 let blk = &mut buf[..nf * nb];
                 blk.iter_mut().for_each(|v| *v = 0.0);
                 for t in 0..nb {
@@ -560,8 +567,18 @@ impl<'a> Fast<'a> {
             refactor_every,
             n_fact: 0,
             u_full: model.prescribed.clone(),
+            k0: CscMatrix {
+                nrows: 0,
+                ncols: 0,
+                col_ptr: vec![0],
+                row_idx: Vec::new(),
+                val: Vec::new(),
+            },
         };
+        timing("fast: Z = K_FF^-1 K_FP", t0);
         me.condense(&k)?;
+        timing("fast: condensed and inverted", t0);
+        me.k0 = k;
         Ok(me)
     }
 
@@ -814,7 +831,7 @@ impl Engine for Fast<'_> {
         let mut u = st.u;
         if let Some(ch) = &self.chol {
             // y = y0 - K_FF^{-1} K_FP x
-            let k = self.model.assemble(&self.model.precrack_broken);
+            let k = &self.k0;
             let mut xv = vec![0.0; u.len()];
             for &d in &self.p_dofs {
                 xv[d] = u[d];
@@ -831,6 +848,15 @@ impl Engine for Fast<'_> {
 
     fn n_refactorisations(&self) -> usize {
         self.n_fact
+    }
+}
+
+fn timing(what: &str, t0: Instant) {
+    if std::env::var_os("RUSTFRAC_TIMING").is_some() {
+        eprintln!(
+            "[rustfrac timing] {what}: {:.3} s",
+            t0.elapsed().as_secs_f64()
+        );
     }
 }
 
@@ -864,19 +890,21 @@ pub fn run(params: &CcmPdParams, progress: &(dyn Fn(usize, usize) + Sync)) -> Re
     validate_sla(&params.sla)?;
     let t0 = Instant::now();
     let model = SpliceModel::new(&params.spec())?;
+    timing("model built", t0);
     let mut broken = model.precrack_broken.clone();
     const DENSE_LIMIT: usize = 6000;
     let n_pd_free = (0..model.n_dofs())
         .filter(|&d| !model.mask[d] && model.is_pd[d / 2])
         .count();
     let top_pd = model.edges.top.iter().any(|&n| model.is_pd[n]);
+    let k0 = model.assemble(&broken);
     let mut solver = String::new();
     let mut engine: Box<dyn Engine + '_> = if params.sla.fast && n_pd_free <= DENSE_LIMIT && !top_pd
     {
         solver.push_str(
             "fast (FEM condensed by Cholesky, dense PD system + Sherman-Morrison-Woodbury)",
         );
-        Box::new(Fast::new(&model, &broken, params.sla.refactor_every)?)
+        Box::new(Fast::new(&model, &k0, params.sla.refactor_every)?)
     } else {
         solver.push_str("oracle (sparse LU refactorised every step)");
         if params.sla.fast {
@@ -890,15 +918,15 @@ pub fn run(params: &CcmPdParams, progress: &(dyn Fn(usize, usize) + Sync)) -> Re
                 }
             ));
         }
-        Box::new(Oracle::new(&model, &broken)?)
+        Box::new(Oracle::new(&model, &broken, &k0)?)
     };
-    // reference solution before breaking: always from the direct sparse LU solve
-    let k0 = model.assemble(&broken);
-    let red0 = Reduction::new(&k0, &model.mask)?;
-    let lu0 = Lu::new(&red0.reduce(&k0))?;
-    let sol0 = crate::coupling::solve_with(&model, &k0, &red0, &lu0)?;
-    drop(lu0);
+    timing("engine ready", t0);
+    // reference solution before breaking (u from the engine, reactions from the full matrix)
+    let u0_full = engine.full_u(&broken)?;
+    let sol0 = model.postprocess(&k0, u0_full, 0.0);
+    drop(k0);
     let setup_seconds = t0.elapsed().as_secs_f64();
+    timing("setup done", t0);
 
     let t1 = Instant::now();
     let s0 = model.pd.s0;
