@@ -161,7 +161,7 @@ fn clipped_length(a: [f64; 2], b: [f64; 2], bx: [f64; 4]) -> f64 {
 fn grid_count(len: f64, dx: f64, name: &str) -> Result<usize> {
     let r = len / dx;
     let n = r.round();
-    if !(n >= 1.0 && n <= 1e7) || (r - n).abs() > 1e-6 * n.max(1.0) {
+    if !(1.0..=1e7).contains(&n) || (r - n).abs() > 1e-6 * n.max(1.0) {
         return Err(Error::invalid(
             name,
             "a multiple of dx (the grid must fit the plate exactly), at most 1e7 cells",
@@ -378,15 +378,15 @@ impl SpliceModel {
         let xs: Vec<f64> = (0..=nx).map(|i| i as f64 * dx).collect();
         let trib = tributary_lengths(&xs);
         for j in (ny + 1 - layers)..=ny {
-            for i in 0..=nx {
+            for (i, &t) in trib.iter().enumerate() {
                 top.push(grid.node(i, j));
-                top_len.push(if j == ny { trib[i] } else { 0.0 });
+                top_len.push(if j == ny { t } else { 0.0 });
             }
         }
         for j in (0..layers).rev() {
-            for i in 0..=nx {
+            for (i, &t) in trib.iter().enumerate() {
                 bottom.push(grid.node(i, j));
-                bottom_len.push(if j == 0 { trib[i] } else { 0.0 });
+                bottom_len.push(if j == 0 { t } else { 0.0 });
             }
         }
         let edges = PlateEdges {

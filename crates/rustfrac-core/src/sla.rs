@@ -22,7 +22,7 @@
 
 use crate::coupling::{ModelSpec, SpliceModel};
 use crate::error::{check_finite, check_positive, Error, Result};
-use crate::loading::PlateLoad;
+use crate::loading::{Grip, PlateLoad};
 use crate::material::Elastic;
 use crate::pd::{damage, BYTES_PER_BOND};
 use crate::solver::{Cholesky, Lu};
@@ -107,7 +107,6 @@ impl CcmPdParams {
     /// The paper's benchmark: W = 11, L = 21, dx = 1/15, m = 4, PD rectangle 2.73 x 1.67 centred at
     /// (1.70, 10.5), E = 10000, nu = 0.25, G0 = 0.367, plane strain, h = 1, u0 = 0.01, u1 free.
     pub fn paper() -> Self {
-        use crate::loading::Grip;
         use crate::material::Plane;
         Self {
             method: Method::CcmPd,
@@ -275,6 +274,8 @@ struct Oracle<'a> {
     dirty: bool,
     broken: Vec<bool>,
     n_fact: usize,
+    /// max |u| of the first solve, the scale for the separation test
+    u_scale: f64,
 }
 
 impl<'a> Oracle<'a> {
@@ -291,6 +292,7 @@ impl<'a> Oracle<'a> {
             dirty: false,
             broken: broken.to_vec(),
             n_fact: 1,
+            u_scale: 0.0,
         })
     }
     fn refresh(&mut self) -> Result<()> {
@@ -314,10 +316,20 @@ impl Engine for Oracle<'_> {
         self.refresh()?;
         let s = crate::coupling::solve_with(self.model, &self.k, &self.red, &self.lu)
             .map_err(|e| separated(format!("oracle solve failed: {e}")))?;
-        if !(s.residual < 1e-6) {
+        if s.residual.is_nan() || s.residual >= 1e-6 {
             return Err(separated(format!(
                 "residual {:.3e} of the refactorised system (numerically singular)",
                 s.residual
+            )));
+        }
+        // a separated part floats: its displacement is set by round-off and is huge
+        let umax = s.u.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        if self.u_scale == 0.0 {
+            self.u_scale = umax;
+        } else if umax > 1e4 * self.u_scale {
+            return Err(separated(format!(
+                "displacements grew from {:.3e} to {umax:.3e} (singular system)",
+                self.u_scale
             )));
         }
         Ok(State {
@@ -380,6 +392,10 @@ struct Fast<'a> {
     u_full: Vec<f64>,
     /// the matrix at the start (its FEM rows never change)
     k0: CscMatrix,
+    is_top_y: Vec<bool>,
+    wh: f64,
+    /// broken bonds that wrote PD rows of top-edge nodes: sigma22 loses c (b . u) for each
+    sig_bonds: Vec<(f64, [usize; 4], [f64; 4])>,
 }
 
 impl<'a> Fast<'a> {
@@ -430,16 +446,12 @@ impl<'a> Fast<'a> {
         for c in 0..n {
             let rows = &k.row_idx[k.col_ptr[c]..k.col_ptr[c + 1]];
             match cls[c] {
-                CLS_P => {
-                    if rows.iter().any(|&r| cls[r] == CLS_F) {
-                        pc_pos[idx[c]] = pc.len();
-                        pc.push(idx[c]);
-                    }
+                CLS_P if rows.iter().any(|&r| cls[r] == CLS_F) => {
+                    pc_pos[idx[c]] = pc.len();
+                    pc.push(idx[c]);
                 }
-                CLS_F => {
-                    if rows.iter().any(|&r| cls[r] == CLS_P) {
-                        ring_flag[c] = true;
-                    }
+                CLS_F if rows.iter().any(|&r| cls[r] == CLS_P) => {
+                    ring_flag[c] = true;
                 }
                 _ => {}
             }
@@ -461,13 +473,6 @@ impl<'a> Fast<'a> {
         let mut is_top_y = vec![false; n];
         for &t in &model.edges.top {
             is_top_y[2 * t + 1] = true;
-            if model.is_pd[t] {
-                return Err(Error::invalid(
-                    "fast SLA",
-                    "FEM nodes on the loaded top edge (PD rows there change with breaks)",
-                    "a PD node on the top edge",
-                ));
-            }
         }
         let mut q = vec![0.0; n];
         for (c, qc) in q.iter_mut().enumerate() {
@@ -567,6 +572,9 @@ impl<'a> Fast<'a> {
             refactor_every,
             n_fact: 0,
             u_full: model.prescribed.clone(),
+            is_top_y,
+            wh,
+            sig_bonds: Vec::new(),
             k0: CscMatrix {
                 nrows: 0,
                 ncols: 0,
@@ -633,7 +641,7 @@ impl<'a> Fast<'a> {
             dmin = dmin.min(a);
             dmax = dmax.max(a);
         }
-        if np > 0 && !(dmin > 1e-13 * dmax) {
+        if np > 0 && (dmin.is_nan() || dmin <= 1e-13 * dmax) {
             return Err(separated(format!(
                 "condensed PD matrix is singular (pivot ratio {:.3e})",
                 dmin / dmax
@@ -698,13 +706,11 @@ impl Engine for Fast<'_> {
             let zx: f64 = zrow.iter().zip(&xpc).map(|(a, b)| a * b).sum();
             self.u_full[d] = self.y0[self.idx[d]] - zx;
         }
-        let sigma22 = self.sig_const
-            + self
-                .sig_coef
-                .iter()
-                .zip(&x)
-                .map(|(a, b)| a * b)
-                .sum::<f64>();
+        let mut sigma22 = self.sig_const + dot(&self.sig_coef, &x);
+        for (c, dofs, bv) in &self.sig_bonds {
+            let bu: f64 = (0..4).map(|t| bv[t] * self.u_full[dofs[t]]).sum();
+            sigma22 -= c * bu;
+        }
         let cmod = self.cmod_const
             + self
                 .cmod_coef
@@ -735,6 +741,17 @@ impl Engine for Fast<'_> {
         let bv = [nv[0], nv[1], -nv[0], -nv[1]];
         let np = self.p_dofs.len();
         let npc = self.pc.len();
+        // PD rows of the loaded top edge (pure PD layers): sigma22 loses this bond's force
+        let mut c_top = 0.0;
+        for t in 0..4 {
+            let d = dofs[t];
+            if self.is_top_y[d] && model.is_pd[d / 2] && (t < 2 || model.is_pd[j]) {
+                c_top += alpha * bv[t] / self.wh;
+            }
+        }
+        if c_top != 0.0 {
+            self.sig_bonds.push((c_top, dofs, bv));
+        }
         // a on free PD rows
         let mut a: Vec<(usize, f64)> = Vec::new();
         for t in 0..4 {
@@ -800,7 +817,7 @@ impl Engine for Fast<'_> {
             .map(|c| (0..k).map(|r| row[r] * e[r * k + c]).sum())
             .collect();
         let s = d - row.iter().zip(&ec).map(|(a, b)| a * b).sum::<f64>();
-        if !(s.abs() > 1e-10) {
+        if s.is_nan() || s.abs() <= 1e-10 {
             return Err(separated(format!(
                 "breaking bond {b} ({i}-{j}) makes the system singular (Schur pivot {s:.3e})"
             )));
@@ -851,6 +868,10 @@ impl Engine for Fast<'_> {
     }
 }
 
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
 fn timing(what: &str, t0: Instant) {
     if std::env::var_os("RUSTFRAC_TIMING").is_some() {
         eprintln!(
@@ -896,11 +917,9 @@ pub fn run(params: &CcmPdParams, progress: &(dyn Fn(usize, usize) + Sync)) -> Re
     let n_pd_free = (0..model.n_dofs())
         .filter(|&d| !model.mask[d] && model.is_pd[d / 2])
         .count();
-    let top_pd = model.edges.top.iter().any(|&n| model.is_pd[n]);
     let k0 = model.assemble(&broken);
     let mut solver = String::new();
-    let mut engine: Box<dyn Engine + '_> = if params.sla.fast && n_pd_free <= DENSE_LIMIT && !top_pd
-    {
+    let mut engine: Box<dyn Engine + '_> = if params.sla.fast && n_pd_free <= DENSE_LIMIT {
         solver.push_str(
             "fast (FEM condensed by Cholesky, dense PD system + Sherman-Morrison-Woodbury)",
         );
@@ -909,13 +928,7 @@ pub fn run(params: &CcmPdParams, progress: &(dyn Fn(usize, usize) + Sync)) -> Re
         solver.push_str("oracle (sparse LU refactorised every step)");
         if params.sla.fast {
             solver.push_str(&format!(
-                "; fast path not applicable ({} PD dofs, limit {DENSE_LIMIT}{})",
-                n_pd_free,
-                if top_pd {
-                    ", PD nodes on the loaded edge"
-                } else {
-                    ""
-                }
+                "; fast path not applicable ({n_pd_free} free PD dofs > dense limit {DENSE_LIMIT})"
             ));
         }
         Box::new(Oracle::new(&model, &broken, &k0)?)
@@ -944,6 +957,12 @@ pub fn run(params: &CcmPdParams, progress: &(dyn Fn(usize, usize) + Sync)) -> Re
             }
             Err(e) => return Err(e),
         };
+        // under displacement grips a cut load path leaves both parts held by their own grip: the
+        // system stays regular but carries no load any more
+        if params.load.grip != Grip::Traction && st.sigma22.abs() <= 1e-9 * sol0.sigma22.abs() {
+            status = "separated".into();
+            break;
+        }
         let mut lmin = f64::INFINITY;
         for (b, bond) in model.bonds.iter().enumerate() {
             lam[b] = f64::INFINITY;
@@ -973,7 +992,8 @@ pub fn run(params: &CcmPdParams, progress: &(dyn Fn(usize, usize) + Sync)) -> Re
             broken[b] = true;
             match engine.break_bond(b, &broken) {
                 Ok(()) => {}
-                Err(Error::Separated { .. }) => {
+                Err(Error::Separated { detail }) => {
+                    timing(&detail, t1);
                     sep = true;
                     break;
                 }

@@ -79,8 +79,7 @@ impl CscMatrix {
     /// y = A x.
     pub fn matvec(&self, x: &[f64]) -> Vec<f64> {
         let mut y = vec![0.0; self.nrows];
-        for c in 0..self.ncols {
-            let xc = x[c];
+        for (c, &xc) in x.iter().enumerate().take(self.ncols) {
             if xc == 0.0 {
                 continue;
             }
@@ -112,8 +111,8 @@ impl CscMatrix {
     /// Dense copy (tests and small systems only).
     pub fn to_dense(&self) -> Vec<Vec<f64>> {
         let mut d = vec![vec![0.0; self.ncols]; self.nrows];
-        for c in 0..self.ncols {
-            for k in self.col_ptr[c]..self.col_ptr[c + 1] {
+        for (c, w) in self.col_ptr.windows(2).enumerate() {
+            for k in w[0]..w[1] {
                 d[self.row_idx[k]][c] += self.val[k];
             }
         }

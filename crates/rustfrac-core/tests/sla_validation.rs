@@ -126,3 +126,127 @@ fn fast_sla_matches_oracle_paper_grid() {
         fast.sla_seconds, fast.setup_seconds, oracle.sla_seconds, oracle.setup_seconds, (oracle.sla_seconds + oracle.setup_seconds) / (fast.sla_seconds + fast.setup_seconds));
     assert!(w < 1e-8);
 }
+
+#[test]
+fn mode_one_damage_is_symmetric_and_runs_along_the_crack_line() {
+    use rustfrac_core::loading::Grip;
+    let mut p = coarse(true, 80);
+    // clamped grips are exactly symmetric about x2 = 10.5 (the single u1 anchor of the free grip
+    // is not); mirror bonds then reach s0 together up to round-off and break in the same step
+    p.load.grip = Grip::Clamped;
+    p.sla.tie_tol = 1e-9;
+    let r = run(&p, &quiet).unwrap();
+    assert_eq!(r.status, "completed");
+    let yc = 10.5;
+    let delta = 4.0 * 0.2;
+    let (mut n_broken, mut n_cross) = (0, 0);
+    for (b, &br) in r.broken.iter().enumerate() {
+        if br {
+            n_broken += 1;
+            let [i, j] = r.bond_nodes[b];
+            let (yi, yj) = (r.node_xy[i][1], r.node_xy[j][1]);
+            if (yi - yc) * (yj - yc) < 0.0 {
+                n_cross += 1;
+            }
+            // the crack band: every broken bond lies within half a horizon of the crack line
+            assert!(
+                (0.5 * (yi + yj) - yc).abs() <= 0.5 * delta + 1e-9,
+                "bond {b} off the crack line"
+            );
+        }
+    }
+    assert!(
+        n_cross as f64 >= 0.9 * n_broken as f64,
+        "{n_cross} of {n_broken}"
+    );
+    let mut worst = 0.0f64;
+    let mut index = std::collections::HashMap::new();
+    for (k, xy) in r.pd_node_xy.iter().enumerate() {
+        index.insert(
+            ((xy[0] * 1e6).round() as i64, (xy[1] * 1e6).round() as i64),
+            k,
+        );
+    }
+    for (k, xy) in r.pd_node_xy.iter().enumerate() {
+        let key = (
+            (xy[0] * 1e6).round() as i64,
+            ((2.0 * yc - xy[1]) * 1e6).round() as i64,
+        );
+        let m = index[&key];
+        worst = worst.max((r.damage[k] - r.damage[m]).abs());
+    }
+    let dmax = r.damage.iter().cloned().fold(0.0, f64::max);
+    let tip_x = r.history.last().unwrap().crack_length;
+    println!(
+        "mode I: {} steps, {} broken bonds ({n_cross} cross x2 = 10.5, the others are bonds next to it in the crack band), max damage {dmax:.3}, max |D(x, y) - D(x, 21 - y)| = {worst:.2e}, crack length {tip_x:.3}",
+        r.history.len(),
+        n_broken
+    );
+    assert!(worst < 1e-12);
+    assert!(tip_x > 1.1);
+    // the free grip: report the asymmetry the single anchor introduces
+    let mut q = coarse(true, 0);
+    q.sla.max_steps = 0;
+    let f = run(&q, &quiet).unwrap();
+    let mut asym = 0.0f64;
+    for n in 0..f.n_nodes {
+        let xy = f.node_xy[n];
+        let jm = ((2.0 * yc - xy[1]) / 0.2).round() as usize;
+        let i = (xy[0] / 0.2).round() as usize;
+        let m = jm * 56 + i;
+        asym = asym.max((f.u[2 * n + 1] + f.u[2 * m + 1]).abs());
+    }
+    println!("free grip: max |u2(x, y) + u2(x, 21 - y)| = {asym:.2e} (u0 = 0.01)");
+}
+
+#[test]
+fn separation_is_a_status_not_nan() {
+    // pure PD strip cut through by the SLA: must end with status "separated", finite history
+    let mut hist = Vec::new();
+    for fast in [true, false] {
+        let mut p = CcmPdParams::paper();
+        p.method = Method::Pd;
+        p.width = 1.2;
+        p.height = 2.2;
+        p.dx = 0.2;
+        p.m = 2;
+        p.precrack = vec![[0.0, 1.1], [0.5, 1.1]];
+        p.sla = SlaParams {
+            max_steps: 2000,
+            fast,
+            ..SlaParams::default()
+        };
+        let r = run(&p, &quiet).unwrap();
+        println!(
+            "pure PD strip (fast = {fast}, {}): status {} after {} steps",
+            r.solver,
+            r.status,
+            r.history.len()
+        );
+        assert_eq!(r.status, "separated");
+        assert!(r
+            .history
+            .iter()
+            .all(|s| s.lambda.is_finite() && s.sigma22.is_finite() && s.cmod.is_finite()));
+        assert!(r.damage.iter().all(|d| d.is_finite()));
+        for h in r.history.iter().rev().take(3) {
+            println!(
+                "  step {} lambda {:.6e} sigma {:.4e} bonds {:?} nodes {:?}",
+                h.step, h.lambda, h.sigma22, h.bonds, h.nodes
+            );
+        }
+        hist.push(r.history);
+    }
+    // pure PD (loaded edges are PD layers): the fast path agrees with the oracle
+    assert_eq!(hist[0].len(), hist[1].len());
+    for (a, b) in hist[0].iter().zip(&hist[1]) {
+        assert_eq!(a.bonds, b.bonds);
+        assert!((a.lambda - b.lambda).abs() < 1e-8 * b.lambda);
+        assert!(
+            (a.sigma22 - b.sigma22).abs() < 1e-8 * b.sigma22.abs().max(1e-12),
+            "{} {}",
+            a.sigma22,
+            b.sigma22
+        );
+    }
+}
