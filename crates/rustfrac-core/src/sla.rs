@@ -29,6 +29,7 @@ use crate::solver::{Cholesky, Lu};
 use crate::sparse::{CscMatrix, Reduction};
 use faer::linalg::solvers::DenseSolveCore;
 use faer::Mat;
+use rayon::prelude::*;
 use std::time::Instant;
 
 /// Options of the sequentially linear analysis.
@@ -251,14 +252,14 @@ fn validate_sla(p: &SlaParams) -> Result<()> {
 
 /// A state of the model at the reference load.
 struct State {
-    /// displacements, valid at least at every bond end dof
-    u: Vec<f64>,
     sigma22: f64,
     cmod: f64,
 }
 
 trait Engine {
     fn state(&mut self) -> Result<State>;
+    /// displacements of the last `state`, valid at least at every bond end dof
+    fn u(&self) -> &[f64];
     /// Removes bond `b`; Err(Separated) when the body separates.
     fn break_bond(&mut self, b: usize, broken_now: &[bool]) -> Result<()>;
     fn full_u(&mut self, broken_now: &[bool]) -> Result<Vec<f64>>;
@@ -276,6 +277,7 @@ struct Oracle<'a> {
     n_fact: usize,
     /// max |u| of the first solve, the scale for the separation test
     u_scale: f64,
+    u: Vec<f64>,
 }
 
 impl<'a> Oracle<'a> {
@@ -293,6 +295,7 @@ impl<'a> Oracle<'a> {
             broken: broken.to_vec(),
             n_fact: 1,
             u_scale: 0.0,
+            u: Vec::new(),
         })
     }
     fn refresh(&mut self) -> Result<()> {
@@ -332,8 +335,8 @@ impl Engine for Oracle<'_> {
                 self.u_scale
             )));
         }
+        self.u = s.u;
         Ok(State {
-            u: s.u,
             sigma22: s.sigma22,
             cmod: s.cmod,
         })
@@ -344,7 +347,11 @@ impl Engine for Oracle<'_> {
         Ok(())
     }
     fn full_u(&mut self, _: &[bool]) -> Result<Vec<f64>> {
-        Ok(self.state()?.u)
+        self.state()?;
+        Ok(self.u.clone())
+    }
+    fn u(&self) -> &[f64] {
+        &self.u
     }
     fn n_refactorisations(&self) -> usize {
         self.n_fact
@@ -516,33 +523,49 @@ impl<'a> Fast<'a> {
             let blk_size: usize = std::env::var("RUSTFRAC_ZBLK")
                 .ok()
                 .and_then(|s| s.parse().ok())
-                .unwrap_or(64);
-            let mut buf = vec![0.0; nf * blk_size];
-            for c0 in (0..npc).step_by(blk_size) {
-                let nb = blk_size.min(npc - c0);
-                let blk = &mut buf[..nf * nb];
-                blk.iter_mut().for_each(|v| *v = 0.0);
-                for t in 0..nb {
-                    let col = p_dofs[pc[c0 + t]];
-                    for kk in k.col_ptr[col]..k.col_ptr[col + 1] {
-                        let r = k.row_idx[kk];
-                        if cls[r] == CLS_F {
-                            blk[t * nf + idx[r]] = k.val[kk];
+                .filter(|&b: &usize| b > 0)
+                .unwrap_or(32);
+            let starts: Vec<usize> = (0..npc).step_by(blk_size).collect();
+            // column blocks solved concurrently (the supernodal triangular solves themselves
+            // parallelise poorly); each block keeps only its ring rows and functionals
+            let blocks: Vec<Result<(usize, usize, Vec<f64>, Vec<f64>, Vec<f64>)>> = starts
+                .par_iter()
+                .map(|&c0| {
+                    let nb = blk_size.min(npc - c0);
+                    let mut blk = vec![0.0; nf * nb];
+                    for t in 0..nb {
+                        let col = p_dofs[pc[c0 + t]];
+                        for kk in k.col_ptr[col]..k.col_ptr[col + 1] {
+                            let r = k.row_idx[kk];
+                            if cls[r] == CLS_F {
+                                blk[t * nf + idx[r]] = k.val[kk];
+                            }
                         }
                     }
-                }
-                ch.solve_in_place(blk)?;
-                for t in 0..nb {
-                    let zc = &blk[t * nf..(t + 1) * nf];
-                    let (mut sq, mut se) = (0.0, 0.0);
-                    for (fi, &d) in f_dofs.iter().enumerate() {
-                        sq += q[d] * zc[fi];
-                        se += e[d] * zc[fi];
+                    ch.solve_in_place(&mut blk)?;
+                    let mut zr = vec![0.0; ring.len() * nb];
+                    let mut sq = vec![0.0; nb];
+                    let mut se = vec![0.0; nb];
+                    for t in 0..nb {
+                        let zc = &blk[t * nf..(t + 1) * nf];
+                        for (fi, &d) in f_dofs.iter().enumerate() {
+                            sq[t] += q[d] * zc[fi];
+                            se[t] += e[d] * zc[fi];
+                        }
+                        for (r, &d) in ring.iter().enumerate() {
+                            zr[r * nb + t] = zc[idx[d]];
+                        }
                     }
-                    sig_coef[pc[c0 + t]] -= sq;
-                    cmod_coef[pc[c0 + t]] -= se;
-                    for (r, &d) in ring.iter().enumerate() {
-                        z_ring[r * npc + c0 + t] = zc[idx[d]];
+                    Ok((c0, nb, zr, sq, se))
+                })
+                .collect();
+            for bl in blocks {
+                let (c0, nb, zr, sq, se) = bl?;
+                for t in 0..nb {
+                    sig_coef[pc[c0 + t]] -= sq[t];
+                    cmod_coef[pc[c0 + t]] -= se[t];
+                    for r in 0..ring.len() {
+                        z_ring[r * npc + c0 + t] = zr[r * nb + t];
                     }
                 }
             }
@@ -718,11 +741,7 @@ impl Engine for Fast<'_> {
                 .zip(&x)
                 .map(|(a, b)| a * b)
                 .sum::<f64>();
-        Ok(State {
-            u: self.u_full.clone(),
-            sigma22,
-            cmod,
-        })
+        Ok(State { sigma22, cmod })
     }
 
     fn break_bond(&mut self, b: usize, broken_now: &[bool]) -> Result<()> {
@@ -844,8 +863,8 @@ impl Engine for Fast<'_> {
     }
 
     fn full_u(&mut self, _: &[bool]) -> Result<Vec<f64>> {
-        let st = self.state()?;
-        let mut u = st.u;
+        self.state()?;
+        let mut u = self.u_full.clone();
         if let Some(ch) = &self.chol {
             // y = y0 - K_FF^{-1} K_FP x
             let k = &self.k0;
@@ -865,6 +884,9 @@ impl Engine for Fast<'_> {
 
     fn n_refactorisations(&self) -> usize {
         self.n_fact
+    }
+    fn u(&self) -> &[f64] {
+        &self.u_full
     }
 }
 
@@ -969,7 +991,7 @@ pub fn run(params: &CcmPdParams, progress: &(dyn Fn(usize, usize) + Sync)) -> Re
             if broken[b] {
                 continue;
             }
-            let s = bond.stretch(&st.u);
+            let s = bond.stretch(engine.u());
             if s > 0.0 {
                 lam[b] = s0 / s;
                 lmin = lmin.min(lam[b]);
