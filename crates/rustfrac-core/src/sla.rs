@@ -358,6 +358,10 @@ impl Engine for Oracle<'_> {
     }
 }
 
+/// One column block of Z: (first column, width, ring rows (row-major |ring| x width), sigma22
+/// and CMOD functionals of its columns).
+type ZBlock = (usize, usize, Vec<f64>, Vec<f64>, Vec<f64>);
+
 /// Dof classes of the condensation.
 const CLS_FIXED: u8 = 0;
 const CLS_F: u8 = 1;
@@ -528,7 +532,7 @@ impl<'a> Fast<'a> {
             let starts: Vec<usize> = (0..npc).step_by(blk_size).collect();
             // column blocks solved concurrently (the supernodal triangular solves themselves
             // parallelise poorly); each block keeps only its ring rows and functionals
-            let blocks: Vec<Result<(usize, usize, Vec<f64>, Vec<f64>, Vec<f64>)>> = starts
+            let blocks: Vec<Result<ZBlock>> = starts
                 .par_iter()
                 .map(|&c0| {
                     let nb = blk_size.min(npc - c0);
