@@ -250,3 +250,35 @@ fn separation_is_a_status_not_nan() {
         );
     }
 }
+
+#[test]
+fn damage_snapshots_and_crack_length_stop() {
+    let mut p = coarse(true, 400);
+    p.sla.damage_at_steps = vec![5, 20];
+    p.sla.stop_crack_length = Some(1.5);
+    let mut calls = std::sync::atomic::AtomicUsize::new(0);
+    let counter = |_: usize, _: usize| {
+        calls.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    };
+    let r = run(&p, &counter).unwrap();
+    assert_eq!(r.status, "crack_length_reached");
+    let last = r.history.last().unwrap();
+    assert!(last.crack_length >= 1.5);
+    assert!(r.history[r.history.len() - 2].crack_length < 1.5);
+    assert_eq!(*calls.get_mut(), r.history.len());
+    assert_eq!(r.damage_at.len(), 2);
+    assert_eq!(r.damage_at[0].0, 5);
+    for (_, d) in &r.damage_at {
+        assert_eq!(d.len(), r.n_pd_nodes);
+    }
+    // damage only grows
+    for k in 0..r.n_pd_nodes {
+        assert!(r.damage_at[0].1[k] <= r.damage_at[1].1[k] + 1e-15);
+        assert!(r.damage_at[1].1[k] <= r.damage[k] + 1e-15);
+    }
+    println!(
+        "stopped at crack length {:.3} after {} steps",
+        last.crack_length,
+        r.history.len()
+    );
+}
