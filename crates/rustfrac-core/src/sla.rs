@@ -20,6 +20,13 @@
 //!   of the bordering is the ratio det(S_k+1)/det(S_k): when it vanishes the body has separated
 //!   (status "separated", never NaN). Optional periodic re-condensation (`refactor_every`).
 
+//!
+//! Entry point for the bindings: build [`CcmPdParams`] (start from [`CcmPdParams::paper`] and
+//! override fields; `method` = [`Method::CcmPd`] or [`Method::Pd`]), call
+//! [`run`]`(&params, &|step, max_steps| ...)`, read [`CcmPdResult`]. Every parameter is validated
+//! ([`Error::InvalidInput`] names it and its range); a separated body ends the run with status
+//! "separated" (never NaN); faer panics are caught inside the solver wrappers.
+
 use crate::coupling::{ModelSpec, SpliceModel};
 use crate::error::{check_finite, check_positive, Error, Result};
 use crate::loading::{Grip, PlateLoad};
