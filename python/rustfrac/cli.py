@@ -1,4 +1,5 @@
-"""Command line: ``rustfrac run SCENE.toml --out DIR [--quiet]``.
+"""Command line: ``rustfrac run SCENE.toml --out DIR [--quiet]`` and
+``rustfrac fig7 --out DIR [--preset paper|fast] [--bc free|clamped] [--quiet]``.
 
 Exit codes: 0 success, 1 the run failed (singular system, internal error), 2 bad input (unreadable
 or invalid scene file, bad arguments).
@@ -58,7 +59,50 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument("--quiet", "-q", action="store_true", help="print nothing but errors")
     r.add_argument("--no-vtu", action="store_true", help="skip the ParaView .vtu file")
     r.add_argument("--plot", action="store_true", help="also save a PNG of the s22 field")
+    f = sub.add_parser(
+        "fig7", help="reproduce the paper's Fig. 7 (and Figs. 6, 8): XFEM and CCM-PD side by side"
+    )
+    f.add_argument("--out", type=Path, default=Path("results"), help="output directory")
+    f.add_argument(
+        "--preset", choices=("paper", "fast"), default="paper",
+        help="paper: the paper's discretisations (default); fast: coarse, seconds",
+    )
+    f.add_argument(
+        "--bc", choices=("free", "clamped"), default="free", help="grip variant (u1 on the grips)"
+    )
+    f.add_argument("--quiet", "-q", action="store_true", help="print nothing but errors")
     return p
+
+
+def _cmd_fig7(args: argparse.Namespace) -> int:
+    from .fig7 import fig7
+
+    log = None if args.quiet else (lambda s: print(s, flush=True))
+    bars: list[ProgressBar] = []
+
+    def progress(name: str) -> ProgressBar | None:
+        if args.quiet:
+            return None
+        for b in bars:
+            b.close()
+        bars.append(ProgressBar())
+        return bars[-1]
+
+    try:
+        fig7(args.out, preset=args.preset, bc=args.bc, log=log, progress=progress)
+    except KeyboardInterrupt:
+        print("rustfrac: interrupted; finished parts were written", file=sys.stderr)
+        return 130
+    except InvalidParameterError as e:
+        print(f"rustfrac: error: invalid input: {e}", file=sys.stderr)
+        return 2
+    except RustfracError as e:
+        print(f"rustfrac: run failed: {type(e).__name__}: {e}", file=sys.stderr)
+        return 1
+    finally:
+        for b in bars:
+            b.close()
+    return 0
 
 
 def _cmd_run(args: argparse.Namespace) -> int:
@@ -120,6 +164,8 @@ def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     if args.command == "run":
         return _cmd_run(args)
+    if args.command == "fig7":
+        return _cmd_fig7(args)
     return 2  # pragma: no cover (argparse enforces the subcommands)
 
 

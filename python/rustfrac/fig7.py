@@ -1,0 +1,457 @@
+"""The main job: reproduce the paper's Fig. 7 (and Figs. 6 and 8) with both methods, and report
+the agreement and the cost (``rustfrac fig7 --out DIR [--preset fast|paper]``).
+
+Runs, on the paper's plate (W = 11, L = 21, a0 = 1.1, E = 10000, nu = 0.25, G0 = 0.367, plane
+strain, u2 = +-u0 on the grips, variant ``bc``):
+
+1. XFEM at the reference load (K_I, sigma22, CMOD), under traction 9.993 (the paper's second K_I),
+   quasi-static LEFM growth from a0 to 0.7 W, and two short growths for the deformed-mesh panels;
+2. CCM-PD with the sequentially linear analysis (one bond break per step);
+3. the LEFM handbook curve (long strip under traction: a guide, not the paper's geometry).
+
+Writes ``fig7.png``, ``fig7.csv``, ``fig8a.png``, ``fig8b.png``, ``fig6.png``, ``summary.md``,
+``summary.json`` and the result folders ``xfem/`` and ``ccm_pd/`` (each file atomically). Ctrl-C
+stops cleanly: what finished is written, and the summary says the run was interrupted.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import os
+import platform
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from . import figures, handbook
+from .result import Result, _atomic
+from .runner import run
+from .scene import Scene
+from .scenes import edge_crack_plate
+
+__all__ = ["PAPER", "PRESETS", "Preset", "fig7"]
+
+#: the paper's published values (section 3) and run times
+PAPER: dict[str, float] = {
+    "sigma22_xfem": 9.993,
+    "sigma22_ccm_pd": 9.992,
+    "cmod_xfem": 0.005317,
+    "cmod_ccm_pd": 0.005374,
+    "K_I_displacement": 19.85,
+    "K_I_traction": 20.71,
+    "K_I_analytical": 20.79,
+    "traction": 9.993,
+    "time_xfem_s": 1919.62,
+    "time_ccm_pd_s": 1999.71,
+}
+
+
+@dataclass(frozen=True)
+class Preset:
+    """Discretisation of one Fig. 7 run."""
+
+    mesh: tuple[int, int]  # XFEM elements (nx, ny)
+    dx: float  # PD grid spacing
+    sla_steps: int  # bond breaks
+    snapshot_steps: tuple[int, int]  # XFEM growth steps shown in Fig. 8b
+    description: str
+
+
+PRESETS: dict[str, Preset] = {
+    "paper": Preset((44, 83), 1.0 / 15.0, 500, (2, 6), "the paper's settings"),
+    "fast": Preset((22, 41), 1.0 / 5.0, 120, (1, 3), "coarse, for CI and a first look"),
+}
+
+Log = Callable[[str], None]
+
+
+def _scenes(p: Preset, bc: str) -> dict[str, Scene]:
+    growth = dict(growth_steps=400)  # until a_stop = 0.7 W (or the ligament is used up)
+    return {
+        "xfem": edge_crack_plate("xfem", mesh=p.mesh, bc=bc, name="xfem reference load"),
+        "xfem_traction": edge_crack_plate(
+            "xfem", mesh=p.mesh, bc="traction", traction=PAPER["traction"], name="xfem traction"
+        ),
+        "xfem_growth": edge_crack_plate("xfem", mesh=p.mesh, bc=bc, name="xfem growth", **growth),
+        "xfem_snap1": edge_crack_plate(
+            "xfem", mesh=p.mesh, bc=bc, growth_steps=p.snapshot_steps[0], name="xfem snapshot 1"
+        ),
+        "xfem_snap2": edge_crack_plate(
+            "xfem", mesh=p.mesh, bc=bc, growth_steps=p.snapshot_steps[1], name="xfem snapshot 2"
+        ),
+        "ccm_pd": edge_crack_plate(
+            "ccm_pd", dx=p.dx, sla_steps=p.sla_steps, bc=bc, name="ccm_pd SLA"
+        ),
+    }
+
+
+def _machine() -> dict[str, Any]:
+    cpu = platform.processor() or ""
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                cpu = line.split(":", 1)[1].strip()
+                break
+    except OSError:
+        pass
+    return {
+        "cpu": cpu,
+        "cores": os.cpu_count(),
+        "platform": platform.platform(),
+        "python": platform.python_version(),
+    }
+
+
+def _peak(res: Result) -> tuple[float, float]:
+    """(peak sigma22, CMOD at the peak) of a load path."""
+    s, c = res.history["sigma22"], res.history["cmod"]
+    i = int(np.argmax(s))
+    return float(s[i]), float(c[i])
+
+
+def _write_text(path: Path, text: str) -> None:
+    with _atomic(path, "w") as f:
+        f.write(text)
+
+
+def _write_csv(path: Path, results: dict[str, Result], hb: tuple[np.ndarray, np.ndarray]) -> None:
+    buf = io.StringIO()
+    w = csv.writer(buf)
+    w.writerow(["method", "point", "crack_length", "load_factor", "u0", "sigma22", "cmod"])
+    for name in ("xfem_growth", "ccm_pd"):
+        if name not in results:
+            continue
+        h = results[name].history
+        a = h.get("a", h.get("crack_length"))
+        for i in range(len(h["sigma22"])):
+            w.writerow(
+                [
+                    "xfem" if name == "xfem_growth" else "ccm_pd",
+                    i,
+                    "" if a is None else repr(float(a[i])),
+                    repr(float(h["load_factor"][i])),
+                    repr(float(h["u0"][i])),
+                    repr(float(h["sigma22"][i])),
+                    repr(float(h["cmod"][i])),
+                ]
+            )
+    for i, (c, s) in enumerate(zip(*hb)):
+        w.writerow(["handbook", i, "", "", "", repr(float(s)), repr(float(c))])
+    _write_text(path, buf.getvalue())
+
+
+def fig7(
+    out: str | Path,
+    *,
+    preset: str = "paper",
+    bc: str = "free",
+    log: Log | None = print,
+    progress: Callable[[str], Callable[[int, int, str], Any] | None] | None = None,
+) -> dict[str, Any]:
+    """Runs the Fig. 7 job into ``out`` and returns the summary dict (also written as JSON).
+
+    Args:
+        preset: "paper" (the paper's discretisations) or "fast" (coarse, seconds).
+        bc: grip variant of the displacement load: "free" or "clamped".
+        log: line logger (None: silent).
+        progress: factory ``progress(name)`` returning a progress callback for one run, or None.
+    """
+    if preset not in PRESETS:
+        from .errors import InvalidParameterError
+
+        raise InvalidParameterError(
+            f"invalid preset: expected one of {', '.join(map(repr, PRESETS))}, got {preset!r}",
+            "preset",
+        )
+    if bc not in ("free", "clamped"):
+        from .errors import InvalidParameterError
+
+        raise InvalidParameterError(
+            f"invalid bc: expected 'free' or 'clamped' (displacement grips), got {bc!r}", "bc"
+        )
+    say: Log = log or (lambda s: None)
+    outdir = Path(out)
+    outdir.mkdir(parents=True, exist_ok=True)
+    p = PRESETS[preset]
+    scenes = _scenes(p, bc)
+    results: dict[str, Result] = {}
+    times: dict[str, float] = {}
+    interrupted = False
+    t_all = time.perf_counter()
+    try:
+        for name, scene in scenes.items():
+            say(f"run     {name}: {scene.describe()}")
+            t0 = time.perf_counter()
+            res = run(scene, progress=progress(name) if progress else None)
+            times[name] = time.perf_counter() - t0
+            results[name] = res
+            say(f"        {_built(res)}; {times[name]:.2f} s")
+    except KeyboardInterrupt:
+        interrupted = True
+        say("interrupted: writing what finished")
+    for name in ("xfem_growth", "ccm_pd"):
+        if name in results:
+            results[name].save(outdir / ("xfem" if name == "xfem_growth" else name))
+
+    W, E, nu, G0 = 11.0, 10000.0, 0.25, 0.367
+    a = np.linspace(1.1, 0.7 * W, 120)
+    hb_c, hb_s = handbook.edge_crack_curve(a, W, E, nu, G0)
+    hb = (np.concatenate([[0.0], hb_c]), np.concatenate([[0.0], hb_s]))
+    files: list[str] = []
+    curves: list[figures.Curve] = []
+    if "xfem_growth" in results:
+        h = results["xfem_growth"].history
+        curves.append(("XFEM (LEFM growth)", h["cmod"], h["sigma22"], {"marker": ".", "ms": 4}))
+    if "ccm_pd" in results:
+        h = results["ccm_pd"].history
+        curves.append(("CCM-PD (SLA)", h["cmod"], h["sigma22"], {"lw": 1.0}))
+    curves.append(
+        ("LEFM handbook (long strip, traction)", hb[0], hb[1], {"ls": "--", "color": "0.4"})
+    )
+    title = f"edge-cracked plate, bc {bc}, preset {preset}"
+    figures.save_figure(
+        figures.plot_fig7(
+            curves,
+            title=title,
+            published=[("paper, initial (XFEM)", PAPER["cmod_xfem"], PAPER["sigma22_xfem"])],
+        ),
+        outdir / "fig7.png",
+    )
+    _write_csv(outdir / "fig7.csv", results, hb)
+    files += ["fig7.png", "fig7.csv"]
+    if "ccm_pd" in results:
+        r = results["ccm_pd"]
+        figures.save_figure(
+            figures.plot_damage(
+                r.fields["pd_node_xy"],
+                r.fields["damage"],
+                p.dx,
+                title=f"CCM-PD damage after {len(r.history['sigma22']) - 1} SLA steps",
+                crack_y=10.5,
+            ),
+            outdir / "fig8a.png",
+        )
+        files.append("fig8a.png")
+    snaps = [
+        (results[k].fields["deformed_cells"], results[k].fields["deformed_disp"], f"step {s}")
+        for k, s in (("xfem_snap1", p.snapshot_steps[0]), ("xfem_snap2", p.snapshot_steps[1]))
+        if k in results
+    ]
+    if snaps:
+        figures.save_figure(figures.plot_deformed_patches(snaps, scale=50.0), outdir / "fig8b.png")
+        files.append("fig8b.png")
+    if "xfem" in results and "ccm_pd" in results:
+        figures.save_figure(
+            figures.plot_discretisations(
+                _xfem_disc(results["xfem"]), _pd_disc(results["ccm_pd"], p.dx), (0.0, 2.6, 9.6, 11.4)
+            ),
+            outdir / "fig6.png",
+        )
+        files.append("fig6.png")
+
+    summary = _summary(results, times, p, preset, bc, scenes, interrupted)
+    summary["total_s"] = time.perf_counter() - t_all
+    summary["files"] = [*files, "summary.md", "summary.json"]
+    _write_text(outdir / "summary.md", _markdown(summary))
+    _write_text(outdir / "summary.json", json.dumps(summary, indent=2, default=_json_default))
+    say(f"saved   {outdir}/ ({', '.join(summary['files'])})")
+    if interrupted:
+        raise KeyboardInterrupt
+    return summary
+
+
+def _built(res: Result) -> str:
+    m = res.meta
+    if res.method == "xfem":
+        return (
+            f"{res.n_dofs} unknowns, {m.get('n_heaviside_nodes', '?')} Heaviside and "
+            f"{m.get('n_tip_nodes', '?')} tip nodes, status {m.get('status', '?')}"
+        )
+    if res.method in ("pd", "ccm_pd"):
+        return (
+            f"{res.n_dofs} unknowns, {m.get('n_pd_nodes', '?')} PD nodes, "
+            f"{m.get('n_bonds', '?')} bonds, status {m.get('status', '?')}"
+        )
+    return f"{res.n_dofs} unknowns"
+
+
+def _xfem_disc(r: Result) -> dict[str, np.ndarray]:
+    f = r.fields
+    return {
+        "coords": f["coords"],
+        "elements": f["elements"],
+        "heaviside_nodes": f["heaviside_nodes"],
+        "tip_nodes": f["tip_nodes"],
+        "crack": f["crack"],
+    }
+
+
+def _pd_disc(r: Result, dx: float) -> dict[str, np.ndarray]:
+    xy = r.fields["node_xy"]
+    nx = round(float(xy[:, 0].max() - xy[:, 0].min()) / dx)
+    ny = round(float(xy[:, 1].max() - xy[:, 1].min()) / dx)
+    el = figures.grid_elements(nx, ny)
+    is_pd = np.zeros(len(xy), bool)
+    is_pd[np.asarray(r.fields["pd_nodes"], int)] = True
+    cells = xy[el]
+    a0, yc = 1.1, 10.5
+    # FEM elements cut by the pre-crack are removed in the core (the crack is a real slit there)
+    removed = (cells[:, :, 1].min(axis=1) < yc) & (cells[:, :, 1].max(axis=1) > yc)
+    removed &= cells[:, :, 0].min(axis=1) < a0
+    return {
+        "node_xy": xy,
+        "is_pd": is_pd,
+        "elements": el,
+        "removed": removed,
+        "crack": np.array([[0.0, yc], [a0, yc]]),
+    }
+
+
+def _rel(a: float, b: float) -> float:
+    return (a - b) / b if b else float("nan")
+
+
+def _summary(
+    results: dict[str, Result],
+    times: dict[str, float],
+    p: Preset,
+    preset: str,
+    bc: str,
+    scenes: dict[str, Scene],
+    interrupted: bool,
+) -> dict[str, Any]:
+    from . import __version__
+
+    s: dict[str, Any] = {
+        "version": __version__,
+        "preset": preset,
+        "preset_description": p.description,
+        "bc": bc,
+        "interrupted": interrupted,
+        "machine": _machine(),
+        "paper": PAPER,
+        "scenes": {k: v.to_dict() for k, v in scenes.items()},
+        "times_s": times,
+        "ours": {},
+    }
+    ours = s["ours"]
+    if "xfem" in results:
+        r = results["xfem"]
+        ours.update(sigma22_xfem=r.sigma22, cmod_xfem=r.cmod, K_I_displacement=r.K_I)
+    if "xfem_traction" in results:
+        ours["K_I_traction"] = results["xfem_traction"].K_I
+    if "ccm_pd" in results:
+        r = results["ccm_pd"]
+        ours.update(sigma22_ccm_pd=r.sigma22, cmod_ccm_pd=r.cmod, gamma=r.gamma)
+    if "xfem_growth" in results:
+        r = results["xfem_growth"]
+        ps, pc = _peak(r)
+        ours.update(
+            peak_sigma22_xfem=ps,
+            cmod_at_peak_xfem=pc,
+            xfem_growth_status=r.meta.get("status"),
+            xfem_final_a=float(r.history["a"][-1]),
+        )
+    if "ccm_pd" in results:
+        r = results["ccm_pd"]
+        ps, pc = _peak(r)
+        ours.update(
+            peak_sigma22_ccm_pd=ps,
+            cmod_at_peak_ccm_pd=pc,
+            ccm_pd_status=r.meta.get("status"),
+            ccm_pd_steps=len(r.history["sigma22"]) - 1,
+        )
+    if "peak_sigma22_xfem" in ours and "peak_sigma22_ccm_pd" in ours:
+        s["agreement"] = {
+            "peak_sigma22_rel_diff": _rel(ours["peak_sigma22_ccm_pd"], ours["peak_sigma22_xfem"]),
+            "cmod_at_peak_rel_diff": _rel(ours["cmod_at_peak_ccm_pd"], ours["cmod_at_peak_xfem"]),
+            "initial_cmod_rel_diff": _rel(ours["cmod_ccm_pd"], ours["cmod_xfem"]),
+            "initial_sigma22_rel_diff": _rel(ours["sigma22_ccm_pd"], ours["sigma22_xfem"]),
+        }
+    s["cost"] = {
+        "xfem_s": sum(v for k, v in times.items() if k.startswith("xfem_growth")),
+        "ccm_pd_s": times.get("ccm_pd"),
+        "paper_xfem_s": PAPER["time_xfem_s"],
+        "paper_ccm_pd_s": PAPER["time_ccm_pd_s"],
+    }
+    return s
+
+
+def _fmt(v: Any, spec: str = ".6g") -> str:
+    return "n/a" if v is None else format(v, spec)
+
+
+def _markdown(s: dict[str, Any]) -> str:
+    o, pa = s["ours"], s["paper"]
+    lines = [
+        "# rustfrac Fig. 7 reproduction",
+        "",
+        f"rustfrac {s['version']}, preset `{s['preset']}` ({s['preset_description']}), grips "
+        f"`{s['bc']}`" + (" -- **interrupted: partial results**" if s["interrupted"] else ""),
+        f"Machine: {s['machine']['cpu']}, {s['machine']['cores']} cores, "
+        f"{s['machine']['platform']}",
+        "",
+        "## Paper values beside ours",
+        "",
+        "| quantity | paper | rustfrac |",
+        "|---|---|---|",
+        f"| sigma22, XFEM, u0 = 0.01 | {pa['sigma22_xfem']} | {_fmt(o.get('sigma22_xfem'))} |",
+        f"| CMOD, XFEM | {pa['cmod_xfem']} | {_fmt(o.get('cmod_xfem'))} |",
+        f"| K_I, XFEM, displacement load | {pa['K_I_displacement']} | "
+        f"{_fmt(o.get('K_I_displacement'))} |",
+        f"| K_I, XFEM, traction 9.993 | {pa['K_I_traction']} | {_fmt(o.get('K_I_traction'))} |",
+        f"| sigma22, CCM-PD, before any break | {pa['sigma22_ccm_pd']} | "
+        f"{_fmt(o.get('sigma22_ccm_pd'))} |",
+        f"| CMOD, CCM-PD | {pa['cmod_ccm_pd']} | {_fmt(o.get('cmod_ccm_pd'))} |",
+        f"| gamma (m = 4) | 0.988895997195466 | {_fmt(o.get('gamma'), '.15g')} |",
+        "",
+        "The paper's values are a comparison, not the truth: its plate is loaded through grips and "
+        "its 44 x 83 mesh is not converged (see the README's validation section).",
+        "",
+    ]
+    if "agreement" in s:
+        ag = s["agreement"]
+        lines += [
+            "## Agreement between the two methods",
+            "",
+            "| | XFEM | CCM-PD | relative difference |",
+            "|---|---|---|---|",
+            f"| peak sigma22 | {_fmt(o['peak_sigma22_xfem'])} | {_fmt(o['peak_sigma22_ccm_pd'])}"
+            f" | {ag['peak_sigma22_rel_diff']:+.2%} |",
+            f"| CMOD at the peak | {_fmt(o['cmod_at_peak_xfem'])} | "
+            f"{_fmt(o['cmod_at_peak_ccm_pd'])} | {ag['cmod_at_peak_rel_diff']:+.2%} |",
+            f"| initial CMOD (u0 = 0.01) | {_fmt(o['cmod_xfem'])} | {_fmt(o['cmod_ccm_pd'])} | "
+            f"{ag['initial_cmod_rel_diff']:+.2%} |",
+            "",
+        ]
+    c = s["cost"]
+    lines += [
+        "## Cost",
+        "",
+        "| method | paper (laptop, Mathematica / MATLAB) | rustfrac |",
+        "|---|---|---|",
+        f"| XFEM growth | {c['paper_xfem_s']} s | {_fmt(c['xfem_s'], '.3f')} s |",
+        f"| CCM-PD, SLA | {c['paper_ccm_pd_s']} s | {_fmt(c['ccm_pd_s'], '.3f')} s |",
+        "",
+        f"Whole job: {s.get('total_s', 0):.1f} s. Growth status: XFEM "
+        f"{o.get('xfem_growth_status', 'n/a')} (final a = {_fmt(o.get('xfem_final_a'))}), "
+        f"CCM-PD {o.get('ccm_pd_status', 'n/a')} after {o.get('ccm_pd_steps', 'n/a')} steps.",
+        "",
+        "Scenes used: see `summary.json` (`scenes`).",
+        "",
+    ]
+    return "\n".join(lines)
+
+
+def _json_default(v: Any) -> Any:
+    if isinstance(v, np.generic):
+        return v.item()
+    if isinstance(v, np.ndarray):
+        return v.tolist()
+    raise TypeError(f"not JSON serialisable: {type(v).__name__}")

@@ -1,0 +1,213 @@
+"""The paper's figures, drawn from run results (matplotlib, no pyplot state, headless).
+
+- :func:`plot_fig7`: CMOD against sigma22 for XFEM and CCM-PD on one plot (paper Fig. 7), each
+  curve from the origin (its linear loading branch), plus the LEFM handbook curve labelled as such;
+- :func:`plot_damage`: the damage map of the PD nodes (Fig. 8a);
+- :func:`plot_deformed_patches`: the XFEM deformed mesh near the tip, magnified (Fig. 8b);
+- :func:`plot_discretisations`: both discretisations near the tip (Fig. 6b, 6c).
+
+Every ``save_*`` writes atomically (temporary file, then rename).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from matplotlib.axes import Axes
+from matplotlib.collections import PolyCollection
+from matplotlib.figure import Figure
+from matplotlib.patches import Rectangle
+
+from .result import _atomic
+
+__all__ = [
+    "Curve",
+    "plot_damage",
+    "plot_deformed_patches",
+    "plot_discretisations",
+    "plot_fig7",
+    "save_figure",
+]
+
+#: (label, cmod array, sigma22 array, matplotlib style dict)
+Curve = tuple[str, np.ndarray, np.ndarray, dict[str, Any]]
+
+
+def save_figure(fig: Figure, path: str | Path, dpi: int = 150) -> Path:
+    """Saves a figure as PNG atomically."""
+    p = Path(path)
+    with _atomic(p, "wb") as f:
+        fig.savefig(f, format="png", dpi=dpi, bbox_inches="tight")
+    return p
+
+
+def plot_fig7(
+    curves: Sequence[Curve], *, title: str = "", published: Sequence[tuple[str, float, float]] = ()
+) -> Figure:
+    """CMOD (x) against sigma22 (y) for each curve; ``published`` marks single (label, cmod,
+    sigma22) points such as the paper's initial values."""
+    fig = Figure(figsize=(7.0, 5.0))
+    ax = fig.add_subplot()
+    for label, cmod, sigma, style in curves:
+        ax.plot(cmod, sigma, label=label, **style)
+    for label, c, s in published:
+        ax.plot([c], [s], "k*", ms=9, label=label)
+    ax.set_xlabel("CMOD [mm]")
+    ax.set_ylabel(r"$\sigma_{22}$ [MPa]")
+    ax.set_xlim(left=0)
+    ax.set_ylim(bottom=0)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    if title:
+        ax.set_title(title, fontsize=10)
+    return fig
+
+
+def plot_damage(
+    xy: np.ndarray, damage: np.ndarray, dx: float, *, title: str = "", crack_y: float | None = None
+) -> Figure:
+    """Damage index (eq. 53) of the PD nodes as dx-sized squares coloured from 0 to 1."""
+    fig = Figure(figsize=(7.0, 4.2))
+    ax = fig.add_subplot()
+    h = dx / 2
+    polys = np.stack(
+        [
+            np.column_stack([xy[:, 0] - h, xy[:, 1] - h]),
+            np.column_stack([xy[:, 0] + h, xy[:, 1] - h]),
+            np.column_stack([xy[:, 0] + h, xy[:, 1] + h]),
+            np.column_stack([xy[:, 0] - h, xy[:, 1] + h]),
+        ],
+        axis=1,
+    )
+    pc = PolyCollection(polys, array=damage, cmap="jet", edgecolors="none")
+    pc.set_clim(0.0, 1.0)
+    ax.add_collection(pc)
+    ax.autoscale_view()
+    ax.set_aspect("equal")
+    if crack_y is not None:
+        ax.axhline(crack_y, color="w", lw=0.6, ls=":")
+    fig.colorbar(pc, ax=ax, label="damage index", shrink=0.8)
+    ax.set_xlabel("x1 [mm]")
+    ax.set_ylabel("x2 [mm]")
+    if title:
+        ax.set_title(title, fontsize=10)
+    return fig
+
+
+def _patch_axes(ax: Axes, cells: np.ndarray, disp: np.ndarray, scale: float, title: str) -> None:
+    ax.add_collection(
+        PolyCollection(cells, facecolors="none", edgecolors="0.75", linewidths=0.4)
+    )
+    ax.add_collection(
+        PolyCollection(cells + scale * disp, facecolors="none", edgecolors="C0", linewidths=0.6)
+    )
+    ax.autoscale_view()
+    ax.set_aspect("equal")
+    ax.set_title(title, fontsize=9)
+    ax.set_xlabel("x1 [mm]")
+
+
+def plot_deformed_patches(
+    patches: Sequence[tuple[np.ndarray, np.ndarray, str]], *, scale: float = 50.0
+) -> Figure:
+    """Undeformed (grey) and deformed (blue, displacements x ``scale``) cells near the tip, one
+    panel per (cells (c,4,2), displacements (c,4,2), title)."""
+    fig = Figure(figsize=(4.0 * len(patches), 4.0))
+    for i, (cells, disp, title) in enumerate(patches):
+        ax = fig.add_subplot(1, len(patches), i + 1)
+        _patch_axes(ax, np.asarray(cells), np.asarray(disp), scale, title)
+        if i == 0:
+            ax.set_ylabel("x2 [mm]")
+    fig.suptitle(f"XFEM deformed mesh near the tip (displacements x{scale:g})", fontsize=10)
+    return fig
+
+
+def plot_discretisations(
+    xfem: dict[str, np.ndarray],
+    pd: dict[str, np.ndarray],
+    window: tuple[float, float, float, float],
+) -> Figure:
+    """Fig. 6 (b, c): the XFEM mesh with its enriched nodes and the crack, and the CCM-PD grid with
+    PD nodes, FEM and hybrid elements, in ``window`` = (x0, x1, y0, y1).
+
+    ``xfem``: coords (n,2), elements (m,4), heaviside_nodes, tip_nodes, crack (k,2).
+    ``pd``: node_xy (N,2) of the structured grid, is_pd (N,) bool, elements (M,4) of the grid,
+    removed (M,) bool, crack (k,2)."""
+    x0, x1, y0, y1 = window
+    fig = Figure(figsize=(11.0, 4.8))
+
+    ax = fig.add_subplot(1, 2, 1)
+    xy, el = xfem["coords"], xfem["elements"]
+    cells = xy[el]
+    inside = np.all(
+        (cells[:, :, 0] >= x0 - 1e-9)
+        & (cells[:, :, 0] <= x1 + 1e-9)
+        & (cells[:, :, 1] >= y0 - 1e-9)
+        & (cells[:, :, 1] <= y1 + 1e-9),
+        axis=1,
+    )
+    hv = np.zeros(len(xy), bool)
+    hv[np.asarray(xfem["heaviside_nodes"], int)] = True
+    tp = np.zeros(len(xy), bool)
+    tp[np.asarray(xfem["tip_nodes"], int)] = True
+    el_hv = hv[el].all(axis=1)
+    el_tp = tp[el].any(axis=1)
+    colours = np.where(el_tp, "#ffd27f", np.where(el_hv, "#a6d8ff", "none"))
+    ax.add_collection(
+        PolyCollection(
+            cells[inside], facecolors=colours[inside], edgecolors="0.5", linewidths=0.5
+        )
+    )
+    sel = (xy[:, 0] >= x0) & (xy[:, 0] <= x1) & (xy[:, 1] >= y0) & (xy[:, 1] <= y1)
+    ax.plot(*xy[sel & hv].T, "s", ms=4, mfc="none", mec="C0", label="Heaviside nodes")
+    ax.plot(*xy[sel & tp].T, "o", ms=5, mfc="C3", mec="C3", label="crack-tip nodes")
+    c = np.asarray(xfem["crack"])
+    ax.plot(c[:, 0], c[:, 1], "k-", lw=1.5, label="crack")
+    ax.set_xlim(x0, x1)
+    ax.set_ylim(y0, y1)
+    ax.set_aspect("equal")
+    ax.set_title("XFEM: split (blue) and tip (orange) elements", fontsize=9)
+    ax.legend(fontsize=7, loc="upper right")
+
+    ax = fig.add_subplot(1, 2, 2)
+    nxy, is_pd, gel = pd["node_xy"], np.asarray(pd["is_pd"], bool), pd["elements"]
+    removed = np.asarray(pd.get("removed", np.zeros(len(gel), bool)), bool)
+    gcells = nxy[gel]
+    ginside = np.all(
+        (gcells[:, :, 0] >= x0 - 1e-9)
+        & (gcells[:, :, 0] <= x1 + 1e-9)
+        & (gcells[:, :, 1] >= y0 - 1e-9)
+        & (gcells[:, :, 1] <= y1 + 1e-9),
+        axis=1,
+    )
+    npd = is_pd[gel].sum(axis=1)
+    fem_el = (npd < 4) & ~removed
+    hybrid = fem_el & (npd > 0)
+    for mask, fc, ec, lab in (
+        (fem_el & ~hybrid & ginside, "none", "#5fa8d3", "FEM elements"),
+        (hybrid & ginside, "#fff3a0", "#c9a800", "hybrid elements"),
+    ):
+        ax.add_collection(
+            PolyCollection(gcells[mask], facecolors=fc, edgecolors=ec, linewidths=0.5, label=lab)
+        )
+    sel = (nxy[:, 0] >= x0) & (nxy[:, 0] <= x1) & (nxy[:, 1] >= y0) & (nxy[:, 1] <= y1)
+    ax.plot(*nxy[sel & is_pd].T, "o", ms=2.5, mfc="#2ca02c", mec="none", label="PD nodes")
+    c = np.asarray(pd["crack"])
+    ax.plot(c[:, 0], c[:, 1], "k-", lw=1.5, label="pre-crack")
+    ax.add_patch(Rectangle((x0, y0), x1 - x0, y1 - y0, fill=False, lw=0))
+    ax.set_xlim(x0, x1)
+    ax.set_ylim(y0, y1)
+    ax.set_aspect("equal")
+    ax.set_title("CCM-PD: PD nodes, FEM and hybrid elements", fontsize=9)
+    ax.legend(fontsize=7, loc="upper right")
+    return fig
+
+
+def grid_elements(nx: int, ny: int) -> np.ndarray:
+    """Q4 connectivity of a structured (nx x ny cells) grid numbered row by row from (0, 0)."""
+    i, j = np.meshgrid(np.arange(nx), np.arange(ny))
+    n0 = (j * (nx + 1) + i).ravel()
+    return np.column_stack([n0, n0 + 1, n0 + nx + 2, n0 + nx + 1])
