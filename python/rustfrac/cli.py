@@ -78,7 +78,8 @@ def _cmd_run(args: argparse.Namespace) -> int:
         print(f"rustfrac: error: invalid scene {args.scene}: {e}", file=sys.stderr)
         return 2
     log(f"scene   {args.scene}: {scene.describe()}")
-    bar = None if args.quiet else ProgressBar()
+    growth = scene.method == "xfem" and scene.xfem.growth_steps > 0
+    bar = None if args.quiet else ProgressBar(delay=0.0 if growth else 0.5)
     try:
         res: Result = run(scene, progress=bar)
     except MethodNotAvailableError as e:
@@ -99,10 +100,31 @@ def _cmd_run(args: argparse.Namespace) -> int:
         f"{res.meta.get('bc_description', '')}"
         + (f"; anchor node {anchor}" if anchor is not None else "")
     )
+    enr = res.meta.get("enrichment")
+    if enr:
+        log(
+            f"enrich  {enr['n_std']} standard + {res.n_dofs - enr['n_std']} enriched unknowns: "
+            f"{enr['n_heaviside_nodes']} Heaviside nodes, {enr['n_tip_nodes']} tip nodes, "
+            f"{enr['n_dropped_nodes']} dropped (small-area rule)"
+        )
     log(
         f"result  sigma22 = {res.sigma22:.10g}, CMOD = {res.cmod:.10g}, "
         f"solve {res.wall_time_s:.3f} s"
     )
+    if res.K_I is not None:
+        log(
+            f"sifs    K_I = {res.K_I:.10g}, K_II = {res.K_II:.10g}, J = {res.J:.10g} "
+            f"(domain J = {res.scalars.get('J_domain', float('nan')):.10g}, "
+            f"r_I = {res.meta.get('r_I', float('nan')):.6g})"
+        )
+    if "status" in res.meta:
+        n = len(res.history.get("a", ()))
+        extra = (
+            f", {n - 1} critical states, a = {res.history['a'][-1]:.6g} at the last"
+            if n > 1
+            else ""
+        )
+        log(f"status  {res.meta['status']}{extra}")
     out = res.save(args.out, vtu=not args.no_vtu)
     if args.plot:
         from .plotting import save_plot

@@ -29,7 +29,8 @@ def plot_field(
     """Draws the deformed mesh coloured by an element-mean stress component.
 
     Args:
-        component: "s11" | "s22" | "s12" (from the nodal stresses).
+        component: "s11" | "s22" | "s12" (from the nodal stresses; results without nodal
+            stresses, e.g. XFEM, are coloured by u2).
         scale: displacement magnification; default: max displacement = 2 % of the plate size.
         ax: axes to draw in; default: a new figure.
     """
@@ -43,7 +44,11 @@ def plot_field(
         scale = 0.02 * size / umax if umax > 0 else 1.0
     xyd = xy + scale * u
     el = np.asarray(res.elements)
-    values = res.fields["nodal_stress"][:, _COMPONENTS[component]][el].mean(axis=1)
+    if "nodal_stress" in res.fields:
+        values = res.fields["nodal_stress"][:, _COMPONENTS[component]][el].mean(axis=1)
+    else:  # XFEM results carry displacements only: colour by u2
+        component = "u2"
+        values = u[:, 1][el].mean(axis=1)
     if ax is None:
         ax = Figure(figsize=(5, 8)).add_subplot()
     pc = PolyCollection(xyd[el], array=values, cmap=cmap, edgecolors="k", linewidths=0.1)
