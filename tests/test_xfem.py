@@ -298,6 +298,30 @@ def test_save_load_round_trip(growth: rf.Result, tmp_path: Path) -> None:
     assert (tmp_path / "result.vtu").exists()
 
 
+def test_plots(growth: rf.Result, tmp_path: Path) -> None:
+    from rustfrac.plotting import plot_load_path, plot_tip_deformation, save_plot
+
+    ax = plot_tip_deformation(growth, scale=50)
+    assert len(ax.collections[0].get_paths()) == len(growth.fields["deformed_cells"])
+    ax.figure.savefig(tmp_path / "tip.png")
+    ax = plot_load_path(growth, x="cmod")
+    assert len(ax.lines[0].get_xdata()) == len(growth.history["a"])
+    assert save_plot(growth, tmp_path / "u2.png").stat().st_size > 0  # no nodal stress: u2
+    with pytest.raises(ValueError, match="history"):
+        plot_load_path(rf.Result("fem", 1.0, 0.0, 1, 0.0))
+
+
+def test_progress_exception_reraised() -> None:
+    class Stop(Exception):
+        pass
+
+    def cb(done: int, total: int, msg: str) -> None:
+        raise Stop
+
+    with pytest.raises(Stop):
+        rf.run(rf.scenes.edge_crack_plate(method="xfem", growth_steps=2), progress=cb)
+
+
 EXAMPLES = [
     "paper_xfem_free.toml",
     "paper_xfem_clamped.toml",
