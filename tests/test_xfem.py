@@ -258,6 +258,10 @@ def test_native_errors() -> None:
         _core.solve_xfem_plate(**PAPER, nsub=0)
     with pytest.raises(rf.InvalidParameterError, match="g0"):
         _core.solve_xfem_plate(**PAPER, growth_steps=2)
+    # the polyline may be a list of pairs or a (k, 2) array
+    k_list = _core.solve_xfem_plate(**{**PAPER, "crack": [[0.0, 10.5], [1.1, 10.5]]})["K_I"]
+    k_arr = _core.solve_xfem_plate(**{**PAPER, "crack": np.array(PAPER["crack"])})["K_I"]
+    assert k_list == k_arr
     with pytest.raises(rf.InvalidParameterError, match="crack"):
         _core.solve_xfem_plate(**{**PAPER, "crack": [(0.0, 10.5), (12.0, 10.5)]})
 

@@ -65,7 +65,7 @@ def solve_xfem_plate(
     bc: str = "free",
     u0: float = 0.0,
     traction: float = 0.0,
-    crack: Sequence[tuple[float, float]],
+    crack: Sequence[Sequence[float]] | npt.NDArray[np.floating[Any]],
     nsub: int = 4,
     tip_nsub: int = 0,
     r_i: float = 2.5,

@@ -327,7 +327,7 @@ fn solve_xfem_plate<'py>(
     bc: &str,
     u0: f64,
     traction: f64,
-    crack: Vec<(f64, f64)>,
+    crack: Vec<[f64; 2]>,
     nsub: usize,
     tip_nsub: usize,
     r_i: f64,
@@ -365,7 +365,7 @@ fn solve_xfem_plate<'py>(
             nx,
             ny,
             material: material(e, nu, plane, thickness)?,
-            crack: crack.iter().map(|&(x, y)| [x, y]).collect(),
+            crack,
             load: PlateLoad {
                 grip: Grip::parse(bc)?,
                 u0,
