@@ -245,6 +245,19 @@ def test_bad_xfem_input_names_parameter(kw: dict[str, Any], param: str) -> None:
     assert e.value.param == param
 
 
+@pytest.mark.parametrize(
+    ("kw", "param"),
+    [
+        ({"mesh": (22, 41)}, "xfem.r_I"),  # 2.5 element lengths reach past the left edge
+        ({"mesh": (1, 41)}, "mesh.nx"),
+    ],
+)
+def test_core_errors_name_scene_keys(kw: dict[str, Any], param: str) -> None:
+    with pytest.raises(rf.InvalidParameterError) as e:
+        rf.run(_xfem(**kw))
+    assert e.value.param == param and param in str(e.value)
+
+
 @pytest.mark.parametrize("method", ["fem", "pd"])
 def test_inclined_crack_refused_outside_xfem(method: str) -> None:
     with pytest.raises(rf.InvalidParameterError, match=r"crack\.angle"):

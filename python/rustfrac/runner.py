@@ -11,7 +11,7 @@ from typing import Any, Callable
 import numpy as np
 
 from . import _core
-from .errors import InvalidTypeError, MethodNotAvailableError
+from .errors import InvalidParameterError, InvalidTypeError, MethodNotAvailableError
 from .result import Result
 from .scene import Scene
 
@@ -197,6 +197,35 @@ def _growth_progress(scene: Scene, progress: ProgressCallback | None) -> Progres
     return cb
 
 
+#: core parameter names -> scene keys, for errors the core finds (e.g. an r_I domain that leaves
+#: the plate on a coarse mesh)
+_XFEM_PARAMS: dict[str, str] = {
+    "nx": "mesh.nx",
+    "ny": "mesh.ny",
+    "nx * ny": "mesh.nx",
+    "nsub": "xfem.nsub",
+    "tip_nsub": "xfem.tip_nsub",
+    "r_I": "xfem.r_I",
+    "r_i_factor": "xfem.r_I",
+    "fixed_area_radius": "xfem.fixed_area_radius",
+    "area_threshold": "xfem.area_threshold",
+    "da": "xfem.da",
+    "a_stop": "xfem.a_stop",
+    "g0": "material.G0",
+    "crack": "crack.a0",
+}
+
+
+def _scene_param(err: InvalidParameterError) -> InvalidParameterError:
+    """The core's error naming the scene key (``invalid r_I: ...`` -> ``xfem.r_I``)."""
+    msg = str(err)
+    if err.param is None and msg.startswith("invalid ") and ":" in msg:
+        key = _XFEM_PARAMS.get(msg[len("invalid ") : msg.index(":")])
+        if key is not None:
+            return InvalidParameterError(f"invalid {key} (core: {msg})", key)
+    return err
+
+
 def _run_xfem(scene: Scene, progress: ProgressCallback | None) -> Result:
     """XFEM: ``fields["u"]`` holds the nodal displacements (the standard dofs: the shifted
     enrichments vanish at the nodes), ``fields["u_enriched"]`` the whole solution vector; the
@@ -210,31 +239,34 @@ def _run_xfem(scene: Scene, progress: ProgressCallback | None) -> Result:
         scene.xfem,
     )
     growth = x.growth_steps > 0
-    out = _core.solve_xfem_plate(
-        width=p.width,
-        height=p.height,
-        nx=mesh.nx,
-        ny=mesh.ny,
-        e=mat.E,
-        nu=mat.nu,
-        plane=mat.plane,
-        thickness=mat.thickness,
-        bc=load.bc,
-        u0=load.u0,
-        traction=load.traction,
-        crack=c.polyline(),
-        nsub=x.nsub,
-        tip_nsub=x.tip_nsub,
-        r_i=x.r_I,
-        extra_radii=_extra_radii(scene),
-        fixed_area_radius=x.fixed_area_radius or None,
-        area_threshold=x.area_threshold,
-        growth_steps=x.growth_steps,
-        g0=mat.G0 if growth else None,
-        da=x.da or None,
-        a_stop=x.a_stop or None,
-        progress=_growth_progress(scene, progress),
-    )
+    try:
+        out = _core.solve_xfem_plate(
+            width=p.width,
+            height=p.height,
+            nx=mesh.nx,
+            ny=mesh.ny,
+            e=mat.E,
+            nu=mat.nu,
+            plane=mat.plane,
+            thickness=mat.thickness,
+            bc=load.bc,
+            u0=load.u0,
+            traction=load.traction,
+            crack=c.polyline(),
+            nsub=x.nsub,
+            tip_nsub=x.tip_nsub,
+            r_i=x.r_I,
+            extra_radii=_extra_radii(scene),
+            fixed_area_radius=x.fixed_area_radius or None,
+            area_threshold=x.area_threshold,
+            growth_steps=x.growth_steps,
+            g0=mat.G0 if growth else None,
+            da=x.da or None,
+            a_stop=x.a_stop or None,
+            progress=_growth_progress(scene, progress),
+        )
+    except InvalidParameterError as e:
+        raise _scene_param(e) from e
     n_std = int(out["n_std"])
     fields = {
         k: v for k, v in out.items() if isinstance(v, np.ndarray) and not k.startswith("history_")
