@@ -339,6 +339,20 @@ def test_progress_exception_reraised() -> None:
         rf.run(rf.scenes.edge_crack_plate(method="xfem", growth_steps=2), progress=cb)
 
 
+def test_cli_plots_and_vtu(root: Path, tmp_path: Path) -> None:
+    scene = rf.Scene.from_toml(root / "examples" / "paper_xfem_free.toml")
+    f = tmp_path / "s.toml"
+    scene.replace(xfem__growth_steps=3).save_toml(f)
+    assert main(["run", str(f), "--out", str(tmp_path / "o"), "--plot", "-q"]) == 0
+    for name in ("u2.png", "tip_x50.png", "load_path.png", "result.vtu"):
+        assert (tmp_path / "o" / name).stat().st_size > 0, name
+    vtu = (tmp_path / "o" / "result.vtu").read_text()
+    assert 'Name="displacement"' in vtu and 'Name="enrichment"' in vtu
+    res = rf.load(tmp_path / "o")
+    assert int((res.fields["enrichment"] == 2).sum()) == 4
+    assert len(res.history["a"]) == 4
+
+
 EXAMPLES = [
     "paper_xfem_free.toml",
     "paper_xfem_clamped.toml",

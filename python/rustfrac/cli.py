@@ -57,7 +57,12 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument("--out", type=Path, required=True, help="output directory")
     r.add_argument("--quiet", "-q", action="store_true", help="print nothing but errors")
     r.add_argument("--no-vtu", action="store_true", help="skip the ParaView .vtu file")
-    r.add_argument("--plot", action="store_true", help="also save a PNG of the s22 field")
+    r.add_argument(
+        "--plot",
+        action="store_true",
+        help="also save PNGs: the s22 field (u2 for XFEM), the tip deformation x50 (XFEM) and "
+        "the load path (growth runs)",
+    )
     return p
 
 
@@ -126,13 +131,25 @@ def _cmd_run(args: argparse.Namespace) -> int:
         )
         log(f"status  {res.meta['status']}{extra}")
     out = res.save(args.out, vtu=not args.no_vtu)
+    plots: list[str] = []
     if args.plot:
-        from .plotting import save_plot
+        from .plotting import plot_load_path, plot_tip_deformation, save_plot
 
-        save_plot(res, out / "s22.png")
+        name = "s22.png" if "nodal_stress" in res.fields else "u2.png"
+        save_plot(res, out / name)
+        plots.append(name)
+        if "deformed_cells" in res.fields:
+            plot_tip_deformation(res, scale=50.0).figure.savefig(
+                out / "tip_x50.png", dpi=150, bbox_inches="tight"
+            )
+            plots.append("tip_x50.png")
+        if res.history:
+            plot_load_path(res).figure.savefig(out / "load_path.png", dpi=150, bbox_inches="tight")
+            plots.append("load_path.png")
     log(
         f"saved   {out}/ (result.json, fields.npz{'' if args.no_vtu else ', result.vtu'}"
-        f"{', s22.png' if args.plot else ''})"
+        + "".join(", " + p for p in plots)
+        + ")"
     )
     return 0
 

@@ -273,6 +273,11 @@ def _run_xfem(scene: Scene, progress: ProgressCallback | None) -> Result:
     }
     fields["u_enriched"] = fields["u"]
     fields["u"] = fields["u_enriched"][:n_std]
+    # per node: 0 standard, 1 Heaviside-enriched, 2 tip-enriched (a VTU point field)
+    enrichment = np.zeros(n_std // 2)
+    enrichment[fields["heaviside_nodes"]] = 1.0
+    enrichment[fields["tip_nodes"]] = 2.0
+    fields["enrichment"] = enrichment
     history = {k: out["history_" + k] for k in XFEM_HISTORY} if growth else {}
     scalars: dict[str, Any] = {k: out[k] for k in _XFEM_SCALARS}
     scalars["r_I"] = scalars.pop("r_i")
