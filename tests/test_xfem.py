@@ -228,6 +228,7 @@ def _xfem(**kw: Any) -> rf.Scene:
         ({"da": -0.1}, "xfem.da"),
         ({"a_stop": 11.0}, "xfem.a_stop"),
         ({"a_stop": 12.0}, "xfem.a_stop"),
+        ({"a_stop": 1.0, "growth_steps": 5}, "xfem.a_stop"),
         ({"a0": 11.5}, "crack.a0"),
         ({"crack_y": 22.0}, "crack.y"),
         ({"crack_angle": 60.0, "a0": 13.0}, "crack.a0"),  # tip above the plate

@@ -452,6 +452,12 @@ class Scene:
                     f"expected 0 (0.7 plate.width) or 0 < a_stop < plate.width = {p.width}, "
                     f"got {x.a_stop}",
                 )
+            if x.a_stop != 0.0 and x.growth_steps > 0 and not x.a_stop > c.a0:
+                raise _bad(
+                    "xfem.a_stop",
+                    f"growth needs a stop length beyond the initial crack: a_stop > crack.a0 = "
+                    f"{c.a0}, got {x.a_stop}",
+                )
         if m in ("pd", "ccm_pd"):
             if self.material.nu != PD_NU:
                 raise _bad(

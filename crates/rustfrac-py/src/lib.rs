@@ -17,7 +17,7 @@
 //! end), and the GIL is acquired only for that call. If the callback raises (e.g.
 //! `KeyboardInterrupt`), the run is asked to stop and the exception is re-raised afterwards.
 //!
-//! Adding a driver (XFEM, CCM-PD): a `#[pyfunction] solve_<method>(..., progress = None)` that
+//! Adding a driver (CCM-PD; [`solve_xfem_plate`] is the worked example): a `#[pyfunction] solve_<method>(..., progress = None)` that
 //! builds the core params, runs `detached(py, "<method>", || core::run(&params, |done, total|
 //! prog.report(done, total, "<method>", false)))`, and returns a dict like [`solve_fem_plate`]
 //! (history arrays as `history_<name>` keys); on the Python side one `_run_<method>` entry in
