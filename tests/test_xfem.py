@@ -127,8 +127,9 @@ def test_progress_forwarded() -> None:
 # handbook checks
 
 
-def test_edge_crack_tall_plate_matches_tada() -> None:
-    w, a, sigma = 1.0, 0.3, 1.0
+@pytest.mark.parametrize("a", [0.1, 0.2, 0.3, 0.4, 0.5, 0.6])
+def test_edge_crack_tall_plate_matches_tada(a: float) -> None:
+    w, sigma = 1.0, 1.0
     scene = rf.Scene(
         method="xfem",
         plate={"width": w, "height": 4.0},
@@ -143,8 +144,9 @@ def test_edge_crack_tall_plate_matches_tada() -> None:
     assert abs(res.K_II) < 1e-6 * res.K_I
 
 
-def test_inclined_centre_crack_matches_closed_forms() -> None:
-    a, sigma, beta = 1.0, 1.0, 30.0
+@pytest.mark.parametrize("beta", [0.0, 30.0, 60.0])
+def test_inclined_centre_crack_matches_closed_forms(beta: float) -> None:
+    a, sigma = 1.0, 1.0
     scene = rf.Scene(
         method="xfem",
         plate={"width": 24.0, "height": 24.0},
@@ -157,13 +159,14 @@ def test_inclined_centre_crack_matches_closed_forms() -> None:
     k0 = sigma * math.sqrt(math.pi * a)
     b = math.radians(beta)
     ki, kii = k0 * math.cos(b) ** 2, k0 * math.sin(b) * math.cos(b)
-    assert res.K_I == pytest.approx(ki, rel=0.02)
-    assert res.K_II == pytest.approx(kii, rel=0.02)
+    # within 2 % of each closed form (of sigma sqrt(pi a) where the closed form vanishes)
+    assert res.K_I == pytest.approx(ki, rel=0.02, abs=1e-9)
+    assert res.K_II == pytest.approx(kii, rel=0.02, abs=0.02 * k0 if kii == 0 else 1e-9)
     tips = res.fields["tips"]
     assert tips.shape == (2, 6)
     for t in tips:  # both tips
-        assert t[2] == pytest.approx(ki, rel=0.02)
-        assert t[3] == pytest.approx(kii, rel=0.02)
+        assert t[2] == pytest.approx(ki, rel=0.02, abs=1e-9)
+        assert t[3] == pytest.approx(kii, rel=0.02, abs=0.02 * k0 if kii == 0 else 1e-9)
 
 
 # ----------------------------------------------------------------------------------------------
