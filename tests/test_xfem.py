@@ -198,6 +198,22 @@ def test_growth_history(growth: rf.Result) -> None:
     assert growth.K_I == pytest.approx(20.755, rel=5e-4)
 
 
+def test_inclined_edge_crack_turns_towards_mode_i() -> None:
+    """Maximum circumferential stress criterion: the kink angle has the sign opposite to K_II,
+    so a crack inclined upwards (K_II > 0) turns down towards the x1 direction."""
+    res = rf.run(
+        rf.scenes.edge_crack_plate(method="xfem", a0=2.0, crack_angle=20.0, growth_steps=4)
+    )
+    h = res.history
+    assert h["K_II"][1] > 0 and h["kink_angle"][1] < -0.2
+    assert np.all(h["kink_angle"][1:] * h["K_II"][1:] < 0)
+    assert np.all(np.abs(h["K_II"][2:]) < 0.1 * h["K_I"][2:])  # nearly mode I after the kink
+    crack = res.fields["crack"]
+    assert len(crack) == 2 + 3
+    dy = np.diff(crack[1:, 1]) / np.diff(crack[1:, 0])
+    assert np.all(np.abs(dy) < 0.1)  # the extensions run close to x1 (the initial slope 0.36)
+
+
 def test_growth_stops_at_a_stop() -> None:
     res = rf.run(
         rf.scenes.edge_crack_plate(
