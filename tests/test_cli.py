@@ -57,7 +57,8 @@ def test_run_seam_quiet_plot(
         ('method = "fem"\n[mesh]\nnx = 0\n', "mesh.nx"),
         ('method = "fem"\n[mesh]\nnz = 3\n', "mesh.nz"),
         ("[mesh]\nnx = 3\n", "method"),
-        ('method = "xfem"\n', "issue #3"),
+        ('method = "pd"\n', "issue #4"),
+        ('method = "xfem"\n[xfem]\nnsub = 0\n', "xfem.nsub"),
     ],
 )
 def test_bad_scene_exit_code_2(

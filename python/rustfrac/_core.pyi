@@ -1,6 +1,7 @@
 """Typed stubs of the native module ``rustfrac._core`` (PyO3). Prefer the Python API
 (:func:`rustfrac.run`); these functions take plain numbers and do only the core's checks."""
 
+from collections.abc import Sequence
 from typing import Any, Callable
 
 import numpy as np
@@ -50,6 +51,47 @@ def solve_fem_grid(
     """A uniform Q4 grid with explicit Dirichlet dofs (2 node + component) and nodal forces.
     Keys: coords, elements, u, reactions, nodal_stress, energy, residual, n_dofs. Raises
     SingularSystemError if the conditions leave a rigid-body mode."""
+
+def solve_xfem_plate(
+    *,
+    width: float,
+    height: float,
+    nx: int,
+    ny: int,
+    e: float,
+    nu: float,
+    plane: str = "strain",
+    thickness: float = 1.0,
+    bc: str = "free",
+    u0: float = 0.0,
+    traction: float = 0.0,
+    crack: Sequence[Sequence[float]] | npt.NDArray[np.floating[Any]],
+    nsub: int = 4,
+    tip_nsub: int = 0,
+    r_i: float = 2.5,
+    extra_radii: Sequence[float] = (1.5, 2.0, 3.0, 3.5),
+    fixed_area_radius: float | None = None,
+    area_threshold: float = 1e-4,
+    growth_steps: int = 0,
+    g0: float | None = None,
+    da: float | None = None,
+    a_stop: float | None = None,
+    progress: ProgressCallback | None = None,
+) -> dict[str, Any]:
+    """The plate with XFEM (GIL released); ``crack`` is a polyline (an end on the boundary is a
+    mouth, an end inside a tip); ``tip_nsub = 0`` means nsub; ``r_i``/``extra_radii`` in
+    tip-element lengths; ``growth_steps > 0`` runs LEFM growth (needs ``g0``; ``da = None``: one
+    element length; ``a_stop = None``: 0.7 width).
+
+    Keys: K_I, K_II, J (from K), J_domain, r_i (absolute), sigma22, cmod, wall_time_s: float;
+    n_dofs, n_std, n_heaviside_nodes, n_tip_nodes, n_dropped_nodes, anchor_node: int;
+    status, bc: str; coords (n,2), elements (m,4) int64, u (n_dofs,) (u[:n_std] are the nodal
+    displacements), heaviside_nodes, tip_nodes (int64), crack (k,2) final polyline,
+    crack_initial (k0,2), radii (r,5) [radius, K_I, K_II, J_from_K, J_domain], radii_factor (r,),
+    tips (t,6) [x1, x2, K_I, K_II, J_from_K, J_domain], deformed_cells, deformed_disp (c,4,2);
+    growth history (origin first; empty without growth): history_load_factor, history_sigma22,
+    history_cmod, history_u0, history_traction, history_a, history_K_I, history_K_II,
+    history_kink_angle, history_tip_x, history_tip_y."""
 
 def _progress_demo(steps: int, step_s: float, progress: ProgressCallback | None = None) -> int: ...
 def _panic_demo() -> None: ...

@@ -58,7 +58,12 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument("--out", type=Path, required=True, help="output directory")
     r.add_argument("--quiet", "-q", action="store_true", help="print nothing but errors")
     r.add_argument("--no-vtu", action="store_true", help="skip the ParaView .vtu file")
-    r.add_argument("--plot", action="store_true", help="also save a PNG of the s22 field")
+    r.add_argument(
+        "--plot",
+        action="store_true",
+        help="also save PNGs: the s22 field (u2 for XFEM), the tip deformation x50 (XFEM) and "
+        "the load path (growth runs)",
+    )
     f = sub.add_parser(
         "fig7", help="reproduce the paper's Fig. 7 (and Figs. 6, 8): XFEM and CCM-PD side by side"
     )
@@ -122,7 +127,8 @@ def _cmd_run(args: argparse.Namespace) -> int:
         print(f"rustfrac: error: invalid scene {args.scene}: {e}", file=sys.stderr)
         return 2
     log(f"scene   {args.scene}: {scene.describe()}")
-    bar = None if args.quiet else ProgressBar()
+    growth = scene.method == "xfem" and scene.xfem.growth_steps > 0
+    bar = None if args.quiet else ProgressBar(delay=0.0 if growth else 0.5)
     try:
         res: Result = run(scene, progress=bar)
     except MethodNotAvailableError as e:
@@ -143,18 +149,51 @@ def _cmd_run(args: argparse.Namespace) -> int:
         f"{res.meta.get('bc_description', '')}"
         + (f"; anchor node {anchor}" if anchor is not None else "")
     )
+    enr = res.meta.get("enrichment")
+    if enr:
+        log(
+            f"enrich  {enr['n_std']} standard + {res.n_dofs - enr['n_std']} enriched unknowns: "
+            f"{enr['n_heaviside_nodes']} Heaviside nodes, {enr['n_tip_nodes']} tip nodes, "
+            f"{enr['n_dropped_nodes']} dropped (small-area rule)"
+        )
     log(
         f"result  sigma22 = {res.sigma22:.10g}, CMOD = {res.cmod:.10g}, "
         f"solve {res.wall_time_s:.3f} s"
     )
+    if res.K_I is not None:
+        log(
+            f"sifs    K_I = {res.K_I:.10g}, K_II = {res.K_II:.10g}, J = {res.J:.10g} "
+            f"(domain J = {res.scalars.get('J_domain', float('nan')):.10g}, "
+            f"r_I = {res.meta.get('r_I', float('nan')):.6g})"
+        )
+    if "status" in res.meta:
+        n = len(res.history.get("a", ()))
+        extra = (
+            f", {n - 1} critical states, a = {res.history['a'][-1]:.6g} at the last"
+            if n > 1
+            else ""
+        )
+        log(f"status  {res.meta['status']}{extra}")
     out = res.save(args.out, vtu=not args.no_vtu)
+    plots: list[str] = []
     if args.plot:
-        from .plotting import save_plot
+        from .plotting import plot_load_path, plot_tip_deformation, save_plot
 
-        save_plot(res, out / "s22.png")
+        name = "s22.png" if "nodal_stress" in res.fields else "u2.png"
+        save_plot(res, out / name)
+        plots.append(name)
+        if "deformed_cells" in res.fields:
+            plot_tip_deformation(res, scale=50.0).figure.savefig(
+                out / "tip_x50.png", dpi=150, bbox_inches="tight"
+            )
+            plots.append("tip_x50.png")
+        if res.history:
+            plot_load_path(res).figure.savefig(out / "load_path.png", dpi=150, bbox_inches="tight")
+            plots.append("load_path.png")
     log(
         f"saved   {out}/ (result.json, fields.npz{'' if args.no_vtu else ', result.vtu'}"
-        f"{', s22.png' if args.plot else ''})"
+        + "".join(", " + p for p in plots)
+        + ")"
     )
     return 0
 

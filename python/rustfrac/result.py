@@ -46,8 +46,13 @@ class Result:
         wall_time_s: wall time of the Rust run, in seconds.
         fields: numpy arrays: ``coords`` (n, 2), ``elements`` (m, 4), ``u`` (2n,) interleaved
             [u1, u2], ``reactions`` (2n,), ``nodal_stress`` (n, 3) [s11, s22, s12], ...
+            XFEM: ``u_enriched`` (n_dofs,), ``heaviside_nodes``, ``tip_nodes``, ``crack`` (k, 2)
+            (final polyline), ``crack_initial``, ``radii`` (r, 5) [radius, K_I, K_II, J_from_K,
+            J_domain], ``radii_factor``, ``tips`` (t, 6) [x1, x2, K_I, K_II, J_from_K,
+            J_domain], ``deformed_cells`` / ``deformed_disp`` (c, 4, 2) near the tip.
         history: growth / SLA runs: equal-length arrays ("load_factor", "sigma22", "cmod", "u0",
-            ...); empty for a single linear solve.
+            ...; XFEM adds "traction", "a", "K_I", "K_II", "kink_angle", "tip_x", "tip_y", with
+            the unloaded origin first); empty for a single linear solve.
         scalars: further scalars (energy, residual, K_I, K_II, J, gamma, ...).
         meta: version, scene (as a dict), bc variant, anchor node, timings.
     """
@@ -115,6 +120,10 @@ class Result:
             f"{self.method}: sigma22 = {self.sigma22:.6g}, CMOD = {self.cmod:.6g}, "
             f"{self.n_dofs} unknowns, {self.wall_time_s:.3g} s"
         )
+        if self.K_I is not None:
+            s += f", K_I = {self.K_I:.6g}, K_II = {self.K_II:.3g}"
+        if self.history:
+            s += f", {len(next(iter(self.history.values())))} history points"
         if "bc" in self.meta:
             s += f", bc {self.meta['bc']}"
         if self.meta.get("anchor_node") is not None:

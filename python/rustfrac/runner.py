@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import time
 from collections.abc import Mapping
 from pathlib import Path
@@ -10,7 +11,7 @@ from typing import Any, Callable
 import numpy as np
 
 from . import _core
-from .errors import InvalidTypeError, MethodNotAvailableError
+from .errors import InvalidParameterError, InvalidTypeError, MethodNotAvailableError
 from .result import Result
 from .scene import Scene
 
@@ -21,7 +22,6 @@ ProgressCallback = Callable[[int, int, str], Any]
 
 #: where the methods that are validated but not bound yet arrive
 _PENDING: dict[str, str] = {
-    "xfem": "XFEM arrives with issue #3",
     "pd": "peridynamics arrives with issue #4",
     "ccm_pd": "the CCM-PD coupling arrives with issue #4",
 }
@@ -126,4 +126,191 @@ def _run_fem(scene: Scene, progress: ProgressCallback | None) -> Result:
     )
 
 
-_RUNNERS: dict[str, Callable[[Scene, ProgressCallback | None], Result]] = {"fem": _run_fem}
+#: history keys of an XFEM growth run (``history_<key>`` in the native dict)
+XFEM_HISTORY: tuple[str, ...] = (
+    "load_factor",
+    "sigma22",
+    "cmod",
+    "u0",
+    "traction",
+    "a",
+    "K_I",
+    "K_II",
+    "kink_angle",
+    "tip_x",
+    "tip_y",
+)
+_XFEM_SCALARS: tuple[str, ...] = (
+    "K_I",
+    "K_II",
+    "J",
+    "J_domain",
+    "r_i",
+    "n_std",
+    "n_heaviside_nodes",
+    "n_tip_nodes",
+    "n_dropped_nodes",
+)
+
+
+#: radii (tip-element lengths) at which the SIFs are also reported, where the domain fits
+XFEM_EXTRA_RADII: tuple[float, ...] = (1.5, 2.0, 3.0, 3.5)
+
+
+def _extra_radii(scene: Scene) -> list[float]:
+    """The radii of :data:`XFEM_EXTRA_RADII` whose q-domain around the primary tip stays inside
+    the plate (and clear of the other tip), as the core requires."""
+    p, m, c = scene.plate, scene.mesh, scene.crack
+    h = math.sqrt(p.width / m.nx * p.height / m.ny)
+    pts = c.polyline()
+    tx, ty = pts[-1]
+    room = min(tx, p.width - tx, ty, p.height - ty)
+    if c.kind == "center":
+        room = min(room, 2 * c.a0 - 1.5 * h)
+    return [f for f in XFEM_EXTRA_RADII if f * h < (1 - 1e-9) * room]
+
+
+def _growth_progress(scene: Scene, progress: ProgressCallback | None) -> ProgressCallback | None:
+    """Rescales the core's growth progress (step k of at most ``growth_steps``) to the number of
+    steps the run needs to reach ``a_stop`` (an estimate from a0, da and a_stop)."""
+    x, c, p, m = scene.xfem, scene.crack, scene.plate, scene.mesh
+    if progress is None or x.growth_steps == 0:
+        return progress
+    t = math.radians(c.angle)
+    dx, dy = p.width / m.nx, p.height / m.ny
+    da = x.da or min(
+        dx / abs(math.cos(t)) if abs(math.cos(t)) > 1e-12 else math.inf,
+        dy / abs(math.sin(t)) if abs(math.sin(t)) > 1e-12 else math.inf,
+    )
+    a_stop = x.a_stop or 0.7 * p.width
+    est = max(1, min(x.growth_steps, math.floor((a_stop - c.a0) / da + 1e-9) + 1))
+
+    def cb(done: int, total: int, message: str) -> Any:
+        if total != x.growth_steps:
+            return progress(done, total, message)
+        if message.startswith("xfem: growth step"):
+            message = f"xfem: growth step {done} of ~{est} (a_stop {a_stop:g})"
+        elif done == total:
+            done = est
+        return progress(min(done, est), est, message)
+
+    return cb
+
+
+#: core parameter names -> scene keys, for errors the core finds (e.g. an r_I domain that leaves
+#: the plate on a coarse mesh)
+_XFEM_PARAMS: dict[str, str] = {
+    "nx": "mesh.nx",
+    "ny": "mesh.ny",
+    "nx * ny": "mesh.nx",
+    "nsub": "xfem.nsub",
+    "tip_nsub": "xfem.tip_nsub",
+    "r_I": "xfem.r_I",
+    "r_i_factor": "xfem.r_I",
+    "fixed_area_radius": "xfem.fixed_area_radius",
+    "area_threshold": "xfem.area_threshold",
+    "da": "xfem.da",
+    "a_stop": "xfem.a_stop",
+    "g0": "material.G0",
+    "crack": "crack.a0",
+}
+
+
+def _scene_param(err: InvalidParameterError) -> InvalidParameterError:
+    """The core's error naming the scene key (``invalid r_I: ...`` -> ``xfem.r_I``)."""
+    msg = str(err)
+    if err.param is None and msg.startswith("invalid ") and ":" in msg:
+        key = _XFEM_PARAMS.get(msg[len("invalid ") : msg.index(":")])
+        if key is not None:
+            return InvalidParameterError(f"invalid {key} (core: {msg})", key)
+    return err
+
+
+def _run_xfem(scene: Scene, progress: ProgressCallback | None) -> Result:
+    """XFEM: ``fields["u"]`` holds the nodal displacements (the standard dofs: the shifted
+    enrichments vanish at the nodes), ``fields["u_enriched"]`` the whole solution vector; the
+    growth history (origin first) is in ``history``."""
+    p, mat, load, c, mesh, x = (
+        scene.plate,
+        scene.material,
+        scene.load,
+        scene.crack,
+        scene.mesh,
+        scene.xfem,
+    )
+    growth = x.growth_steps > 0
+    try:
+        out = _core.solve_xfem_plate(
+            width=p.width,
+            height=p.height,
+            nx=mesh.nx,
+            ny=mesh.ny,
+            e=mat.E,
+            nu=mat.nu,
+            plane=mat.plane,
+            thickness=mat.thickness,
+            bc=load.bc,
+            u0=load.u0,
+            traction=load.traction,
+            crack=c.polyline(),
+            nsub=x.nsub,
+            tip_nsub=x.tip_nsub,
+            r_i=x.r_I,
+            extra_radii=_extra_radii(scene),
+            fixed_area_radius=x.fixed_area_radius or None,
+            area_threshold=x.area_threshold,
+            growth_steps=x.growth_steps,
+            g0=mat.G0 if growth else None,
+            da=x.da or None,
+            a_stop=x.a_stop or None,
+            progress=_growth_progress(scene, progress),
+        )
+    except InvalidParameterError as e:
+        raise _scene_param(e) from e
+    n_std = int(out["n_std"])
+    fields = {
+        k: v for k, v in out.items() if isinstance(v, np.ndarray) and not k.startswith("history_")
+    }
+    fields["u_enriched"] = fields["u"]
+    fields["u"] = fields["u_enriched"][:n_std]
+    # per node: 0 standard, 1 Heaviside-enriched, 2 tip-enriched (a VTU point field)
+    enrichment = np.zeros(n_std // 2)
+    enrichment[fields["heaviside_nodes"]] = 1.0
+    enrichment[fields["tip_nodes"]] = 2.0
+    fields["enrichment"] = enrichment
+    history = {k: out["history_" + k] for k in XFEM_HISTORY} if growth else {}
+    scalars: dict[str, Any] = {k: out[k] for k in _XFEM_SCALARS}
+    scalars["r_I"] = scalars.pop("r_i")
+    scalars = {k: (int(v) if k.startswith("n_") else float(v)) for k, v in scalars.items()}
+    return Result(
+        method="xfem",
+        sigma22=float(out["sigma22"]),
+        cmod=float(out["cmod"]),
+        n_dofs=int(out["n_dofs"]),
+        wall_time_s=float(out["wall_time_s"]),
+        fields=fields,
+        history=history,
+        scalars=scalars,
+        meta=_meta(
+            scene,
+            _BC_DESC[load.bc],
+            None if load.bc == "clamped" else int(out["anchor_node"]),
+            status=str(out["status"]),
+            enrichment={
+                "n_std": n_std,
+                "n_heaviside_nodes": int(out["n_heaviside_nodes"]),
+                "n_tip_nodes": int(out["n_tip_nodes"]),
+                "n_dropped_nodes": int(out["n_dropped_nodes"]),
+            },
+            r_I=float(out["r_i"]),
+            r_I_elements=x.r_I,
+            crack_initial=[list(map(float, q)) for q in c.polyline()],
+            timings={"rust_s": float(out["wall_time_s"])},
+        ),
+    )
+
+
+_RUNNERS: dict[str, Callable[[Scene, ProgressCallback | None], Result]] = {
+    "fem": _run_fem,
+    "xfem": _run_xfem,
+}

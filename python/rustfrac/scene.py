@@ -17,11 +17,22 @@ TOML layout (only ``method`` is required; omitted sections and keys take the pap
     [plate]     width = 11.0, height = 21.0                         # W along x1, L along x2
     [material]  E = 10000.0, nu = 0.25, plane = "strain", thickness = 1.0, G0 = 0.367
     [load]      bc = "free", u0 = 0.01, traction = 9.993            # bc: free | clamped | traction
-    [crack]     kind = "seam", a0 = 1.1, y = 10.5                   # fem: none | seam; else none | edge
+    [crack]     kind = "seam", a0 = 1.1, y = 10.5, angle = 0.0, x = 5.5
+                # fem: none | seam; xfem: edge | center; pd, ccm_pd: none | edge (angle 0)
     [mesh]      nx = 44, ny = 83, gauss = 2                         # fem and xfem
-    [xfem]      nsub = 4, r_I = 2.5, growth_steps = 0, da = 0.25     # xfem only
+    [xfem]      nsub = 4, tip_nsub = 0, r_I = 2.5, fixed_area_radius = 0.0,
+                area_threshold = 1e-4, growth_steps = 0, da = 0.0, a_stop = 0.0   # xfem only
     [pd]        dx = 0.0666..., m = 4, center = [1.70, 10.5], size = [2.73, 1.67],
                 sla_steps = 500                                     # pd and ccm_pd only
+
+(Each section is a TOML table with one ``key = value`` per line; the one-line form above is
+a summary.)
+
+Cracks: ``kind = "edge"`` starts on the left edge at (0, ``y``) and runs a length ``a0`` at
+``angle`` degrees from the x1 axis (counter-clockwise; PD: 0 only); ``kind = "center"`` (XFEM) is
+an interior crack of half-length ``a0`` centred at (``x``, ``y``) at ``angle`` degrees; ``"seam"``
+(FEM) duplicates the nodes of the grid line nearest ``y`` from x1 = 0 to ``a0``. The crack must lie
+inside the plate (tips strictly inside).
 """
 
 from __future__ import annotations
@@ -216,19 +227,43 @@ class Load(_Section):
 
 @dataclass(frozen=True)
 class Crack(_Section):
-    """Edge crack along x2 = ``y`` from x1 = 0 to x1 = ``a0``. ``kind``: "none" (uncracked),
-    "seam" (FEM: duplicated nodes on the nearest grid line) or "edge" (XFEM level set / PD
-    pre-broken bonds)."""
+    """A straight crack. ``kind``: "none" (uncracked), "seam" (FEM: duplicated nodes on the grid
+    line nearest x2 = ``y``, from x1 = 0 to ``a0``), "edge" (from (0, ``y``), length ``a0``, at
+    ``angle`` degrees from x1, -90 < angle < 90; XFEM level set / PD pre-broken bonds, PD angle 0
+    only) or "center" (XFEM: interior crack centred at (``x``, ``y``), half-length ``a0``, at
+    ``angle`` degrees). ``x`` is used by "center" cracks only."""
 
     kind: str = "seam"
     a0: float = 1.1
     y: float = 10.5
+    angle: float = 0.0
+    x: float = 5.5
     _name: ClassVar[str] = "crack"
     _specs: ClassVar[dict[str, _Spec]] = {
-        "kind": _choice("none", "seam", "edge"),
+        "kind": _choice("none", "seam", "edge", "center"),
         "a0": _POS,
         "y": _POS,
+        "angle": _Spec(
+            "float", "-180 <= angle <= 180 degrees", lambda v: math.isfinite(v) and abs(v) <= 180
+        ),
+        "x": _POS,
     }
+
+    def polyline(self) -> list[tuple[float, float]]:
+        """The crack as two points: (mouth, tip) for "edge" and "seam", (tip, tip) for "center";
+        empty for "none"."""
+        if self.kind == "none":
+            return []
+        t = math.radians(self.angle)
+        c, s = math.cos(t), math.sin(t)
+        if self.kind == "center":
+            return [
+                (self.x - self.a0 * c, self.y - self.a0 * s),
+                (self.x + self.a0 * c, self.y + self.a0 * s),
+            ]
+        if self.kind == "seam":
+            return [(0.0, self.y), (self.a0, self.y)]
+        return [(0.0, self.y), (self.a0 * c, self.y + self.a0 * s)]
 
 
 @dataclass(frozen=True)
@@ -246,22 +281,65 @@ class MeshOptions(_Section):
     }
 
 
+def _nonneg(v: float) -> bool:
+    return math.isfinite(v) and v >= 0
+
+
 @dataclass(frozen=True)
 class XfemOptions(_Section):
-    """XFEM: enriched elements split into nsub x nsub sub-quads; I-integral radius r_I in element
-    lengths; ``growth_steps`` crack increments of length ``da`` (0: the reference load only)."""
+    """XFEM options (paper section 2.1; defaults are the paper's).
+
+    - ``nsub`` (4, 1..32): split and branch-enriched elements are integrated on nsub x nsub
+      sub-quads with 2 x 2 Gauss points each.
+    - ``tip_nsub`` (0 = same as nsub; else nsub..64): sub-quads per direction in tip elements.
+    - ``r_I`` (2.5, 0.5..20): radius of the interaction-integral domain in tip-element lengths.
+    - ``fixed_area_radius`` (0 = off; else > 0, length units): enrich every node within this
+      distance of a tip with the branch functions (Laborde et al. 2005).
+    - ``area_threshold`` (1e-4, 0 < t < 0.5): a Heaviside node is dropped when the smaller part of
+      its support cut by the crack is below this fraction of the support area.
+    - ``growth_steps`` (0 = solve at the reference load only; else the maximum number of LEFM
+      growth steps, each recording the critical state where G = G0 = ``material.G0``).
+    - ``da`` (0 = one element length; else > 0): crack extension per growth step.
+    - ``a_stop`` (0 = 0.7 ``plate.width``; else 0 < a_stop < width): growth stops once the crack
+      length would exceed it (the half-length for a "center" crack).
+    """
 
     nsub: int = 4
+    tip_nsub: int = 0
     r_I: float = 2.5
+    fixed_area_radius: float = 0.0
+    area_threshold: float = 1e-4
     growth_steps: int = 0
-    da: float = 0.25
+    da: float = 0.0
+    a_stop: float = 0.0
     _name: ClassVar[str] = "xfem"
     _specs: ClassVar[dict[str, _Spec]] = {
-        "nsub": _int_at_least(1),
-        "r_I": _POS,
-        "growth_steps": _int_at_least(0),
-        "da": _POS,
+        "nsub": _int_at_least(1, 32),
+        "tip_nsub": _Spec(
+            "int", "0 (= nsub) or an integer in nsub..64", lambda v: v == 0 or 1 <= v <= 64
+        ),
+        "r_I": _Spec(
+            "float",
+            "0.5 <= r_I <= 20 element lengths",
+            lambda v: math.isfinite(v) and 0.5 <= v <= 20.0,
+        ),
+        "fixed_area_radius": _Spec("float", "0 (off) or a finite length > 0", _nonneg),
+        "area_threshold": _Spec(
+            "float", "0 < area_threshold < 0.5", lambda v: math.isfinite(v) and 0.0 < v < 0.5
+        ),
+        "growth_steps": _int_at_least(0, 100_000),
+        "da": _Spec("float", "0 (one element length) or a finite length > 0", _nonneg),
+        "a_stop": _Spec("float", "0 (0.7 plate.width) or 0 < a_stop < plate.width", _nonneg),
     }
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        if self.tip_nsub != 0 and self.tip_nsub < self.nsub:
+            raise InvalidParameterError(
+                f"invalid xfem.tip_nsub: expected 0 (= nsub) or an integer in "
+                f"nsub..64 = {self.nsub}..64, got {self.tip_nsub}",
+                "xfem.tip_nsub",
+            )
 
 
 @dataclass(frozen=True)
@@ -303,7 +381,7 @@ METHOD_SECTIONS: dict[str, tuple[str, ...]] = {
 }
 _CRACK_KINDS: dict[str, tuple[str, ...]] = {
     "fem": ("none", "seam"),
-    "xfem": ("none", "edge"),
+    "xfem": ("edge", "center"),
     "pd": ("none", "edge"),
     "ccm_pd": ("none", "edge"),
 }
@@ -359,10 +437,27 @@ class Scene:
                 f"method {m!r} takes one of {', '.join(map(repr, kinds))}, got {c.kind!r}",
             )
         if c.kind != "none":
-            if not c.a0 < p.width:
-                raise _bad("crack.a0", f"expected 0 < a0 < plate.width = {p.width}, got {c.a0}")
-            if not c.y < p.height:
-                raise _bad("crack.y", f"expected 0 < y < plate.height = {p.height}, got {c.y}")
+            self._check_crack_geometry()
+        if m in ("fem", "pd", "ccm_pd") and c.angle != 0.0:
+            raise _bad(
+                "crack.angle",
+                f"method {m!r} supports cracks along x1 only (angle = 0), got {c.angle}; "
+                "inclined cracks need method 'xfem'",
+            )
+        if m == "xfem":
+            x = self.xfem
+            if x.a_stop != 0.0 and not x.a_stop < p.width:
+                raise _bad(
+                    "xfem.a_stop",
+                    f"expected 0 (0.7 plate.width) or 0 < a_stop < plate.width = {p.width}, "
+                    f"got {x.a_stop}",
+                )
+            if x.a_stop != 0.0 and x.growth_steps > 0 and not x.a_stop > c.a0:
+                raise _bad(
+                    "xfem.a_stop",
+                    f"growth needs a stop length beyond the initial crack: a_stop > crack.a0 = "
+                    f"{c.a0}, got {x.a_stop}",
+                )
         if m in ("pd", "ccm_pd"):
             if self.material.nu != PD_NU:
                 raise _bad(
@@ -399,6 +494,39 @@ class Scene:
                         "pd.center",
                         f"the crack tip ({c.a0}, {c.y}) must lie in the PD rectangle "
                         f"[{x0:.6g}, {x1:.6g}] x [{y0:.6g}, {y1:.6g}]",
+                    )
+
+    def _check_crack_geometry(self) -> None:
+        p, c = self.plate, self.crack
+        w, h = p.width, p.height
+        if not c.y < h:
+            raise _bad("crack.y", f"expected 0 < y < plate.height = {h}, got {c.y}")
+        if c.kind in ("seam", "edge"):
+            if c.kind == "edge" and not -90.0 < c.angle < 90.0:
+                raise _bad(
+                    "crack.angle",
+                    f"an edge crack must point into the plate: -90 < angle < 90, got {c.angle}",
+                )
+            tx, ty = c.polyline()[1]
+            if not (0.0 < tx < w and 0.0 < ty < h):
+                raise _bad(
+                    "crack.a0",
+                    f"the crack tip ({tx:.6g}, {ty:.6g}) must lie inside the plate "
+                    f"(0, {w}) x (0, {h})"
+                    + (
+                        f": expected 0 < a0 < plate.width = {w}, got {c.a0}" if c.angle == 0 else ""
+                    ),
+                )
+        elif c.kind == "center":
+            if not c.x < w:
+                raise _bad("crack.x", f"expected 0 < x < plate.width = {w}, got {c.x}")
+            for tx, ty in c.polyline():
+                if not (0.0 < tx < w and 0.0 < ty < h):
+                    raise _bad(
+                        "crack.a0",
+                        f"the centre crack (half-length a0 = {c.a0} at ({c.x}, {c.y}), "
+                        f"angle {c.angle}) has a tip at ({tx:.6g}, {ty:.6g}) outside the plate "
+                        f"(0, {w}) x (0, {h})",
                     )
 
     # -- construction -------------------------------------------------------------------------
@@ -515,7 +643,16 @@ class Scene:
     def describe(self) -> str:
         """One line: method, plate, crack, load variant and discretisation."""
         c = self.crack
-        crack = "uncracked" if c.kind == "none" else f"{c.kind} crack a0={c.a0:g} at x2={c.y:g}"
+        if c.kind == "none":
+            crack = "uncracked"
+        elif c.kind == "center":
+            crack = f"center crack half-length a0={c.a0:g} at ({c.x:g}, {c.y:g})"
+        else:
+            crack = f"{c.kind} crack a0={c.a0:g} at x2={c.y:g}"
+        if c.kind != "none" and c.angle != 0.0:
+            crack += f", angle {c.angle:g} deg"
+        if self.method == "xfem" and self.xfem.growth_steps > 0:
+            crack += f", up to {self.xfem.growth_steps} growth steps"
         if self.method in ("fem", "xfem"):
             disc = f"mesh {self.mesh.nx}x{self.mesh.ny} Q4"
         else:

@@ -26,6 +26,8 @@ def edge_crack_plate(
     width: float = 11.0,
     height: float = 21.0,
     crack_y: float = 10.5,
+    crack_angle: float = 0.0,
+    crack_x: float = 5.5,
     E: float = 10000.0,
     nu: float = 0.25,
     G0: float = 0.367,
@@ -35,9 +37,13 @@ def edge_crack_plate(
     traction: float = 9.993,
     gauss: int = 2,
     nsub: int = 4,
+    tip_nsub: int = 0,
     r_I: float = 2.5,
+    fixed_area_radius: float = 0.0,
+    area_threshold: float = 1e-4,
     growth_steps: int = 0,
-    da: float = 0.25,
+    da: float = 0.0,
+    a_stop: float = 0.0,
     dx: float = 1.0 / 15.0,
     m: int = 4,
     pd_center: tuple[float, float] = (1.70, 10.5),
@@ -56,9 +62,16 @@ def edge_crack_plate(
         method: "fem" (plain Q4; ``crack`` "seam" or "none"), "xfem", "pd" or "ccm_pd".
         a0: crack length. mesh: (nx, ny) Q4 elements (FEM/XFEM; the paper's XFEM mesh 44 x 83).
         bc: "free" | "clamped" | "traction".
-        crack: "none" | "seam" (fem) | "edge" (others); default "seam" for fem, else "edge".
-        nsub, r_I, growth_steps, da: XFEM sub-quads per direction, I-integral radius (element
-            lengths), crack growth steps and increment.
+        crack: "none" | "seam" (fem), "edge" | "center" (xfem), "none" | "edge" (pd, ccm_pd);
+            default "seam" for fem, else "edge".
+        crack_y, crack_angle, crack_x: height of the crack (its centre for "center"), its angle
+            in degrees from x1 (xfem only; 0 elsewhere), centre x1 of a "center" crack.
+        nsub, tip_nsub, r_I, fixed_area_radius, area_threshold, growth_steps, da, a_stop: XFEM
+            options (see :class:`~rustfrac.scene.XfemOptions`: sub-quads per direction (4), in
+            tip elements (0 = nsub), I-integral radius in element lengths (2.5), fixed-area tip
+            enrichment radius (0 = off), small-area threshold (1e-4), growth steps (0 = the
+            reference load only), extension per step (0 = one element length), stop length
+            (0 = 0.7 width)). Growth uses ``G0``.
         dx, m, pd_center, pd_size, sla_steps: PD grid spacing, horizon factor (delta = m dx),
             PD rectangle of the CCM-PD model, and SLA steps.
 
@@ -78,8 +91,17 @@ def edge_crack_plate(
         plate=Plate(width=width, height=height),
         material=Material(E=E, nu=nu, plane=plane, thickness=thickness, G0=G0),
         load=Load(bc=bc, u0=u0, traction=traction),
-        crack=Crack(kind=crack, a0=a0, y=crack_y),
+        crack=Crack(kind=crack, a0=a0, y=crack_y, angle=crack_angle, x=crack_x),
         mesh=MeshOptions(nx=nx, ny=ny, gauss=gauss),
-        xfem=XfemOptions(nsub=nsub, r_I=r_I, growth_steps=growth_steps, da=da),
+        xfem=XfemOptions(
+            nsub=nsub,
+            tip_nsub=tip_nsub,
+            r_I=r_I,
+            fixed_area_radius=fixed_area_radius,
+            area_threshold=area_threshold,
+            growth_steps=growth_steps,
+            da=da,
+            a_stop=a_stop,
+        ),
         pd=PdOptions(dx=dx, m=m, center=pd_center, size=pd_size, sla_steps=sla_steps),
     )

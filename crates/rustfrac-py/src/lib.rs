@@ -17,13 +17,13 @@
 //! end), and the GIL is acquired only for that call. If the callback raises (e.g.
 //! `KeyboardInterrupt`), the run is asked to stop and the exception is re-raised afterwards.
 //!
-//! Adding a driver (XFEM, CCM-PD): a `#[pyfunction] solve_<method>(..., progress = None)` that
+//! Adding a driver (CCM-PD; [`solve_xfem_plate`] is the worked example): a `#[pyfunction] solve_<method>(..., progress = None)` that
 //! builds the core params, runs `detached(py, "<method>", || core::run(&params, |done, total|
 //! prog.report(done, total, "<method>", false)))`, and returns a dict like [`solve_fem_plate`]
 //! (history arrays as `history_<name>` keys); on the Python side one `_run_<method>` entry in
 //! `rustfrac.runner._RUNNERS`.
 
-use numpy::ndarray::Array2;
+use numpy::ndarray::{Array2, Array3};
 use numpy::{IntoPyArray, PyArray1};
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
@@ -34,6 +34,7 @@ use rustfrac_core::loading::{Grip, PlateLoad};
 use rustfrac_core::material::{Elastic, Plane};
 use rustfrac_core::mesh::Mesh;
 use rustfrac_core::plate::{self, FemPlateParams};
+use rustfrac_core::xfem::{self, GrowthParams, XfemParams};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
@@ -185,6 +186,21 @@ fn elements_i64<'py>(py: Python<'py>, e: &[[usize; 4]]) -> Bound<'py, PyAny> {
         .into_any()
 }
 
+fn index_i64<'py>(py: Python<'py>, v: &[usize]) -> Bound<'py, PyAny> {
+    let v: Vec<i64> = v.iter().map(|&i| i as i64).collect();
+    PyArray1::from_vec(py, v).into_any()
+}
+
+/// (c, 4, 2) array of quadrilateral cells (corner coordinates or corner displacements).
+fn quads<'py>(py: Python<'py>, v: Vec<[[f64; 2]; 4]>) -> Bound<'py, PyAny> {
+    let n = v.len();
+    let flat: Vec<f64> = v.into_iter().flatten().flatten().collect();
+    Array3::from_shape_vec((n, 4, 2), flat)
+        .expect("shape matches length")
+        .into_pyarray(py)
+        .into_any()
+}
+
 fn material(e: f64, nu: f64, plane: &str, thickness: f64) -> Result<Elastic, CoreError> {
     Elastic::new(e, nu, Plane::parse(plane)?, thickness)
 }
@@ -265,6 +281,181 @@ fn solve_fem_plate<'py>(
     d.set_item("seam_y", r.seam_y)?;
     d.set_item("wall_time_s", r.wall_time_s)?;
     d.set_item("bc", params.load.grip.name())?;
+    Ok(d)
+}
+
+/// Solves the plate with XFEM (Heaviside + branch enrichment, interaction-integral SIFs) and,
+/// with `growth_steps > 0`, quasi-static LEFM crack growth (`rustfrac_core::xfem::run`).
+///
+/// `crack` is a polyline [(x1, x2), ...] with at least two points; an end on the plate boundary is
+/// a mouth (edge crack), an end inside is a tip. `tip_nsub = 0` means `nsub`; `r_i` and
+/// `extra_radii` are in tip-element lengths; `fixed_area_radius = None` enriches the tip element
+/// nodes only; growth needs `g0`; `da = None` grows one element length per step and
+/// `a_stop = None` stops at 0.7 width.
+///
+/// Returns a dict: scalars K_I, K_II, J (from K, eq. 32), J_domain (eq. 33), r_i (absolute),
+/// sigma22, cmod, n_dofs, n_std, n_heaviside_nodes, n_tip_nodes, n_dropped_nodes, anchor_node,
+/// status, bc, wall_time_s; arrays coords (n,2), elements (m,4) int64, u (n_dofs,) (standard dofs
+/// first: u[:n_std] are the nodal displacements), heaviside_nodes, tip_nodes (int64),
+/// crack (k,2) (final polyline), crack_initial (k0,2), radii (r,5) [radius, K_I, K_II, J_from_K,
+/// J_domain] sorted by radius, radii_factor (r,), tips (t,6) [x1, x2, K_I, K_II, J_from_K,
+/// J_domain], deformed_cells and deformed_disp (c,4,2) (near the primary tip; plot
+/// cells + scale * disp), and the growth history as history_<name> arrays (load_factor, sigma22,
+/// cmod, u0, traction, a, K_I, K_II, kink_angle, tip_x, tip_y; empty without growth;
+/// history[0] is the unloaded origin).
+///
+/// Progress: `progress(done, total, message)` after the first solve and after each growth step
+/// (the core cannot be interrupted mid-run: an exception from the callback is re-raised when the
+/// run returns).
+#[pyfunction]
+#[pyo3(signature = (*, width, height, nx, ny, e, nu, plane = "strain", thickness = 1.0,
+                    bc = "free", u0 = 0.0, traction = 0.0, crack, nsub = 4, tip_nsub = 0,
+                    r_i = 2.5, extra_radii = vec![1.5, 2.0, 3.0, 3.5], fixed_area_radius = None,
+                    area_threshold = xfem::DEFAULT_AREA_THRESHOLD, growth_steps = 0, g0 = None,
+                    da = None, a_stop = None, progress = None))]
+#[allow(clippy::too_many_arguments)]
+fn solve_xfem_plate<'py>(
+    py: Python<'py>,
+    width: f64,
+    height: f64,
+    nx: usize,
+    ny: usize,
+    e: f64,
+    nu: f64,
+    plane: &str,
+    thickness: f64,
+    bc: &str,
+    u0: f64,
+    traction: f64,
+    crack: Vec<[f64; 2]>,
+    nsub: usize,
+    tip_nsub: usize,
+    r_i: f64,
+    extra_radii: Vec<f64>,
+    fixed_area_radius: Option<f64>,
+    area_threshold: f64,
+    growth_steps: usize,
+    g0: Option<f64>,
+    da: Option<f64>,
+    a_stop: Option<f64>,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let prog = Progress::new(progress);
+    let params = (|| {
+        let growth = if growth_steps == 0 {
+            None
+        } else {
+            let Some(g0) = g0 else {
+                return Err(CoreError::invalid(
+                    "g0",
+                    "a fracture energy > 0 (needed when growth_steps > 0)",
+                    "None",
+                ));
+            };
+            Some(GrowthParams {
+                g0,
+                da,
+                a_stop: a_stop.unwrap_or(0.7 * width),
+                max_steps: growth_steps,
+            })
+        };
+        Ok::<_, CoreError>(XfemParams {
+            width,
+            height,
+            nx,
+            ny,
+            material: material(e, nu, plane, thickness)?,
+            crack,
+            load: PlateLoad {
+                grip: Grip::parse(bc)?,
+                u0,
+                traction,
+            },
+            nsub,
+            tip_nsub: if tip_nsub == 0 { nsub } else { tip_nsub },
+            r_i_factor: r_i,
+            extra_radius_factors: extra_radii,
+            fixed_area_radius,
+            area_threshold,
+            growth,
+        })
+    })()
+    .map_err(|err| core_err(py, err))?;
+    let total = growth_steps.max(1);
+    let t0 = Instant::now();
+    let r = detached(py, "xfem plate", || {
+        prog.report(0, total, "xfem: enrich + assemble + solve", true);
+        let r = xfem::run(&params, &|done, tot| {
+            if params.growth.is_some() {
+                let msg = format!("xfem: growth step {done}/{tot}");
+                prog.report(done, tot.max(1), &msg, false);
+            }
+        });
+        prog.report(total, total, "xfem: done", true);
+        let mesh = Mesh::uniform(0.0, 0.0, width, height, nx, ny)?;
+        r.map(|r| (r, mesh))
+    });
+    let wall = t0.elapsed().as_secs_f64();
+    if let Some(err) = prog.take_error() {
+        return Err(err);
+    }
+    let (r, mesh) = r?;
+    let d = PyDict::new(py);
+    d.set_item("coords", arr2(py, mesh.coords))?;
+    d.set_item("elements", elements_i64(py, &mesh.elements))?;
+    d.set_item("u", arr1(py, r.u))?;
+    d.set_item("heaviside_nodes", index_i64(py, &r.heaviside_nodes))?;
+    d.set_item("tip_nodes", index_i64(py, &r.tip_nodes))?;
+    d.set_item("crack", arr2(py, r.crack))?;
+    d.set_item("crack_initial", arr2(py, params.crack.clone()))?;
+    let radii: Vec<[f64; 5]> = r
+        .radii
+        .iter()
+        .map(|x| {
+            let s = x.sifs;
+            [s.radius, s.k_i, s.k_ii, s.j_from_k, s.j_domain]
+        })
+        .collect();
+    let factors: Vec<f64> = r.radii.iter().map(|x| x.factor).collect();
+    d.set_item("radii", arr2(py, radii))?;
+    d.set_item("radii_factor", arr1(py, factors))?;
+    let tips: Vec<[f64; 6]> = r
+        .tips
+        .iter()
+        .map(|(p, s)| [p[0], p[1], s.k_i, s.k_ii, s.j_from_k, s.j_domain])
+        .collect();
+    d.set_item("tips", arr2(py, tips))?;
+    d.set_item("deformed_cells", quads(py, r.deformed.cells))?;
+    d.set_item("deformed_disp", quads(py, r.deformed.disp))?;
+    let h = &r.history;
+    let col = |f: fn(&xfem::GrowthStep) -> f64| -> Vec<f64> { h.iter().map(f).collect() };
+    d.set_item("history_load_factor", arr1(py, col(|s| s.lambda)))?;
+    d.set_item("history_sigma22", arr1(py, col(|s| s.sigma22)))?;
+    d.set_item("history_cmod", arr1(py, col(|s| s.cmod)))?;
+    d.set_item("history_u0", arr1(py, col(|s| s.u0)))?;
+    d.set_item("history_traction", arr1(py, col(|s| s.traction)))?;
+    d.set_item("history_a", arr1(py, col(|s| s.a)))?;
+    d.set_item("history_K_I", arr1(py, col(|s| s.k_i)))?;
+    d.set_item("history_K_II", arr1(py, col(|s| s.k_ii)))?;
+    d.set_item("history_kink_angle", arr1(py, col(|s| s.kink_angle)))?;
+    d.set_item("history_tip_x", arr1(py, col(|s| s.tip[0])))?;
+    d.set_item("history_tip_y", arr1(py, col(|s| s.tip[1])))?;
+    d.set_item("K_I", r.k_i)?;
+    d.set_item("K_II", r.k_ii)?;
+    d.set_item("J", r.j_from_k)?;
+    d.set_item("J_domain", r.j_domain)?;
+    d.set_item("r_i", r.r_i)?;
+    d.set_item("sigma22", r.sigma22)?;
+    d.set_item("cmod", r.cmod)?;
+    d.set_item("n_dofs", r.n_dofs)?;
+    d.set_item("n_std", r.n_std)?;
+    d.set_item("n_heaviside_nodes", r.n_heaviside_nodes)?;
+    d.set_item("n_tip_nodes", r.n_tip_nodes)?;
+    d.set_item("n_dropped_nodes", r.n_dropped_nodes)?;
+    d.set_item("anchor_node", r.anchor_node)?;
+    d.set_item("status", r.status)?;
+    d.set_item("bc", r.grip)?;
+    d.set_item("wall_time_s", wall)?;
     Ok(d)
 }
 
@@ -377,6 +568,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("PROGRESS_INTERVAL_S", PROGRESS_INTERVAL_S)?;
     m.add_function(wrap_pyfunction!(solve_fem_plate, m)?)?;
     m.add_function(wrap_pyfunction!(solve_fem_grid, m)?)?;
+    m.add_function(wrap_pyfunction!(solve_xfem_plate, m)?)?;
     m.add_function(wrap_pyfunction!(_progress_demo, m)?)?;
     m.add_function(wrap_pyfunction!(_panic_demo, m)?)?;
     Ok(())
