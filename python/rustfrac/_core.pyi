@@ -88,7 +88,8 @@ def solve_xfem_plate(
     status, bc: str; coords (n,2), elements (m,4) int64, u (n_dofs,) (u[:n_std] are the nodal
     displacements), heaviside_nodes, tip_nodes (int64), crack (k,2) final polyline,
     crack_initial (k0,2), radii (r,5) [radius, K_I, K_II, J_from_K, J_domain], radii_factor (r,),
-    tips (t,6) [x1, x2, K_I, K_II, J_from_K, J_domain], deformed_cells, deformed_disp (c,4,2);
+    tips (t,6) [x1, x2, K_I, K_II, J_from_K, J_domain], deformed_cells, deformed_disp (c,4,2); snapshot_cells, snapshot_disp (C,4,2) and
+    snapshot_offsets (s+1,) (growth: patch k = rows offsets[k]:offsets[k+1], history row k+1);
     growth history (origin first; empty without growth): history_load_factor, history_sigma22,
     history_cmod, history_u0, history_traction, history_a, history_K_I, history_K_II,
     history_kink_angle, history_tip_x, history_tip_y."""

@@ -1359,6 +1359,9 @@ pub struct XfemResult {
     /// deformed-mesh cells near the primary tip of the initial crack (5 element lengths around it,
     /// 4 x 4 cells per element)
     pub deformed: DeformedPatch,
+    /// growth runs: the deformed patch around the growing tip at every critical state
+    /// (displacements at the critical load, i.e. scaled by lambda), for Fig. 8b
+    pub snapshots: Vec<DeformedPatch>,
 }
 
 fn plate_edges(m: &Mesh) -> PlateEdges {
@@ -1550,6 +1553,7 @@ pub fn run(params: &XfemParams, progress: &(dyn Fn(usize, usize) + Sync)) -> Res
         status: "single solve".into(),
         crack: model.crack.points.clone(),
         deformed,
+        snapshots: Vec::new(),
     };
     let Some(g) = params.growth else {
         progress(1, 1);
@@ -1610,6 +1614,11 @@ pub fn run(params: &XfemParams, progress: &(dyn Fn(usize, usize) + Sync)) -> Res
             kink_angle: kinks[t],
             tip: model.crack.tips[t].pos,
         });
+        let mut snap = model.deformed_near_tip(&sol.u, t, 5.0 * h_t, 4)?;
+        for d in snap.disp.iter_mut().flatten().flatten() {
+            *d *= lam;
+        }
+        res.snapshots.push(snap);
         progress(step + 1, g.max_steps);
         // extend every tip
         let mut pts = model.crack.points.clone();

@@ -300,7 +300,9 @@ fn solve_fem_plate<'py>(
 /// crack (k,2) (final polyline), crack_initial (k0,2), radii (r,5) [radius, K_I, K_II, J_from_K,
 /// J_domain] sorted by radius, radii_factor (r,), tips (t,6) [x1, x2, K_I, K_II, J_from_K,
 /// J_domain], deformed_cells and deformed_disp (c,4,2) (near the primary tip; plot
-/// cells + scale * disp), and the growth history as history_<name> arrays (load_factor, sigma22,
+/// cells + scale * disp), snapshot_cells / snapshot_disp (C,4,2) with snapshot_offsets (s+1,)
+/// (the patch around the growing tip at each critical state, displacements at the critical load;
+/// snapshot k belongs to history row k + 1), and the growth history as history_<name> arrays (load_factor, sigma22,
 /// cmod, u0, traction, a, K_I, K_II, kink_angle, tip_x, tip_y; empty without growth;
 /// history[0] is the unloaded origin).
 ///
@@ -427,6 +429,17 @@ fn solve_xfem_plate<'py>(
     d.set_item("tips", arr2(py, tips))?;
     d.set_item("deformed_cells", quads(py, r.deformed.cells))?;
     d.set_item("deformed_disp", quads(py, r.deformed.disp))?;
+    // growth snapshots: concatenated cells, snapshot k = rows offsets[k]..offsets[k+1]
+    let mut offsets: Vec<i64> = vec![0];
+    let (mut s_cells, mut s_disp) = (Vec::new(), Vec::new());
+    for snap in r.snapshots {
+        s_cells.extend(snap.cells);
+        s_disp.extend(snap.disp);
+        offsets.push(s_cells.len() as i64);
+    }
+    d.set_item("snapshot_cells", quads(py, s_cells))?;
+    d.set_item("snapshot_disp", quads(py, s_disp))?;
+    d.set_item("snapshot_offsets", PyArray1::from_vec(py, offsets))?;
     let h = &r.history;
     let col = |f: fn(&xfem::GrowthStep) -> f64| -> Vec<f64> { h.iter().map(f).collect() };
     d.set_item("history_load_factor", arr1(py, col(|s| s.lambda)))?;
