@@ -158,7 +158,7 @@ def test_run_progress_callback_on_fem() -> None:
     assert calls and calls[-1][0] == calls[-1][1]
 
 
-@pytest.mark.parametrize("method", ["xfem", "pd", "ccm_pd"])
+@pytest.mark.parametrize("method", ["xfem"])
 def test_pending_methods_validate_then_refuse(method: str) -> None:
     scene = rf.scenes.edge_crack_plate(method=method)
     with pytest.raises(rf.MethodNotAvailableError, match="issue #"):
