@@ -274,8 +274,11 @@ def test_stop_at_crack_length() -> None:
     assert r.history["crack_length"][-1] >= 1.5 and r.history["crack_length"][-2] < 1.5
 
 
-def test_separated_strip_is_a_status_without_nan() -> None:
+def test_separated_strip_is_a_status_without_nan(tmp_path: Path) -> None:
     runs = [rf.run(strip(fast)) for fast in (True, False)]
+    back = rf.load(runs[0].save(tmp_path))  # strict JSON (no NaN) and a VTU without a final state
+    assert back.meta["status"] == "separated" and (tmp_path / "result.vtu").exists()
+    assert 'Name="displacement_final"' not in (tmp_path / "result.vtu").read_text()
     for r in runs:
         assert r.meta["status"] == "separated"
         for k, v in r.history.items():
@@ -420,3 +423,41 @@ def test_progress_bar_shows_eta() -> None:
     bar(20, 100, "sla: step 20/100")
     lines = buf.getvalue().splitlines()
     assert "ETA" not in lines[0] and "ETA" not in lines[1] and "ETA" in lines[2]
+
+
+def test_pd_scenes_round_trip_property() -> None:
+    hypothesis = pytest.importorskip("hypothesis")
+    st = hypothesis.strategies
+
+    @hypothesis.settings(max_examples=40, deadline=None)
+    @hypothesis.given(
+        method=st.sampled_from(["pd", "ccm_pd"]),
+        bc=st.sampled_from(["free", "clamped", "traction"]),
+        m=st.integers(min_value=1, max_value=8),
+        steps=st.integers(min_value=1, max_value=10**6),
+        tie_tol=st.floats(min_value=0.0, max_value=0.999),
+        refactor_every=st.integers(min_value=0, max_value=1000),
+        fast=st.booleans(),
+        stop=st.floats(min_value=0.0, max_value=100.0),
+        snaps=st.lists(st.integers(min_value=1, max_value=10**6), max_size=5),
+    )
+    def check(
+        method: str,
+        bc: str,
+        m: int,
+        steps: int,
+        tie_tol: float,
+        refactor_every: int,
+        fast: bool,
+        stop: float,
+        snaps: list[int],
+    ) -> None:
+        s = rf.scenes.edge_crack_plate(
+            method=method, bc=bc, m=m, sla_steps=steps, tie_tol=tie_tol,
+            refactor_every=refactor_every, fast=fast, stop_crack_length=stop,
+            damage_at_steps=snaps,
+        )  # fmt: skip
+        assert rf.Scene.from_toml_str(s.to_toml()) == s
+        assert rf.Scene.from_dict(s.to_dict()) == s
+
+    check()
