@@ -268,6 +268,14 @@ def test_mode_one_symmetry_with_clamped_grips() -> None:
     assert r.history["crack_length"][-1] > 1.1
 
 
+def test_traction_grips() -> None:
+    r = rf.run(coarse(5, bc="traction"))
+    h = r.history
+    assert r.sigma22 == pytest.approx(9.993, rel=1e-9)  # the applied traction
+    np.testing.assert_allclose(h["sigma22"][1:], h["load_factor"][1:] * 9.993, rtol=1e-9)
+    assert np.all(h["u0"] == 0.0)
+
+
 def test_stop_at_crack_length() -> None:
     r = rf.run(coarse(400, stop_crack_length=1.5))
     assert r.meta["status"] == "crack_length_reached"

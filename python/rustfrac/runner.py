@@ -136,7 +136,8 @@ def _run_pd(scene: Scene, progress: ProgressCallback | None) -> Result:
     ``history`` holds one row per SLA step, recorded at the load that breaks the step's bond(s),
     preceded by the unloaded origin as step 0 (load_factor = sigma22 = cmod = u0 = 0, crack_length
     = the pre-crack length, bond = node_i = node_j = -1, n_broken = 0), so that plotting
-    sigma22 against cmod starts with the linear loading branch from (0, 0).
+    sigma22 against cmod starts with the linear loading branch from (0, 0). Under ``bc =
+    "traction"`` the load factor scales the traction and ``u0`` is 0 (no prescribed displacement).
     """
     p, mat, load, c, pd = scene.plate, scene.material, scene.load, scene.crack, scene.pd
     regions = []
@@ -156,7 +157,8 @@ def _run_pd(scene: Scene, progress: ProgressCallback | None) -> Result:
         thickness=mat.thickness,
         g0=mat.G0,
         bc=load.bc,
-        u0=load.u0,
+        # traction grips prescribe no displacement: history "u0" is then 0
+        u0=0.0 if load.bc == "traction" else load.u0,
         traction=load.traction,
         pd_regions=regions,
         precrack=precrack,
