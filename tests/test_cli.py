@@ -57,7 +57,7 @@ def test_run_seam_quiet_plot(
         ('method = "fem"\n[mesh]\nnx = 0\n', "mesh.nx"),
         ('method = "fem"\n[mesh]\nnz = 3\n', "mesh.nz"),
         ("[mesh]\nnx = 3\n", "method"),
-        ('method = "pd"\n', "issue #4"),
+        ('method = "pd"\n[material]\nnu = 0.3\n', "material.nu"),
         ('method = "xfem"\n[xfem]\nnsub = 0\n', "xfem.nsub"),
     ],
 )

@@ -96,3 +96,41 @@ def solve_xfem_plate(
 
 def _progress_demo(steps: int, step_s: float, progress: ProgressCallback | None = None) -> int: ...
 def _panic_demo() -> None: ...
+def solve_pd_plate(
+    *,
+    method: str,
+    width: float,
+    height: float,
+    dx: float,
+    m: int,
+    e: float,
+    nu: float,
+    plane: str = "strain",
+    thickness: float = 1.0,
+    g0: float,
+    bc: str = "free",
+    u0: float = 0.0,
+    traction: float = 0.0,
+    pd_regions: list[tuple[float, float, float, float]] = ...,
+    precrack: list[tuple[float, float]] = ...,
+    sla_steps: int = 500,
+    stop_crack_length: float | None = None,
+    tie_tol: float = 0.0,
+    refactor_every: int = 0,
+    fast: bool = True,
+    damage_at_steps: list[int] = ...,
+    progress: ProgressCallback | None = None,
+) -> dict[str, Any]:
+    """Pure PD (method "pd") or splice CCM-PD ("ccm_pd": PD in the rectangles (x0, y0, x1, y1),
+    FEM elsewhere) plate, then the sequentially linear analysis (GIL released; progress after
+    each SLA step; raising from it stops the run). ``precrack``: polyline, first point at the
+    mouth (empty: uncracked). Keys: scalars sigma22, cmod (reference load, before any break),
+    gamma, c, s0, delta, setup_seconds, sla_seconds, wall_time_s: float; n_dofs, n_nodes,
+    n_pd_nodes, n_bonds, n_precrack_bonds, n_removed_elements, bytes_per_bond, anchor_node,
+    n_refactorisations: int; peak_memory_bytes: int | None; status ("completed" |
+    "crack_length_reached" | "separated" | "no_bond_in_tension"), solver, bc, method: str.
+    Arrays: node_xy (n,2), u (2n,), u_final (2n,; empty when separated), pd_nodes (p,) int64,
+    pd_node_xy (p,2), damage (p,), broken (b,) bool, bond_nodes (b,2) int64, out_of_balance (2,),
+    anchor_xy (2,); one entry per SLA step: history_step, history_bond, history_n_broken,
+    history_node_i, history_node_j (int64), history_load_factor, history_sigma22, history_cmod,
+    history_u0, history_crack_length (float64); damage_at_steps (k,) int64, damage_at (k,p)."""

@@ -11,31 +11,44 @@ import argparse
 import sys
 import time
 from pathlib import Path
-from typing import TextIO
+from typing import TYPE_CHECKING, Callable, TextIO
 
 from .errors import InvalidParameterError, MethodNotAvailableError, RustfracError
+
+if TYPE_CHECKING:
+    from .result import Result as _Result
 
 __all__ = ["ProgressBar", "main"]
 
 
 class ProgressBar:
     """A plain-text progress bar on a stream; draws only once a run has lasted ``delay`` seconds
-    (short runs stay quiet), at most every 0.1 s (the native side throttles too)."""
+    (short runs stay quiet), at most every 0.1 s (the native side throttles too). Once two reports
+    with different ``done`` counts arrived (e.g. SLA steps after the model setup), it also shows
+    the estimated time left, from the rate since the first of them."""
 
     def __init__(self, stream: TextIO = sys.stderr, width: int = 30, delay: float = 0.5) -> None:
         self.stream, self.width, self.delay = stream, width, delay
         self.t0 = time.perf_counter()
         self.drawn = False
+        self._first: tuple[float, int] | None = None
 
     def __call__(self, done: int, total: int, message: str) -> None:
-        elapsed = time.perf_counter() - self.t0
+        now = time.perf_counter()
+        elapsed = now - self.t0
+        if self._first is None and done > 0:
+            self._first = (now, done)
+        eta = ""
+        if self._first is not None and 0 < done < total and done > self._first[1]:
+            rate = (now - self._first[0]) / (done - self._first[1])
+            eta = f"  ETA {rate * (total - done):.1f} s"
         if elapsed < self.delay and not self.drawn:
             return
         frac = done / total if total > 0 else 0.0
         n = round(self.width * min(max(frac, 0.0), 1.0))
         bar = "#" * n + "." * (self.width - n)
         end = "\r" if self.stream.isatty() else "\n"
-        self.stream.write(f"[{bar}] {100 * frac:5.1f}% {elapsed:7.1f} s  {message}{end}")
+        self.stream.write(f"[{bar}] {100 * frac:5.1f}% {elapsed:7.1f} s  {message}{eta}{end}")
         self.stream.flush()
         self.drawn = True
 
@@ -166,7 +179,9 @@ def _cmd_run(args: argparse.Namespace) -> int:
             f"(domain J = {res.scalars.get('J_domain', float('nan')):.10g}, "
             f"r_I = {res.meta.get('r_I', float('nan')):.6g})"
         )
-    if "status" in res.meta:
+    if res.method in ("pd", "ccm_pd"):
+        _log_pd(log, res)
+    elif "status" in res.meta:
         n = len(res.history.get("a", ()))
         extra = (
             f", {n - 1} critical states, a = {res.history['a'][-1]:.6g} at the last"
@@ -177,11 +192,15 @@ def _cmd_run(args: argparse.Namespace) -> int:
     out = res.save(args.out, vtu=not args.no_vtu)
     plots: list[str] = []
     if args.plot:
-        from .plotting import plot_load_path, plot_tip_deformation, save_plot
+        from .plotting import plot_load_path, plot_tip_deformation, save_damage_plot, save_plot
 
-        name = "s22.png" if "nodal_stress" in res.fields else "u2.png"
-        save_plot(res, out / name)
-        plots.append(name)
+        if "nodal_stress" in res.fields or res.method == "xfem":
+            name = "s22.png" if "nodal_stress" in res.fields else "u2.png"
+            save_plot(res, out / name)
+            plots.append(name)
+        if res.damage is not None:
+            save_damage_plot(res, out / "damage.png")
+            plots.append("damage.png")
         if "deformed_cells" in res.fields:
             plot_tip_deformation(res, scale=50.0).figure.savefig(
                 out / "tip_x50.png", dpi=150, bbox_inches="tight"
@@ -196,6 +215,30 @@ def _cmd_run(args: argparse.Namespace) -> int:
         + ")"
     )
     return 0
+
+
+def _log_pd(log: Callable[..., None], res: _Result) -> None:
+    """The PD / CCM-PD lines of ``rustfrac run``: model size, gamma, SLA outcome."""
+    m, n = res.meta, res.meta.get("counts", {})
+    log(
+        f"pd      {n.get('n_pd_nodes')} PD nodes of {n.get('n_nodes')} grid nodes, "
+        f"{n.get('n_bonds')} bonds ({n.get('bytes_per_bond')} B/bond, "
+        f"{n.get('n_precrack_bonds')} pre-broken), {n.get('n_removed_elements')} FEM elements "
+        f"removed; gamma = {res.gamma:.15g}, s0 = {res.scalars.get('s0', float('nan')):.6g}"
+    )
+    h = res.history
+    steps = m.get("sla_steps_done", 0)
+    last = (
+        f"; last step: load factor {h['load_factor'][-1]:.6g}, sigma22 {h['sigma22'][-1]:.6g}, "
+        f"crack length {h['crack_length'][-1]:.6g}"
+        if steps
+        else ""
+    )
+    t = m.get("timings", {})
+    log(
+        f"sla     status {m.get('status')} after {steps} steps{last}; solver {m.get('solver')}; "
+        f"setup {t.get('setup_s', 0.0):.3f} s, SLA {t.get('sla_s', 0.0):.3f} s"
+    )
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -13,7 +13,7 @@ from matplotlib.figure import Figure
 
 from .result import Result
 
-__all__ = ["plot_field", "plot_load_path", "plot_tip_deformation", "save_plot"]
+__all__ = ["plot_damage", "plot_field", "plot_load_path", "plot_tip_deformation", "save_damage_plot", "save_plot"]
 
 _COMPONENTS = {"s11": 0, "s22": 1, "s12": 2}
 
@@ -114,3 +114,25 @@ def plot_load_path(
     ax.set_ylabel(y)
     ax.legend()
     return ax
+
+
+def plot_damage(res: Result, *, ax: Axes | None = None, cmap: str = "viridis") -> Axes:
+    """Draws the PD nodes (PD and CCM-PD results) coloured by their final damage index."""
+    xy = np.asarray(res.fields["pd_node_xy"], dtype=float)
+    if ax is None:
+        ax = Figure(figsize=(6, 5)).add_subplot()
+    sc = ax.scatter(xy[:, 0], xy[:, 1], c=res.damage, s=4, cmap=cmap, vmin=0.0, vmax=1.0)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x1")
+    ax.set_ylabel("x2")
+    ax.set_title(f"{res.method}: damage after {res.meta.get('sla_steps_done', '?')} SLA steps")
+    ax.figure.colorbar(sc, ax=ax, label="damage")
+    return ax
+
+
+def save_damage_plot(res: Result, path: str | Path, **kwargs: Any) -> Path:
+    """:func:`plot_damage` into a new figure saved to ``path``."""
+    ax = plot_damage(res, **kwargs)
+    p = Path(path)
+    ax.figure.savefig(p, dpi=150, bbox_inches="tight")
+    return p

@@ -6,7 +6,9 @@
   timings) -- plain JSON, floats written with full precision;
 - ``fields.npz``: the arrays (mesh, displacement, stresses, ...) and the history;
 - ``result.vtu``: the deformed-state mesh for ParaView (ASCII VTK unstructured grid of quads with
-  displacement and stress as point data).
+  displacement and stress as point data). PD and CCM-PD results (no Q4 mesh) write the grid nodes as
+  VTK_VERTEX cells instead, with the displacements before the first and after the last break, the
+  damage (0 at FEM nodes) and a PD-node flag as point data (:func:`write_vtu_points`).
 
 :func:`load` reads the JSON and NPZ back to the same numbers.
 """
@@ -126,6 +128,8 @@ class Result:
             s += f", {len(next(iter(self.history.values())))} history points"
         if "bc" in self.meta:
             s += f", bc {self.meta['bc']}"
+        if "status" in self.meta:
+            s += f", SLA {self.meta['status']} after {self.meta.get('sla_steps_done')} steps"
         if self.meta.get("anchor_node") is not None:
             s += f" (u1 anchor at node {self.meta['anchor_node']})"
         return s
@@ -161,6 +165,9 @@ class Result:
         if vtu and "coords" in self.fields and "elements" in self.fields:
             with _atomic(d / VTU_NAME, "w") as f:
                 write_vtu(f, self)
+        elif vtu and "node_xy" in self.fields:
+            with _atomic(d / VTU_NAME, "w") as f:
+                write_vtu_points(f, self)
         # the JSON goes last: it names the fields, so a reader never sees it before them
         with _atomic(d / JSON_NAME, "w") as f:
             f.write(text)
@@ -283,6 +290,45 @@ def write_vtu(f: IO[str], res: Result) -> None:
     _vtk_array(f, "connectivity", cells.reshape(-1), "Int64")
     _vtk_array(f, "offsets", 4 * np.arange(1, m + 1, dtype=np.int64), "Int64")
     _vtk_array(f, "types", np.full(m, 9, dtype=np.uint8), "UInt8")
+    f.write("      </Cells>\n")
+    f.write("    </Piece>\n")
+    f.write("  </UnstructuredGrid>\n")
+    f.write("</VTKFile>\n")
+
+
+def write_vtu_points(f: IO[str], res: Result) -> None:
+    """Writes a PD / CCM-PD result (fields ``node_xy``, ``u``, ``u_final``, ``pd_nodes``,
+    ``damage``) as an ASCII VTK XML unstructured grid of VTK_VERTEX cells (type 1), one per grid
+    node, with point data displacement (reference load, before any break), displacement_final
+    (after the last break; absent when the body separated), damage (0 at FEM nodes) and is_pd."""
+    xy = np.asarray(res.fields["node_xy"], dtype=float)
+    n = len(xy)
+    pts = np.column_stack([xy, np.zeros(n)])
+    f.write('<?xml version="1.0"?>\n')
+    f.write('<VTKFile type="UnstructuredGrid" version="1.0" byte_order="LittleEndian">\n')
+    f.write("  <UnstructuredGrid>\n")
+    f.write(f'    <Piece NumberOfPoints="{n}" NumberOfCells="{n}">\n')
+    f.write("      <PointData>\n")
+    for key, name in (("u", "displacement"), ("u_final", "displacement_final")):
+        u = np.asarray(res.fields.get(key, ()), dtype=float)
+        if len(u) == 2 * n:
+            _vtk_array(f, name, np.column_stack([u.reshape(-1, 2), np.zeros(n)]))
+    pd_nodes = np.asarray(res.fields.get("pd_nodes", ()), dtype=np.int64)
+    damage = np.zeros(n)
+    if "damage" in res.fields and len(res.fields["damage"]) == len(pd_nodes):
+        damage[pd_nodes] = res.fields["damage"]
+    is_pd = np.zeros(n, dtype=np.int64)
+    is_pd[pd_nodes] = 1
+    _vtk_array(f, "damage", damage)
+    _vtk_array(f, "is_pd", is_pd, "Int64")
+    f.write("      </PointData>\n")
+    f.write("      <Points>\n")
+    _vtk_array(f, "Points", pts)
+    f.write("      </Points>\n")
+    f.write("      <Cells>\n")
+    _vtk_array(f, "connectivity", np.arange(n, dtype=np.int64), "Int64")
+    _vtk_array(f, "offsets", np.arange(1, n + 1, dtype=np.int64), "Int64")
+    _vtk_array(f, "types", np.ones(n, dtype=np.uint8), "UInt8")
     f.write("      </Cells>\n")
     f.write("    </Piece>\n")
     f.write("  </UnstructuredGrid>\n")

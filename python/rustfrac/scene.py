@@ -23,7 +23,8 @@ TOML layout (only ``method`` is required; omitted sections and keys take the pap
     [xfem]      nsub = 4, tip_nsub = 0, r_I = 2.5, fixed_area_radius = 0.0,
                 area_threshold = 1e-4, growth_steps = 0, da = 0.0, a_stop = 0.0   # xfem only
     [pd]        dx = 0.0666..., m = 4, center = [1.70, 10.5], size = [2.73, 1.67],
-                sla_steps = 500                                     # pd and ccm_pd only
+                sla_steps = 500, tie_tol = 0.0, refactor_every = 0, fast = true,
+                stop_crack_length = 0.0, damage_at_steps = []       # pd and ccm_pd only
 
 (Each section is a TOML table with one ``key = value`` per line; the one-line form above is
 a summary.)
@@ -33,6 +34,14 @@ Cracks: ``kind = "edge"`` starts on the left edge at (0, ``y``) and runs a lengt
 an interior crack of half-length ``a0`` centred at (``x``, ``y``) at ``angle`` degrees; ``"seam"``
 (FEM) duplicates the nodes of the grid line nearest ``y`` from x1 = 0 to ``a0``. The crack must lie
 inside the plate (tips strictly inside).
+
+
+``[pd]``: ``center``/``size`` give the PD rectangle of ``ccm_pd`` (pure ``pd`` covers the whole plate
+and ignores them); ``sla_steps`` bond breaks at most; ``tie_tol`` breaks together every bond within
+that relative tolerance of the step's load factor; ``refactor_every`` re-condenses the fast solver
+after that many breaks (0 = never); ``fast = false`` runs the refactorise-every-step oracle;
+``stop_crack_length`` stops the SLA once the crack reaches that length (0 = no such stop);
+``damage_at_steps`` stores the damage field after those steps too.
 """
 
 from __future__ import annotations
@@ -78,7 +87,7 @@ PathLike = Union[str, Path]
 class _Spec:
     """How one key is checked: its kind, a predicate and the valid range in words."""
 
-    kind: str  # "float" | "int" | "str" | "pair"
+    kind: str  # "float" | "int" | "str" | "pair" | "bool" | "intlist"
     valid: str
     ok: Callable[[Any], bool] = lambda v: True
 
@@ -132,6 +141,19 @@ def _coerce(name: str, spec: _Spec, v: Any) -> Any:
                 f"{name} must be a pair of numbers ({spec.valid}), got {v!r}", name
             )
         v = (float(v[0]), float(v[1]))
+    elif spec.kind == "bool":
+        if not isinstance(v, bool):
+            raise InvalidTypeError(
+                f"{name} must be true or false ({spec.valid}), got {type(v).__name__} {v!r}", name
+            )
+    elif spec.kind == "intlist":
+        if not isinstance(v, (list, tuple)) or any(
+            isinstance(x, bool) or not isinstance(x, int) for x in v
+        ):
+            raise InvalidTypeError(
+                f"{name} must be a list of integers ({spec.valid}), got {v!r}", name
+            )
+        v = tuple(v)
     if not spec.ok(v):
         raise InvalidParameterError(f"invalid {name}: expected {spec.valid}, got {v!r}", name)
     return v
@@ -345,13 +367,24 @@ class XfemOptions(_Section):
 @dataclass(frozen=True)
 class PdOptions(_Section):
     """Peridynamics: grid spacing dx, horizon delta = m dx, the PD rectangle (``center``,
-    ``size``; CCM-PD only, pure PD covers the plate) and the number of SLA steps (bond breaks)."""
+    ``size``; CCM-PD only: pure PD covers the whole plate and ignores them) and the sequentially
+    linear analysis: ``sla_steps`` bond breaks at most, ``tie_tol`` (break together every bond
+    whose load factor is within this relative tolerance of the minimum; 0 = one bond per step),
+    ``refactor_every`` (fast solver: re-condense after this many breaks; 0 = never), ``fast``
+    (condensation + Sherman-Morrison-Woodbury; ``False`` runs the refactorise-every-step oracle),
+    ``stop_crack_length`` (stop once the crack is this long; 0 = no such stop) and
+    ``damage_at_steps`` (steps after which the damage field is stored too)."""
 
     dx: float = 1.0 / 15.0
     m: int = 4
     center: tuple[float, float] = (1.70, 10.5)
     size: tuple[float, float] = (2.73, 1.67)
     sla_steps: int = 500
+    tie_tol: float = 0.0
+    refactor_every: int = 0
+    fast: bool = True
+    stop_crack_length: float = 0.0
+    damage_at_steps: tuple[int, ...] = ()
     _name: ClassVar[str] = "pd"
     _specs: ClassVar[dict[str, _Spec]] = {
         "dx": _POS,
@@ -359,6 +392,15 @@ class PdOptions(_Section):
         "center": _Spec("pair", "two finite numbers", lambda v: all(map(math.isfinite, v))),
         "size": _Spec("pair", "two finite numbers > 0", lambda v: all(map(_pos, v))),
         "sla_steps": _int_at_least(1),
+        "tie_tol": _Spec("float", "0 <= tie_tol < 1", lambda v: 0.0 <= v < 1.0),
+        "refactor_every": _int_at_least(0),
+        "fast": _Spec("bool", "true or false"),
+        "stop_crack_length": _Spec(
+            "float", "a finite number >= 0 (0 = no stop)", lambda v: math.isfinite(v) and v >= 0
+        ),
+        "damage_at_steps": _Spec(
+            "intlist", "a list of integers >= 1", lambda v: all(x >= 1 for x in v)
+        ),
     }
 
 

@@ -49,6 +49,11 @@ def edge_crack_plate(
     pd_center: tuple[float, float] = (1.70, 10.5),
     pd_size: tuple[float, float] = (2.73, 1.67),
     sla_steps: int = 500,
+    tie_tol: float = 0.0,
+    refactor_every: int = 0,
+    fast: bool = True,
+    stop_crack_length: float = 0.0,
+    damage_at_steps: tuple[int, ...] | list[int] = (),
     name: str = "",
 ) -> Scene:
     """The paper's edge-cracked plate (section 3).
@@ -73,7 +78,9 @@ def edge_crack_plate(
             reference load only), extension per step (0 = one element length), stop length
             (0 = 0.7 width)). Growth uses ``G0``.
         dx, m, pd_center, pd_size, sla_steps: PD grid spacing, horizon factor (delta = m dx),
-            PD rectangle of the CCM-PD model, and SLA steps.
+            PD rectangle of the CCM-PD model (pure PD covers the plate), and SLA steps.
+        tie_tol, refactor_every, fast, stop_crack_length, damage_at_steps: SLA options (see
+            :class:`~rustfrac.scene.PdOptions`).
 
     Every value is validated; bad ones raise :class:`~rustfrac.errors.InvalidParameterError`.
     """
@@ -103,5 +110,16 @@ def edge_crack_plate(
             da=da,
             a_stop=a_stop,
         ),
-        pd=PdOptions(dx=dx, m=m, center=pd_center, size=pd_size, sla_steps=sla_steps),
+        pd=PdOptions(
+            dx=dx,
+            m=m,
+            center=pd_center,
+            size=pd_size,
+            sla_steps=sla_steps,
+            tie_tol=tie_tol,
+            refactor_every=refactor_every,
+            fast=fast,
+            stop_crack_length=stop_crack_length,
+            damage_at_steps=damage_at_steps,
+        ),
     )

@@ -575,6 +575,197 @@ fn _panic_demo(py: Python<'_>) -> PyResult<()> {
     })
 }
 
+/// Unwind payload that stops a PD run when the progress callback raised (no panic message: it is
+/// raised with `resume_unwind`, which skips the panic hook, and caught by `detached`).
+struct Cancelled;
+
+fn hist_i64<'py>(py: Python<'py>, v: impl Iterator<Item = usize>) -> Bound<'py, PyAny> {
+    PyArray1::from_vec(py, v.map(|i| i as i64).collect()).into_any()
+}
+
+/// Runs a bond-based peridynamics model (`method = "pd"`: PD everywhere) or the splice CCM-PD
+/// coupling (`"ccm_pd"`: PD in the rectangles `pd_regions` = [(x0, y0, x1, y1), ...], FEM
+/// elsewhere) of the plate, then the sequentially linear analysis (`sla_steps` bond breaks at
+/// most). `precrack` is a polyline (first point at the crack mouth; empty = uncracked).
+///
+/// Returns a dict. Scalars: sigma22, cmod (reference load, before any break), gamma, c, s0,
+/// delta, n_dofs, n_nodes, n_pd_nodes, n_bonds, n_precrack_bonds, n_removed_elements,
+/// bytes_per_bond, anchor_node, status, solver, n_refactorisations, setup_seconds, sla_seconds,
+/// peak_memory_bytes (or None), wall_time_s, bc, method. Arrays: node_xy (n,2), u (2n,),
+/// u_final (2n,; empty when the body separated), pd_nodes (p,) int64, pd_node_xy (p,2),
+/// damage (p,), broken (b,) bool, bond_nodes (b,2) int64, out_of_balance (2,), anchor_xy (2,),
+/// history_step, history_load_factor, history_sigma22, history_cmod, history_u0,
+/// history_crack_length, history_bond (the critical bond of the step), history_n_broken,
+/// history_node_i, history_node_j (one entry per SLA step), damage_at_steps (k,) int64 and
+/// damage_at (k,p).
+#[pyfunction]
+#[pyo3(signature = (*, method, width, height, dx, m, e, nu, plane = "strain", thickness = 1.0,
+                    g0, bc = "free", u0 = 0.0, traction = 0.0, pd_regions = Vec::new(),
+                    precrack = Vec::new(), sla_steps = 500, stop_crack_length = None,
+                    tie_tol = 0.0, refactor_every = 0, fast = true, damage_at_steps = Vec::new(),
+                    progress = None))]
+#[allow(clippy::too_many_arguments)]
+fn solve_pd_plate<'py>(
+    py: Python<'py>,
+    method: &str,
+    width: f64,
+    height: f64,
+    dx: f64,
+    m: usize,
+    e: f64,
+    nu: f64,
+    plane: &str,
+    thickness: f64,
+    g0: f64,
+    bc: &str,
+    u0: f64,
+    traction: f64,
+    pd_regions: Vec<(f64, f64, f64, f64)>,
+    precrack: Vec<(f64, f64)>,
+    sla_steps: usize,
+    stop_crack_length: Option<f64>,
+    tie_tol: f64,
+    refactor_every: usize,
+    fast: bool,
+    damage_at_steps: Vec<usize>,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    use rustfrac_core::sla::{self, CcmPdParams, Method, SlaParams};
+    let prog = Progress::new(progress);
+    let params = (|| {
+        Ok::<_, CoreError>(CcmPdParams {
+            method: Method::parse(method)?,
+            width,
+            height,
+            dx,
+            m,
+            material: material(e, nu, plane, thickness)?,
+            g0,
+            pd_regions: pd_regions
+                .iter()
+                .map(|&(x0, y0, x1, y1)| [x0, y0, x1, y1])
+                .collect(),
+            precrack: precrack.iter().map(|&(x, y)| [x, y]).collect(),
+            load: PlateLoad {
+                grip: Grip::parse(bc)?,
+                u0,
+                traction,
+            },
+            sla: SlaParams {
+                max_steps: sla_steps,
+                stop_crack_length,
+                tie_tol,
+                refactor_every,
+                fast,
+                damage_at_steps,
+            },
+        })
+    })()
+    .map_err(|err| core_err(py, err))?;
+    let name = params.method.name();
+    let t0 = Instant::now();
+    let r = detached(py, name, || {
+        let total = sla_steps.max(1);
+        if !prog.report(0, total, &format!("{name}: building the model"), true) {
+            return Err(CoreError::Internal {
+                detail: "cancelled".into(),
+            });
+        }
+        let report = |step: usize, steps: usize| {
+            if !prog.report(step, steps, &format!("sla: step {step}/{steps}"), false) {
+                std::panic::resume_unwind(Box::new(Cancelled));
+            }
+        };
+        let r = sla::run(&params, &report)?;
+        let msg = format!("sla: {} after {} steps", r.status, r.history.len());
+        prog.report(total, total, &msg, true);
+        Ok(r)
+    });
+    let wall = t0.elapsed().as_secs_f64();
+    if let Some(err) = prog.take_error() {
+        return Err(err);
+    }
+    let r = r?;
+    let d = PyDict::new(py);
+    let h = &r.history;
+    d.set_item("history_step", hist_i64(py, h.iter().map(|s| s.step)))?;
+    d.set_item(
+        "history_load_factor",
+        arr1(py, h.iter().map(|s| s.lambda).collect()),
+    )?;
+    d.set_item(
+        "history_sigma22",
+        arr1(py, h.iter().map(|s| s.sigma22).collect()),
+    )?;
+    d.set_item("history_cmod", arr1(py, h.iter().map(|s| s.cmod).collect()))?;
+    d.set_item("history_u0", arr1(py, h.iter().map(|s| s.u0).collect()))?;
+    d.set_item(
+        "history_crack_length",
+        arr1(py, h.iter().map(|s| s.crack_length).collect()),
+    )?;
+    d.set_item("history_bond", hist_i64(py, h.iter().map(|s| s.bonds[0])))?;
+    d.set_item(
+        "history_n_broken",
+        hist_i64(py, h.iter().map(|s| s.bonds.len())),
+    )?;
+    d.set_item("history_node_i", hist_i64(py, h.iter().map(|s| s.nodes[0])))?;
+    d.set_item("history_node_j", hist_i64(py, h.iter().map(|s| s.nodes[1])))?;
+    let p = r.damage.len();
+    d.set_item(
+        "damage_at_steps",
+        hist_i64(py, r.damage_at.iter().map(|(k, _)| *k)),
+    )?;
+    let k = r.damage_at.len();
+    let snaps: Vec<f64> = r.damage_at.into_iter().flat_map(|(_, v)| v).collect();
+    d.set_item(
+        "damage_at",
+        Array2::from_shape_vec((k, p), snaps)
+            .map_err(|err| py_error(py, "InternalError", format!("damage_at: {err}")))?
+            .into_pyarray(py),
+    )?;
+    d.set_item("node_xy", arr2(py, r.node_xy))?;
+    d.set_item("u", arr1(py, r.u))?;
+    d.set_item("u_final", arr1(py, r.u_final))?;
+    d.set_item("pd_nodes", hist_i64(py, r.pd_nodes.into_iter()))?;
+    d.set_item("pd_node_xy", arr2(py, r.pd_node_xy))?;
+    d.set_item("damage", arr1(py, r.damage))?;
+    d.set_item("broken", PyArray1::from_vec(py, r.broken))?;
+    let nb = r.bond_nodes.len();
+    let flat: Vec<i64> = r.bond_nodes.iter().flatten().map(|&i| i as i64).collect();
+    d.set_item(
+        "bond_nodes",
+        Array2::from_shape_vec((nb, 2), flat)
+            .expect("shape matches length")
+            .into_pyarray(py),
+    )?;
+    d.set_item("out_of_balance", arr1(py, r.out_of_balance.to_vec()))?;
+    d.set_item("anchor_xy", arr1(py, r.anchor_xy.to_vec()))?;
+    d.set_item("sigma22", r.sigma22)?;
+    d.set_item("cmod", r.cmod)?;
+    d.set_item("gamma", r.gamma)?;
+    d.set_item("c", r.c)?;
+    d.set_item("s0", r.s0)?;
+    d.set_item("delta", r.delta)?;
+    d.set_item("n_dofs", r.n_dofs)?;
+    d.set_item("n_nodes", r.n_nodes)?;
+    d.set_item("n_pd_nodes", r.n_pd_nodes)?;
+    d.set_item("n_bonds", r.n_bonds)?;
+    d.set_item("n_precrack_bonds", r.n_precrack_bonds)?;
+    d.set_item("n_removed_elements", r.n_removed_elements)?;
+    d.set_item("bytes_per_bond", r.bytes_per_bond)?;
+    d.set_item("anchor_node", r.anchor_node)?;
+    d.set_item("status", r.status)?;
+    d.set_item("solver", r.solver)?;
+    d.set_item("n_refactorisations", r.n_refactorisations)?;
+    d.set_item("setup_seconds", r.setup_seconds)?;
+    d.set_item("sla_seconds", r.sla_seconds)?;
+    d.set_item("peak_memory_bytes", r.peak_memory_bytes)?;
+    d.set_item("wall_time_s", wall)?;
+    d.set_item("bc", r.grip)?;
+    d.set_item("method", r.method)?;
+    Ok(d)
+}
+
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
@@ -584,5 +775,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(solve_xfem_plate, m)?)?;
     m.add_function(wrap_pyfunction!(_progress_demo, m)?)?;
     m.add_function(wrap_pyfunction!(_panic_demo, m)?)?;
+    m.add_function(wrap_pyfunction!(solve_pd_plate, m)?)?;
     Ok(())
 }

@@ -1,0 +1,471 @@
+"""PD and CCM-PD from Python: the binding, the runner, the SLA history, results, CLI, examples.
+
+Coarse grids (dx = 0.2) keep these fast; one paper-grid CCM-PD run (dx = 1/15, a few SLA steps)
+checks the reference-load values against the core."""
+
+from __future__ import annotations
+
+import json
+import math
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import rustfrac as rf
+from rustfrac import _core
+from rustfrac.cli import main
+
+GAMMA_M4 = 0.988895997195466  # the paper's gamma for m = 4
+PAPER_SIGMA22, PAPER_CMOD = 9.992, 0.005374  # the paper's CCM-PD values at u0 = 0.01
+# the core's values for CcmPdParams::paper() before any break (crates/rustfrac-core, sla::run)
+CORE_SIGMA22, CORE_CMOD = 9.9392407854836, 0.0061716324384645796
+
+HISTORY_KEYS = (
+    "step",
+    "load_factor",
+    "sigma22",
+    "cmod",
+    "u0",
+    "crack_length",
+    "bond",
+    "n_broken",
+    "node_i",
+    "node_j",
+)
+
+
+def coarse(steps: int = 30, **kw: object) -> rf.Scene:
+    """The paper's plate with dx = 0.2 (x2 = 10.5 and x1 = 1.1 lie between nodes) and a PD
+    rectangle [0.3, 4.7] x [9.3, 11.7] large enough for the crack to grow in it."""
+    args: dict[str, object] = {
+        "method": "ccm_pd",
+        "dx": 0.2,
+        "pd_center": (2.5, 10.5),
+        "pd_size": (4.4, 2.4),
+        "sla_steps": steps,
+    }
+    args.update(kw)
+    return rf.scenes.edge_crack_plate(**args)  # type: ignore[arg-type]
+
+
+def strip(fast: bool = True) -> rf.Scene:
+    """A small pure-PD strip that the SLA cuts through (mirrors the core's separation test)."""
+    return rf.scenes.edge_crack_plate(
+        method="pd",
+        width=1.2,
+        height=2.2,
+        a0=0.5,
+        crack_y=1.1,
+        dx=0.2,
+        m=2,
+        sla_steps=2000,
+        fast=fast,
+    )
+
+
+@pytest.fixture(scope="module")
+def paper() -> rf.Result:
+    return rf.run(rf.scenes.edge_crack_plate(method="ccm_pd", sla_steps=5, damage_at_steps=[2]))
+
+
+@pytest.fixture(scope="module")
+def small() -> rf.Result:
+    return rf.run(coarse(30, damage_at_steps=[1, 10]))
+
+
+# ---------------------------------------------------------------------------------------------
+# the binding
+
+
+def test_binding_dict_keys_and_shapes() -> None:
+    out = _core.solve_pd_plate(
+        method="ccm_pd",
+        width=11.0,
+        height=21.0,
+        dx=0.2,
+        m=4,
+        e=10000.0,
+        nu=0.25,
+        g0=0.367,
+        u0=0.01,
+        pd_regions=[(0.3, 9.3, 4.7, 11.7)],
+        precrack=[(0.0, 10.5), (1.1, 10.5)],
+        sla_steps=4,
+        damage_at_steps=[2, 3],
+    )
+    scalars = {
+        "sigma22", "cmod", "gamma", "c", "s0", "delta", "n_dofs", "n_nodes", "n_pd_nodes",
+        "n_bonds", "n_precrack_bonds", "n_removed_elements", "bytes_per_bond", "anchor_node",
+        "status", "solver", "n_refactorisations", "setup_seconds", "sla_seconds",
+        "peak_memory_bytes", "wall_time_s", "bc", "method",
+    }  # fmt: skip
+    arrays = {
+        "node_xy", "u", "u_final", "pd_nodes", "pd_node_xy", "damage", "broken", "bond_nodes",
+        "out_of_balance", "anchor_xy", "damage_at_steps", "damage_at",
+        *("history_" + k for k in HISTORY_KEYS if k != "step"), "history_step",
+    }  # fmt: skip
+    assert set(out) == scalars | arrays
+    n, p, b = out["n_nodes"], out["n_pd_nodes"], out["n_bonds"]
+    assert n == 56 * 106 and out["n_dofs"] == 2 * n
+    assert out["node_xy"].shape == (n, 2) and out["u"].shape == out["u_final"].shape == (2 * n,)
+    assert out["pd_nodes"].shape == (p,) and out["pd_nodes"].dtype == np.int64
+    assert out["pd_node_xy"].shape == (p, 2) and out["damage"].shape == (p,)
+    assert out["broken"].shape == (b,) and out["broken"].dtype == np.bool_
+    assert out["bond_nodes"].shape == (b, 2) and out["bond_nodes"].dtype == np.int64
+    assert out["out_of_balance"].shape == out["anchor_xy"].shape == (2,)
+    assert out["damage_at_steps"].tolist() == [2, 3] and out["damage_at"].shape == (2, p)
+    for k in HISTORY_KEYS:
+        assert out["history_" + k].shape == (4,), k
+    assert out["history_step"].tolist() == [1, 2, 3, 4]
+    assert out["broken"].sum() == out["n_precrack_bonds"] + out["history_n_broken"].sum()
+    np.testing.assert_array_equal(out["node_xy"][out["pd_nodes"]], out["pd_node_xy"])
+    assert out["status"] == "completed" and out["bc"] == "free" and out["method"] == "ccm_pd"
+    assert out["peak_memory_bytes"] is None or out["peak_memory_bytes"] > 0
+
+
+def test_binding_errors_name_the_parameter() -> None:
+    base = dict(width=11.0, height=21.0, dx=0.2, m=4, e=1e4, nu=0.25, g0=0.367, u0=0.01)
+    with pytest.raises(rf.InvalidParameterError, match="method"):
+        _core.solve_pd_plate(method="xfem", **base)  # type: ignore[arg-type]
+    with pytest.raises(rf.InvalidParameterError, match="tie_tol"):
+        _core.solve_pd_plate(method="pd", tie_tol=1.0, **base)  # type: ignore[arg-type]
+    with pytest.raises(rf.InvalidParameterError, match="bc"):
+        _core.solve_pd_plate(method="pd", bc="glued", **base)  # type: ignore[arg-type]
+
+
+def test_progress_is_forwarded_and_a_raising_callback_stops_the_run() -> None:
+    calls: list[tuple[int, int, str]] = []
+    rf.run(coarse(20), progress=lambda *a: calls.append(a))
+    assert calls[0][0] == 0 and calls[-1][0] == calls[-1][1] == 20
+    assert "after 20 steps" in calls[-1][2]
+    assert all(c[1] == 20 for c in calls)
+
+    class Stop(Exception):
+        pass
+
+    seen: list[int] = []
+
+    def stop(done: int, total: int, message: str) -> None:
+        seen.append(done)
+        if done > 0:
+            raise Stop
+
+    t0 = time.perf_counter()
+    with pytest.raises(Stop):
+        rf.run(coarse(2000), progress=stop)
+    # stopped at the first reported step (the 2000 steps take ~25 s), not only re-raised at the end
+    assert len(seen) == 2 and 0 < seen[1] < 2000 and time.perf_counter() - t0 < 10.0
+
+
+# ---------------------------------------------------------------------------------------------
+# numbers
+
+
+def test_gamma_m4_through_python(small: rf.Result) -> None:
+    assert small.gamma is not None
+    assert abs(small.gamma - GAMMA_M4) < 1e-10
+    pd = rf.run(strip())
+    assert pd.gamma is not None and math.isfinite(pd.gamma)
+    assert abs(pd.gamma - GAMMA_M4) > 1e-6  # m = 2: computed from its own discretisation
+    assert pd.scalars["delta"] == pytest.approx(0.4, rel=1e-12)
+    s0 = math.sqrt(5 * math.pi * 0.367 / (12 * 1e4 * small.scalars["delta"]))
+    assert small.scalars["s0"] == pytest.approx(s0, rel=1e-12)  # eq. 48
+
+
+def test_paper_grid_before_any_break(paper: rf.Result) -> None:
+    counts = paper.meta["counts"]
+    print(
+        f"\npaper grid CCM-PD ({counts['n_dofs']} unknowns, {counts['n_pd_nodes']} PD nodes, "
+        f"{counts['n_bonds']} bonds): sigma22 = {paper.sigma22:.6f} (paper {PAPER_SIGMA22}), "
+        f"CMOD = {paper.cmod:.6f} (paper {PAPER_CMOD}); gamma = {paper.gamma:.15f}; "
+        f"setup {paper.meta['timings']['setup_s']:.2f} s, 5 SLA steps "
+        f"{paper.meta['timings']['sla_s']:.3f} s"
+    )
+    assert counts["n_nodes"] == 166 * 316 and counts["n_pd_nodes"] == 40 * 26
+    assert paper.sigma22 == pytest.approx(CORE_SIGMA22, rel=1e-9)
+    assert paper.cmod == pytest.approx(CORE_CMOD, rel=1e-9)
+    # the scene maps to the same model as the core's CcmPdParams::paper()
+    out = _core.solve_pd_plate(
+        method="ccm_pd",
+        width=11.0,
+        height=21.0,
+        dx=1.0 / 15.0,
+        m=4,
+        e=10000.0,
+        nu=0.25,
+        g0=0.367,
+        u0=0.01,
+        pd_regions=[(1.70 - 2.73 / 2, 10.5 - 1.67 / 2, 1.70 + 2.73 / 2, 10.5 + 1.67 / 2)],
+        precrack=[(0.0, 10.5), (1.1, 10.5)],
+        sla_steps=5,
+    )
+    assert out["sigma22"] == paper.sigma22 and out["cmod"] == paper.cmod
+    np.testing.assert_array_equal(out["history_load_factor"], paper.history["load_factor"][1:])
+    # u is the reference-load solution, before any break: sigma22 scales with it
+    assert paper.history["sigma22"][1] == pytest.approx(
+        paper.history["load_factor"][1] * paper.sigma22, rel=1e-12
+    )
+    assert abs(paper.gamma - GAMMA_M4) < 1e-10
+    assert paper.fields["damage_at"].shape == (1, counts["n_pd_nodes"])
+
+
+def test_fast_sla_matches_oracle() -> None:
+    n = 30
+    fast = rf.run(coarse(n))
+    oracle = rf.run(coarse(n, fast=False))
+    periodic = rf.run(coarse(n, refactor_every=7))
+    assert "fast" in fast.meta["solver"] and "oracle" in oracle.meta["solver"]
+    assert periodic.meta["n_refactorisations"] > 1
+    worst = 0.0
+    for other in (oracle, periodic):
+        assert len(fast.history["step"]) == len(other.history["step"]) == n + 1
+        np.testing.assert_array_equal(fast.history["bond"], other.history["bond"])
+        np.testing.assert_array_equal(fast.history["n_broken"], other.history["n_broken"])
+        np.testing.assert_array_equal(fast.fields["broken"], other.fields["broken"])
+        for k in ("load_factor", "sigma22", "cmod", "u0"):
+            a, b = fast.history[k][1:], other.history[k][1:]
+            worst = max(worst, float(np.max(np.abs(a - b) / np.abs(b))))
+    print(f"\nfast vs oracle / periodic re-condensation, {n} steps: worst relative {worst:.2e}")
+    assert worst < 1e-8
+
+
+def test_history_starts_at_the_origin(small: rf.Result) -> None:
+    h = small.history
+    assert set(HISTORY_KEYS) <= set(h)
+    assert len({len(v) for v in h.values()}) == 1 and len(h["step"]) == 31
+    for k in ("load_factor", "sigma22", "cmod", "u0"):
+        assert h[k][0] == 0.0, k
+        assert np.all(np.isfinite(h[k])) and np.all(h[k][1:] > 0), k
+    assert h["step"].tolist() == list(range(31))
+    assert h["crack_length"][0] == pytest.approx(1.1) and np.all(np.diff(h["crack_length"]) >= 0)
+    assert h["bond"][0] == -1 and h["n_broken"][0] == 0 and np.all(h["n_broken"][1:] >= 1)
+    # each step is recorded at its own load: sigma22 = lambda sigma22_ref (displacement grips)
+    np.testing.assert_allclose(h["u0"][1:], h["load_factor"][1:] * 0.01, rtol=1e-14)
+    assert small.meta["status"] == "completed" and small.meta["sla_steps_done"] == 30
+
+
+def test_damage_in_unit_interval_and_snapshots(small: rf.Result) -> None:
+    d = small.damage
+    assert d is not None and d.shape == (small.meta["counts"]["n_pd_nodes"],)
+    assert np.all((d >= 0) & (d <= 1)) and d.max() > 0
+    snaps = small.fields["damage_at"]
+    assert small.fields["damage_at_steps"].tolist() == [1, 10]
+    assert np.all((snaps >= 0) & (snaps <= 1))
+    assert np.all(snaps[1] >= snaps[0]) and np.all(d >= snaps[1])  # damage only grows
+
+
+def test_mode_one_symmetry_with_clamped_grips() -> None:
+    r = rf.run(coarse(60, bc="clamped", tie_tol=1e-9))
+    assert r.meta["status"] == "completed" and r.meta["anchor_node"] is None
+    xy, d = r.fields["pd_node_xy"], r.damage
+    index = {(round(x * 1e6), round(y * 1e6)): k for k, (x, y) in enumerate(xy)}
+    mirror = np.array([index[(round(x * 1e6), round((21.0 - y) * 1e6))] for x, y in xy])
+    worst = float(np.max(np.abs(d - d[mirror])))
+    print(f"\nclamped mode I, 60 steps: max |D(x, y) - D(x, 21 - y)| = {worst:.2e}")
+    assert d.max() > 0.1 and worst < 1e-12
+    assert r.history["crack_length"][-1] > 1.1
+
+
+def test_traction_grips() -> None:
+    r = rf.run(coarse(5, bc="traction"))
+    h = r.history
+    assert r.sigma22 == pytest.approx(9.993, rel=1e-9)  # the applied traction
+    np.testing.assert_allclose(h["sigma22"][1:], h["load_factor"][1:] * 9.993, rtol=1e-9)
+    assert np.all(h["u0"] == 0.0)
+
+
+def test_stop_at_crack_length() -> None:
+    r = rf.run(coarse(400, stop_crack_length=1.5))
+    assert r.meta["status"] == "crack_length_reached"
+    assert r.history["crack_length"][-1] >= 1.5 and r.history["crack_length"][-2] < 1.5
+
+
+def test_separated_strip_is_a_status_without_nan(tmp_path: Path) -> None:
+    runs = [rf.run(strip(fast)) for fast in (True, False)]
+    back = rf.load(runs[0].save(tmp_path))  # strict JSON (no NaN) and a VTU without a final state
+    assert back.meta["status"] == "separated" and (tmp_path / "result.vtu").exists()
+    assert 'Name="displacement_final"' not in (tmp_path / "result.vtu").read_text()
+    for r in runs:
+        assert r.meta["status"] == "separated"
+        for k, v in r.history.items():
+            assert np.all(np.isfinite(v)), k
+        for k, v in r.fields.items():
+            if v.dtype.kind == "f":
+                assert np.all(np.isfinite(v)), k
+        assert r.fields["u_final"].size == 0  # no final state once separated
+        assert math.isfinite(r.sigma22) and math.isfinite(r.cmod)
+    np.testing.assert_array_equal(runs[0].history["bond"], runs[1].history["bond"])
+    np.testing.assert_allclose(
+        runs[0].history["load_factor"], runs[1].history["load_factor"], rtol=1e-8
+    )
+
+
+# ---------------------------------------------------------------------------------------------
+# scenes
+
+
+@pytest.mark.parametrize(
+    ("kw", "param", "text"),
+    [
+        ({"method": "pd", "nu": 0.3}, "material.nu", "bond-based peridynamics"),
+        ({"method": "ccm_pd", "nu": 0.2}, "material.nu", "nu = 0.25"),
+        ({"method": "pd", "m": 0}, "pd.m", "integer >= 1"),
+        ({"method": "pd", "dx": 0.07}, "pd.dx", "fit the plate"),
+        ({"method": "ccm_pd", "pd_center": (12.0, 10.5)}, "pd.center", "inside the plate"),
+        ({"method": "ccm_pd", "pd_center": (5.0, 10.5)}, "pd.center", "crack tip"),
+        ({"method": "pd", "sla_steps": 0}, "pd.sla_steps", "integer >= 1"),
+        ({"method": "pd", "tie_tol": 1.0}, "pd.tie_tol", "0 <= tie_tol < 1"),
+        ({"method": "pd", "tie_tol": -1e-3}, "pd.tie_tol", "0 <= tie_tol < 1"),
+        ({"method": "pd", "refactor_every": -1}, "pd.refactor_every", ">= 0"),
+        ({"method": "pd", "stop_crack_length": -1.0}, "pd.stop_crack_length", ">= 0"),
+        ({"method": "pd", "damage_at_steps": [0]}, "pd.damage_at_steps", ">= 1"),
+        ({"method": "pd", "plane": "stress"}, "material.plane", "strain"),
+    ],
+)
+def test_bad_pd_inputs(kw: dict[str, object], param: str, text: str) -> None:
+    with pytest.raises(rf.InvalidParameterError, match=text) as e:
+        rf.scenes.edge_crack_plate(**kw)  # type: ignore[arg-type]
+    assert e.value.param == param
+    assert param in str(e.value)
+
+
+def test_bad_pd_types() -> None:
+    with pytest.raises(rf.InvalidTypeError, match=r"pd\.fast"):
+        rf.scenes.edge_crack_plate(method="pd", fast="yes")  # type: ignore[arg-type]
+    with pytest.raises(rf.InvalidTypeError, match=r"pd\.damage_at_steps"):
+        rf.scenes.edge_crack_plate(method="pd", damage_at_steps=[1.5])  # type: ignore[list-item]
+    with pytest.raises(rf.InvalidTypeError, match=r"pd\.damage_at_steps"):
+        rf.scenes.edge_crack_plate(method="pd", damage_at_steps=5)  # type: ignore[arg-type]
+
+
+def test_pd_options_round_trip_toml() -> None:
+    s = coarse(
+        12, tie_tol=1e-9, refactor_every=5, fast=False, stop_crack_length=2.0,
+        damage_at_steps=[3, 7],
+    )  # fmt: skip
+    text = s.to_toml()
+    assert "damage_at_steps = [3, 7]" in text and "fast = false" in text
+    back = rf.Scene.from_toml_str(text)
+    assert back == s and back.pd.damage_at_steps == (3, 7)
+    assert rf.Scene.from_dict(s.to_dict()) == s
+    assert rf.Scene.from_toml_str(rf.scenes.edge_crack_plate(method="pd").to_toml()).pd == (
+        rf.scene.PdOptions()
+    )
+
+
+def test_pure_pd_ignores_the_rectangle() -> None:
+    # a rectangle outside the plate is fine for pure PD: the PD region is the whole plate
+    s = strip().replace(pd__center=(50.0, 50.0), pd__sla_steps=3)
+    r = rf.run(s)
+    assert r.meta["counts"]["n_pd_nodes"] == r.meta["counts"]["n_nodes"] == 7 * 12
+    assert r.meta["pd_regions"] == "the whole plate"
+
+
+# ---------------------------------------------------------------------------------------------
+# results, files, CLI, examples
+
+
+def test_save_load_round_trip(small: rf.Result, tmp_path: Path) -> None:
+    small.save(tmp_path)
+    back = rf.load(tmp_path)
+    assert back.method == "ccm_pd" and back.sigma22 == small.sigma22 and back.cmod == small.cmod
+    assert back.gamma == small.gamma and back.n_dofs == small.n_dofs
+    assert set(back.fields) == set(small.fields)
+    for k in ("node_xy", "pd_node_xy", "damage", "u", "u_final", "broken", "bond_nodes"):
+        np.testing.assert_array_equal(back.fields[k], small.fields[k])
+        assert back.fields[k].dtype == small.fields[k].dtype
+    for k, v in small.history.items():
+        np.testing.assert_array_equal(back.history[k], v)
+    assert back.meta["status"] == "completed" and back.meta["counts"] == small.meta["counts"]
+    assert back.meta["out_of_balance"] == small.meta["out_of_balance"]
+    assert rf.Scene.from_dict(back.meta["scene"]) == coarse(30, damage_at_steps=[1, 10])
+    vtu = (tmp_path / "result.vtu").read_text()
+    n = small.meta["counts"]["n_nodes"]
+    assert f'NumberOfPoints="{n}" NumberOfCells="{n}"' in vtu
+    assert 'Name="damage"' in vtu and 'Name="displacement_final"' in vtu
+    doc = json.loads((tmp_path / "result.json").read_text())
+    assert doc["scalars"]["gamma"] == small.gamma
+
+
+def test_summary_mentions_the_sla(small: rf.Result) -> None:
+    assert "SLA completed after 30 steps" in small.summary()
+
+
+def test_cli_runs_the_coarse_pd_example(
+    root: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    code = main(
+        ["run", str(root / "examples" / "pd_coarse.toml"), "--out", str(tmp_path), "--plot"]
+    )
+    assert code == 0
+    log = capsys.readouterr().out
+    assert "method pd" in log and "1344 unknowns" in log
+    assert "672 PD nodes" in log and "bonds" in log and "gamma = 0.98889599719" in log
+    assert "status completed after 200 steps" in log
+    back = rf.load(tmp_path)
+    assert back.method == "pd" and len(back.history["step"]) == 201
+    assert back.fields["damage_at_steps"].tolist() == [50, 100]
+    assert (tmp_path / "result.vtu").exists() and (tmp_path / "damage.png").exists()
+
+
+@pytest.mark.parametrize(
+    ("name", "bc"), [("paper_ccm_pd.toml", "free"), ("paper_ccm_pd_clamped.toml", "clamped")]
+)
+def test_paper_examples_are_valid(root: Path, name: str, bc: str) -> None:
+    s = rf.Scene.from_toml(root / "examples" / name)
+    assert s.method == "ccm_pd" and s.load.bc == bc and s.pd.sla_steps == 500
+    assert s.pd == rf.scenes.edge_crack_plate(method="ccm_pd", tie_tol=s.pd.tie_tol).pd
+
+
+def test_progress_bar_shows_eta() -> None:
+    import io
+
+    from rustfrac.cli import ProgressBar
+
+    buf = io.StringIO()
+    bar = ProgressBar(stream=buf, delay=0.0)
+    bar(0, 100, "building")
+    bar(10, 100, "sla: step 10/100")
+    bar(20, 100, "sla: step 20/100")
+    lines = buf.getvalue().splitlines()
+    assert "ETA" not in lines[0] and "ETA" not in lines[1] and "ETA" in lines[2]
+
+
+def test_pd_scenes_round_trip_property() -> None:
+    hypothesis = pytest.importorskip("hypothesis")
+    st = hypothesis.strategies
+
+    @hypothesis.settings(max_examples=40, deadline=None)
+    @hypothesis.given(
+        method=st.sampled_from(["pd", "ccm_pd"]),
+        bc=st.sampled_from(["free", "clamped", "traction"]),
+        m=st.integers(min_value=1, max_value=8),
+        steps=st.integers(min_value=1, max_value=10**6),
+        tie_tol=st.floats(min_value=0.0, max_value=0.999),
+        refactor_every=st.integers(min_value=0, max_value=1000),
+        fast=st.booleans(),
+        stop=st.floats(min_value=0.0, max_value=100.0),
+        snaps=st.lists(st.integers(min_value=1, max_value=10**6), max_size=5),
+    )
+    def check(
+        method: str,
+        bc: str,
+        m: int,
+        steps: int,
+        tie_tol: float,
+        refactor_every: int,
+        fast: bool,
+        stop: float,
+        snaps: list[int],
+    ) -> None:
+        s = rf.scenes.edge_crack_plate(
+            method=method, bc=bc, m=m, sla_steps=steps, tie_tol=tie_tol,
+            refactor_every=refactor_every, fast=fast, stop_crack_length=stop,
+            damage_at_steps=snaps,
+        )  # fmt: skip
+        assert rf.Scene.from_toml_str(s.to_toml()) == s
+        assert rf.Scene.from_dict(s.to_dict()) == s
+
+    check()
