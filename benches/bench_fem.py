@@ -123,16 +123,18 @@ def check_sigma(name: str, s22: float) -> float:
 def work_rustfrac(nx: int, ny: int) -> dict:
     from rustfrac import _core
 
-    t0 = time.perf_counter()
+    c0, t0 = time.process_time(), time.perf_counter()
     r = _core.solve_fem_plate(
         width=W, height=L, nx=nx, ny=ny, e=E, nu=NU, plane="strain", bc="free", u0=U0
     )
     call = time.perf_counter() - t0
+    cpu = time.process_time() - c0
     rel = check_sigma("rustfrac", float(r["sigma22"]))
     return {
         "n_dofs": int(r["n_dofs"]),
         "total_s": call,
         "core_s": float(r["wall_time_s"]),
+        "cpu_s": cpu,
         "sigma22": float(r["sigma22"]),
         "sigma22_rel_err": rel,
         "residual": float(r["residual"]),
@@ -155,7 +157,7 @@ def work_rust_phases(nx: int, ny: int, binary: str) -> dict:
     wall = time.perf_counter() - t0
     ph = {m[1]: float(m[2]) for m in re.finditer(r"^\s*(\w+): ([0-9.eE+-]+) s$", out.stdout, re.M)}
     nnz = re.search(r"factor nnz (\d+)", out.stdout)
-    child_rss = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024.0
+    ru = resource.getrusage(resource.RUSAGE_CHILDREN)
     return {
         "assemble_s": ph["pattern"] + ph["assemble"],
         "reduce_s": ph["reduce"],
@@ -168,7 +170,8 @@ def work_rust_phases(nx: int, ny: int, binary: str) -> dict:
         "process_wall_s": wall,
         "factor_nnz": int(nnz[1]) if nnz else None,
         "phases": ph,
-        "peak_rss_mb_override": child_rss,
+        "cpu_s": ru.ru_utime + ru.ru_stime,
+        "peak_rss_mb_override": ru.ru_maxrss / 1024.0,
     }
 
 
@@ -180,7 +183,7 @@ def work_sparse(nx: int, ny: int, solver: str) -> dict:
     if solver == "cholmod":
         from sksparse.cholmod import analyze
 
-    t0 = time.perf_counter()
+    c0, t0 = time.process_time(), time.perf_counter()
     k = assemble_numpy(nx, ny)
     t1 = time.perf_counter()
     fixed, fvals, top_u2 = plate_conditions(nx, ny)
@@ -210,6 +213,7 @@ def work_sparse(nx: int, ny: int, solver: str) -> dict:
     reactions = k @ u  # no applied forces
     s22 = float(reactions[top_u2].sum() / W)
     t4 = time.perf_counter()
+    cpu = time.process_time() - c0
     rel = check_sigma(solver, s22)
     resid = float(np.linalg.norm(kff @ x - rhs) / np.linalg.norm(rhs))
     return {
@@ -220,6 +224,7 @@ def work_sparse(nx: int, ny: int, solver: str) -> dict:
         "factor_solve_s": t3 - t2,
         "post_s": t4 - t3,
         "total_s": t4 - t0,
+        "cpu_s": cpu,
         "sigma22": s22,
         "sigma22_rel_err": rel,
         "residual": resid,
@@ -298,92 +303,82 @@ def fmt(v, nd=2) -> str:
     return f"{v:.{nd}f}" if v < 100 else f"{v:.0f}"
 
 
+BASELINES = ("scipy", "cholmod", "cholmod-openblas")
+KEYS = ("assemble_s", "reduce_s", "factor_solve_s", "total_s", "cpu_s", "core_s", "peak_rss_mb")
+
+
+def case_stats(runs: list[dict]) -> dict | None:
+    """Medians over the repeats of one case, or its timeout / error."""
+    if not runs:
+        return None
+    if any(r.get("timeout") for r in runs):
+        return {"timeout": True}
+    err = next((r["error"] for r in runs if "error" in r), None)
+    if err:
+        return {"error": err}
+    st = {k: med(runs, k) for k in KEYS}
+    if st["assemble_s"] is not None:
+        st["asm"] = st["assemble_s"] + (st["reduce_s"] or 0.0)
+    st["n"] = len(runs)
+    return st
+
+
 def summarise(results: dict, solvers: list[str], timeout: float) -> str:
+    """Markdown: the medians per case, then the ratios against rustfrac."""
     lines = [
-        "| size | unknowns (free) | solver | assemble+reduce [s] | factorise+solve [s] | total [s] "
-        "| peak RSS [MiB] | scipy / this (total, f+s) | cholmod / this (total, f+s) |",
-        "|---|---|---|---:|---:|---:|---:|---|---|",
+        "| size | unknowns (free) | solver | runs | assemble+reduce [s] | factorise+solve [s] "
+        "| total [s] | CPU [s] | peak RSS [MiB] |",
+        "|---|---|---|---:|---:|---:|---:|---:|---:|",
+    ]
+    ratio_lines = [
+        "| size | baseline | baseline / rustfrac, total | baseline / rustfrac, factorise+solve |",
+        "|---|---|---:|---:|",
     ]
     for size, res in results.items():
-        stats = {}
+        stats = {s: case_stats(res.get(s, [])) for s in solvers}
+        first = [r for runs in res.values() for r in runs if r.get("n_dofs")]
+        n_dofs = first[0]["n_dofs"] if first else "?"
+        n_free = next((r["n_free"] for r in first if r.get("n_free")), "?")
         for s in solvers:
-            runs = res.get(s, [])
-            if any(r.get("timeout") for r in runs):
-                stats[s] = {"timeout": True}
-                continue
-            if any("error" in r for r in runs):
-                stats[s] = {"error": next(r["error"] for r in runs if "error" in r)}
-                continue
-            if not runs:
-                continue
-            st = {
-                k: med(runs, k)
-                for k in (
-                    "assemble_s",
-                    "reduce_s",
-                    "factor_solve_s",
-                    "total_s",
-                    "core_s",
-                    "peak_rss_mb",
-                    "n_free",
-                    "n_dofs",
-                )
-            }
-            if st["assemble_s"] is not None:
-                st["asm"] = st["assemble_s"] + (st["reduce_s"] or 0.0)
-            st["n"] = len(runs)
-            stats[s] = st
-        rf = stats.get("rustfrac", {})
-        rp = stats.get("rust-phases", {})
-        rust_fs = rp.get("factor_solve_s")
-        rust_tot = rf.get("total_s")
-        n_dofs = next((st.get("n_dofs") for st in stats.values() if st.get("n_dofs")), None)
-        n_free = next((st.get("n_free") for st in stats.values() if st.get("n_free")), None)
-        for s in solvers:
-            st = stats.get(s)
+            st = stats[s]
             if st is None:
                 continue
-            label = s
+            label = {
+                "rustfrac": "rustfrac `solve_fem_plate` (call)",
+                "rust-phases": "rustfrac phases (`plate_phases` example)",
+            }.get(s, s)
             if s == "rustfrac" and st.get("core_s") is not None:
-                label = f"rustfrac (call; core {fmt(st['core_s'])} s)"
-            if s == "rust-phases":
-                label = "rustfrac phases (plate_phases example)"
+                label += f"; core {fmt(st['core_s'])} s"
             if st.get("timeout"):
-                row = ["-", "-", f"> {timeout:.0f}", "-"]
+                row = ["-", "-", "-", f"> {timeout:.0f}", "-", "-"]
             elif st.get("error"):
-                row = ["-", "-", st["error"], "-"]
+                row = ["-", "-", "-", st["error"], "-", "-"]
             else:
                 row = [
+                    str(st["n"]),
                     fmt(st.get("asm")),
                     fmt(st.get("factor_solve_s")),
                     fmt(st["total_s"]),
+                    fmt(st.get("cpu_s")),
                     fmt(st["peak_rss_mb"], 0),
                 ]
-            ratios = []
-            for base in ("scipy", "cholmod"):
-                b = stats.get(base, {})
-                if s in ("rustfrac", "rust-phases") and b:
-                    if b.get("timeout"):
-                        tot = f"> {timeout / rust_tot:.1f}" if rust_tot else "-"
-                        ratios.append(f"{tot}, -")
-                        continue
-                    tot = b.get("total_s") / rust_tot if rust_tot and b.get("total_s") else None
-                    fs = (
-                        b.get("factor_solve_s") / rust_fs
-                        if rust_fs and b.get("factor_solve_s")
-                        else None
-                    )
-                    ratios.append(f"{fmt(tot)}, {fmt(fs)}")
-                else:
-                    ratios.append("")
-            lines.append(
-                f"| {size} | {n_dofs} ({n_free}) | {label} | "
-                + " | ".join(row)
-                + " | "
-                + " | ".join(ratios)
-                + " |"
-            )
-    return "\n".join(lines)
+            lines.append(f"| {size} | {n_dofs} ({n_free}) | {label} | " + " | ".join(row) + " |")
+        rust_tot = (stats.get("rustfrac") or {}).get("total_s")
+        rust_fs = (stats.get("rust-phases") or {}).get("factor_solve_s")
+        for base in BASELINES:
+            b = stats.get(base)
+            if b is None:
+                continue
+            if b.get("timeout"):
+                tot = f"> {timeout / rust_tot:.1f}" if rust_tot else "-"
+                fs = f"> {timeout / rust_fs:.1f}" if rust_fs else "-"
+            elif b.get("error"):
+                tot = fs = "-"
+            else:
+                tot = fmt(b["total_s"] / rust_tot) if rust_tot else "-"
+                fs = fmt(b["factor_solve_s"] / rust_fs) if rust_fs else "-"
+            ratio_lines.append(f"| {size} | {base} | {tot} | {fs} |")
+    return "\n".join(lines) + "\n\n" + "\n".join(ratio_lines)
 
 
 def machine() -> dict:
