@@ -454,7 +454,9 @@ def main() -> None:
         nx, ny = SIZES[size]
         results[size] = {s: [] for s in solvers}
         for rep in range(args.repeat):
-            for s in solvers:
+            # rotate the order each repeat, so that no solver always runs right after another
+            # one (e.g. after the freeing of a large process) or always first
+            for s in solvers[rep % len(solvers) :] + solvers[: rep % len(solvers)]:
                 runs = results[size][s]
                 if any(r.get("timeout") or "error" in r for r in runs):
                     continue  # do not repeat a case that timed out or ran out of memory
