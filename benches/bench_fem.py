@@ -350,7 +350,7 @@ def summarise(results: dict, solvers: list[str], timeout: float) -> str:
             if s == "rustfrac" and st.get("core_s") is not None:
                 label += f"; core {fmt(st['core_s'])} s"
             if st.get("timeout"):
-                row = ["-", "-", "-", f"> {timeout:.0f}", "-", "-"]
+                row = ["-", "-", "-", f"> {timeout:g}", "-", "-"]
             elif st.get("error"):
                 row = ["-", "-", "-", st["error"], "-", "-"]
             else:
