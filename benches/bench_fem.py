@@ -120,6 +120,18 @@ def check_sigma(name: str, s22: float) -> float:
     return rel
 
 
+def loaded_blas() -> list[str]:
+    """The BLAS/LAPACK shared libraries mapped into this process (to confirm which BLAS CHOLMOD
+    uses; numpy's own OpenBLAS is listed too)."""
+    try:
+        with open("/proc/self/maps") as f:
+            return sorted(
+                {ln.split()[-1] for ln in f if "blas" in ln.lower() or "lapack" in ln.lower()}
+            )
+    except OSError:
+        return []
+
+
 def work_rustfrac(nx: int, ny: int) -> dict:
     from rustfrac import _core
 
@@ -207,6 +219,7 @@ def work_sparse(nx: int, ny: int, solver: str) -> dict:
         x = fac(rhs)
         t3 = time.perf_counter()
         extra = {"analyze_s": ta - t2, "numeric_s": tf - ta, "solve_s": t3 - tf}
+        extra["blas_libs"] = loaded_blas()
     u = np.zeros(n)
     u[free] = x
     u[fixed] = fvals
@@ -276,7 +289,7 @@ def run_case(args, solver: str, nx: int, ny: int) -> dict:
         cmd += ["--phases-bin", str(args.phases_bin)]
     if solver == "cholmod-openblas":
         cmd[cmd.index("--worker") + 1] = "cholmod"
-        env["LD_LIBRARY_PATH"] = args.openblas_dir + (
+        env["LD_LIBRARY_PATH"] = str(Path(args.openblas_dir).resolve()) + (
             ":" + env["LD_LIBRARY_PATH"] if env.get("LD_LIBRARY_PATH") else ""
         )
     try:
