@@ -204,7 +204,15 @@ def fig7(
         curves.append(("XFEM (LEFM growth)", h["cmod"], h["sigma22"], {"marker": ".", "ms": 4}))
     if "ccm_pd" in results:
         h = results["ccm_pd"].history
-        curves.append(("CCM-PD (SLA)", h["cmod"], h["sigma22"], {"lw": 1.0}))
+        # one point per SLA step (each at the load that breaks its bond): the saw-tooth of SLA
+        curves.append(
+            (
+                "CCM-PD (SLA, one point per bond break)",
+                h["cmod"],
+                h["sigma22"],
+                {"ls": "none", "marker": ".", "ms": 2.5, "color": "C1"},
+            )
+        )
     curves.append(
         ("LEFM handbook (long strip, traction)", hb[0], hb[1], {"ls": "--", "color": "0.4"})
     )
@@ -254,7 +262,9 @@ def fig7(
     if "xfem" in results and "ccm_pd" in results:
         figures.save_figure(
             figures.plot_discretisations(
-                _xfem_disc(results["xfem"]), _pd_disc(results["ccm_pd"], p.dx), (0.0, 2.6, 9.6, 11.4)
+                _xfem_disc(results["xfem"]),
+                _pd_disc(results["ccm_pd"], p.dx),
+                (0.0, 2.6, 9.6, 11.4),
             ),
             outdir / "fig6.png",
         )
@@ -280,9 +290,12 @@ def _built(res: Result) -> str:
             f"{en.get('n_tip_nodes', '?')} tip nodes, status {m.get('status', '?')}"
         )
     if res.method in ("pd", "ccm_pd"):
+        c, t = m.get("counts", {}), m.get("timings", {})
         return (
-            f"{res.n_dofs} unknowns, {m.get('n_pd_nodes', '?')} PD nodes, "
-            f"{m.get('n_bonds', '?')} bonds, status {m.get('status', '?')}"
+            f"{res.n_dofs} unknowns, {c.get('n_pd_nodes', '?')} PD nodes, "
+            f"{c.get('n_bonds', '?')} bonds, gamma {res.gamma:.15g}, status "
+            f"{m.get('status', '?')} after {m.get('sla_steps_done', '?')} steps "
+            f"(setup {t.get('setup_s', float('nan')):.2f} s, SLA {t.get('sla_s', float('nan')):.2f} s)"
         )
     return f"{res.n_dofs} unknowns"
 

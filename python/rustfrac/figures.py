@@ -98,9 +98,7 @@ def plot_damage(
 
 
 def _patch_axes(ax: Axes, cells: np.ndarray, disp: np.ndarray, scale: float, title: str) -> None:
-    ax.add_collection(
-        PolyCollection(cells, facecolors="none", edgecolors="0.75", linewidths=0.4)
-    )
+    ax.add_collection(PolyCollection(cells, facecolors="none", edgecolors="0.75", linewidths=0.4))
     ax.add_collection(
         PolyCollection(cells + scale * disp, facecolors="none", edgecolors="C0", linewidths=0.6)
     )
@@ -153,13 +151,15 @@ def plot_discretisations(
     hv[np.asarray(xfem["heaviside_nodes"], int)] = True
     tp = np.zeros(len(xy), bool)
     tp[np.asarray(xfem["tip_nodes"], int)] = True
-    el_hv = hv[el].all(axis=1)
-    el_tp = tp[el].any(axis=1)
-    colours = np.where(el_tp, "#ffd27f", np.where(el_hv, "#a6d8ff", "none"))
+    enriched = (hv | tp)[el]
+    el_tip = tp[el].all(axis=1)  # the element holding the tip
+    el_split = enriched.all(axis=1) & ~el_tip  # cut through by the crack
+    el_blend = enriched.any(axis=1) & ~enriched.all(axis=1)  # partly enriched (blending)
+    colours = np.where(
+        el_tip, "#ffb347", np.where(el_split, "#a6d8ff", np.where(el_blend, "#eeeeee", "none"))
+    )
     ax.add_collection(
-        PolyCollection(
-            cells[inside], facecolors=colours[inside], edgecolors="0.5", linewidths=0.5
-        )
+        PolyCollection(cells[inside], facecolors=colours[inside], edgecolors="0.5", linewidths=0.5)
     )
     sel = (xy[:, 0] >= x0) & (xy[:, 0] <= x1) & (xy[:, 1] >= y0) & (xy[:, 1] <= y1)
     ax.plot(*xy[sel & hv].T, "s", ms=4, mfc="none", mec="C0", label="Heaviside nodes")
@@ -169,7 +169,7 @@ def plot_discretisations(
     ax.set_xlim(x0, x1)
     ax.set_ylim(y0, y1)
     ax.set_aspect("equal")
-    ax.set_title("XFEM: split (blue) and tip (orange) elements", fontsize=9)
+    ax.set_title("XFEM: split (blue), tip (orange) and blending (grey) elements", fontsize=9)
     ax.legend(fontsize=7, loc="upper right")
 
     ax = fig.add_subplot(1, 2, 2)
