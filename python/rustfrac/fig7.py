@@ -210,7 +210,7 @@ def fig7(
                 "CCM-PD (SLA, one point per bond break)",
                 h["cmod"],
                 h["sigma22"],
-                {"ls": "none", "marker": ".", "ms": 2.5, "color": "C1"},
+                {"lw": 0.4, "alpha": 0.7, "marker": ".", "ms": 2.5, "color": "C1"},
             )
         )
     curves.append(
