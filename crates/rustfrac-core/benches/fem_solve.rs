@@ -6,9 +6,9 @@
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use rustfrac_core::fem::{FemModel, LinearSystem};
-use rustfrac_core::loading::{plate_conditions, tributary_lengths, Grip, PlateEdges, PlateLoad};
+use rustfrac_core::loading::{plate_conditions, Grip, PlateEdges, PlateLoad};
 use rustfrac_core::material::{Elastic, Plane};
-use rustfrac_core::mesh::{Mesh, Side};
+use rustfrac_core::mesh::Mesh;
 use rustfrac_core::plate::{run, FemPlateParams};
 use std::time::Duration;
 
@@ -20,14 +20,7 @@ fn model(nx: usize, ny: usize) -> (FemModel, PlateEdges) {
     let mat = Elastic::new(10000.0, 0.25, Plane::Strain, 1.0).unwrap();
     let model = FemModel::new(mesh, mat, 2).unwrap();
     let m = &model.mesh;
-    let (top, bottom) = (m.side_nodes(Side::Top), m.side_nodes(Side::Bottom));
-    let xt: Vec<f64> = top.iter().map(|&n| m.coords[n][0]).collect();
-    let edges = PlateEdges {
-        top_len: tributary_lengths(&xt),
-        bottom_len: tributary_lengths(&xt),
-        top,
-        bottom,
-    };
+    let edges = PlateEdges::of_mesh(m);
     (model, edges)
 }
 

@@ -5,8 +5,8 @@
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use rustfrac_core::fem::{FemModel, LinearSystem};
-use rustfrac_core::loading::{plate_conditions, tributary_lengths, Grip, PlateEdges, PlateLoad};
-use rustfrac_core::mesh::{Mesh, Side};
+use rustfrac_core::loading::{plate_conditions, Grip, PlateEdges, PlateLoad};
+use rustfrac_core::mesh::Mesh;
 use rustfrac_core::xfem::{run, GrowthParams, XfemParams};
 use std::hint::black_box;
 use std::time::Duration;
@@ -15,16 +15,7 @@ fn fem_uncracked(nx: usize, ny: usize) -> f64 {
     let p = XfemParams::paper(Grip::Free);
     let mesh = Mesh::uniform(0.0, 0.0, 11.0, 21.0, nx, ny).unwrap();
     let model = FemModel::new(mesh, p.material, 2).unwrap();
-    let m = &model.mesh;
-    let top = m.side_nodes(Side::Top);
-    let bottom = m.side_nodes(Side::Bottom);
-    let xt: Vec<f64> = top.iter().map(|&n| m.coords[n][0]).collect();
-    let edges = PlateEdges {
-        top_len: tributary_lengths(&xt),
-        bottom_len: tributary_lengths(&xt),
-        top,
-        bottom,
-    };
+    let edges = PlateEdges::of_mesh(&model.mesh);
     let load = PlateLoad {
         grip: Grip::Free,
         u0: 0.01,

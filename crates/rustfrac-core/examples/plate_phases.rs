@@ -1,8 +1,8 @@
 //! Phase timings of the FEM plate pipeline: `cargo run --release --example plate_phases -- NX NY`.
 use rustfrac_core::fem::FemModel;
-use rustfrac_core::loading::{plate_conditions, tributary_lengths, Grip, PlateEdges, PlateLoad};
+use rustfrac_core::loading::{plate_conditions, Grip, PlateEdges, PlateLoad};
 use rustfrac_core::material::{Elastic, Plane};
-use rustfrac_core::mesh::{Mesh, Side};
+use rustfrac_core::mesh::Mesh;
 use rustfrac_core::solver::Cholesky;
 use rustfrac_core::sparse::Reduction;
 use std::time::Instant;
@@ -23,14 +23,7 @@ fn main() {
     let k = model.stiffness();
     lap("assemble", &t);
     let m = &model.mesh;
-    let (top, bottom) = (m.side_nodes(Side::Top), m.side_nodes(Side::Bottom));
-    let xt: Vec<f64> = top.iter().map(|&n| m.coords[n][0]).collect();
-    let edges = PlateEdges {
-        top_len: tributary_lengths(&xt),
-        bottom_len: tributary_lengths(&xt),
-        top,
-        bottom,
-    };
+    let edges = PlateEdges::of_mesh(m);
     let load = PlateLoad {
         grip: Grip::Free,
         u0: 0.01,

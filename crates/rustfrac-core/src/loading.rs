@@ -8,6 +8,7 @@
 
 use crate::error::{check_finite, Error, Result};
 use crate::fem::Dirichlet;
+use crate::mesh::{Mesh, Side};
 
 /// The grip condition on the loaded edges.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -53,6 +54,23 @@ pub struct PlateEdges {
     /// tributary length of each top/bottom node (for consistent traction forces)
     pub top_len: Vec<f64>,
     pub bottom_len: Vec<f64>,
+}
+
+impl PlateEdges {
+    /// The top and bottom edges of a structured mesh (seam duplicates included), with the
+    /// tributary lengths of their nodes.
+    pub fn of_mesh(m: &Mesh) -> Self {
+        let top = m.side_nodes(Side::Top);
+        let bottom = m.side_nodes(Side::Bottom);
+        let xt: Vec<f64> = top.iter().map(|&n| m.coords[n][0]).collect();
+        let xb: Vec<f64> = bottom.iter().map(|&n| m.coords[n][0]).collect();
+        Self {
+            top_len: tributary_lengths(&xt),
+            bottom_len: tributary_lengths(&xb),
+            top,
+            bottom,
+        }
+    }
 }
 
 /// Loading of the plate; `u0` for displacement grips, `traction` (stress) for [`Grip::Traction`].

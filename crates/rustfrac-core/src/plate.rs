@@ -3,9 +3,9 @@
 
 use crate::error::{check_positive, Error, Result};
 use crate::fem::{FemModel, LinearSystem};
-use crate::loading::{plate_conditions, sigma22, tributary_lengths, PlateEdges, PlateLoad};
+use crate::loading::{plate_conditions, sigma22, PlateEdges, PlateLoad};
 use crate::material::Elastic;
-use crate::mesh::{Mesh, Side};
+use crate::mesh::Mesh;
 use std::time::Instant;
 
 /// Parameters of a FEM plate run.
@@ -78,17 +78,7 @@ pub fn run(p: &FemPlateParams) -> Result<FemPlateResult> {
         mesh = m;
     }
     let model = FemModel::new(mesh, p.material, p.gauss)?;
-    let m = &model.mesh;
-    let top = m.side_nodes(Side::Top);
-    let bottom = m.side_nodes(Side::Bottom);
-    let xt: Vec<f64> = top.iter().map(|&n| m.coords[n][0]).collect();
-    let xb: Vec<f64> = bottom.iter().map(|&n| m.coords[n][0]).collect();
-    let edges = PlateEdges {
-        top_len: tributary_lengths(&xt),
-        bottom_len: tributary_lengths(&xb),
-        top,
-        bottom,
-    };
+    let edges = PlateEdges::of_mesh(&model.mesh);
     let (bc, f, anchor) = plate_conditions(&edges, &p.load, model.n_dofs(), p.material.thickness)?;
     let sys = LinearSystem::with_positions(model.stiffness(), &bc, Some(&model.dof_positions()))?;
     let sol = sys.solve(&f, 1.0)?;

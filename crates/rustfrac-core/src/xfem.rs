@@ -66,9 +66,9 @@
 
 use crate::error::{check_finite, check_positive, Error, Result};
 use crate::fem::{add_btdb, element_stiffness, geometry, shape, LinearSystem};
-use crate::loading::{plate_conditions, sigma22, tributary_lengths, Grip, PlateEdges, PlateLoad};
+use crate::loading::{plate_conditions, sigma22, Grip, PlateEdges, PlateLoad};
 use crate::material::Elastic;
-use crate::mesh::{Mesh, Side};
+use crate::mesh::Mesh;
 use crate::quadrature::{subquad_rule, QPoint};
 use crate::sif::{k_equivalent, kink_angle, DomainIntegral, DomainSifs};
 use crate::sparse::{CscMatrix, Pattern};
@@ -1364,19 +1364,6 @@ pub struct XfemResult {
     pub snapshots: Vec<DeformedPatch>,
 }
 
-fn plate_edges(m: &Mesh) -> PlateEdges {
-    let top = m.side_nodes(Side::Top);
-    let bottom = m.side_nodes(Side::Bottom);
-    let xt: Vec<f64> = top.iter().map(|&n| m.coords[n][0]).collect();
-    let xb: Vec<f64> = bottom.iter().map(|&n| m.coords[n][0]).collect();
-    PlateEdges {
-        top_len: tributary_lengths(&xt),
-        bottom_len: tributary_lengths(&xb),
-        top,
-        bottom,
-    }
-}
-
 /// One solve of a plate model at the reference load.
 struct PlateSolve {
     u: Vec<f64>,
@@ -1504,7 +1491,7 @@ pub fn run(params: &XfemParams, progress: &(dyn Fn(usize, usize) + Sync)) -> Res
         fixed_area_radius: params.fixed_area_radius,
         area_threshold: params.area_threshold,
     };
-    let edges = plate_edges(&mesh);
+    let edges = PlateEdges::of_mesh(&mesh);
     let mut model = XfemModel::new(mesh.clone(), params.material, params.crack.clone(), opts)?;
     let first = solve_plate(&model, &edges, &params.load, params.width)?;
     let h_tip = model.tip_element_size(0);

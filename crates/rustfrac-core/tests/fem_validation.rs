@@ -2,26 +2,11 @@
 //! the paper's uncracked plate, solver cross-checks and singular systems.
 
 use rustfrac_core::fem::{Dirichlet, FemModel, LinearSystem};
-use rustfrac_core::loading::{
-    plate_conditions, sigma22, tributary_lengths, Grip, PlateEdges, PlateLoad,
-};
+use rustfrac_core::loading::{plate_conditions, sigma22, Grip, PlateEdges, PlateLoad};
 use rustfrac_core::material::{Elastic, Plane};
 use rustfrac_core::mesh::{Mesh, Side};
 use rustfrac_core::solver::{Cholesky, Lu};
 use rustfrac_core::Error;
-
-fn plate_edges(m: &Mesh) -> PlateEdges {
-    let top = m.side_nodes(Side::Top);
-    let bottom = m.side_nodes(Side::Bottom);
-    let xt: Vec<f64> = top.iter().map(|&n| m.coords[n][0]).collect();
-    let xb: Vec<f64> = bottom.iter().map(|&n| m.coords[n][0]).collect();
-    PlateEdges {
-        top_len: tributary_lengths(&xt),
-        bottom_len: tributary_lengths(&xb),
-        top,
-        bottom,
-    }
-}
 
 #[test]
 fn patch_test_linear_field_is_exact() {
@@ -138,7 +123,7 @@ fn paper_plate(grip: Grip) -> (f64, Vec<f64>) {
     let mesh = Mesh::uniform(0.0, 0.0, 11.0, 21.0, 22, 42).unwrap();
     let mat = Elastic::new(10000.0, 0.25, Plane::Strain, 1.0).unwrap();
     let model = FemModel::new(mesh, mat, 2).unwrap();
-    let edges = plate_edges(&model.mesh);
+    let edges = PlateEdges::of_mesh(&model.mesh);
     let load = PlateLoad {
         grip,
         u0: 0.01,

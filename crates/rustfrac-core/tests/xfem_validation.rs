@@ -3,28 +3,13 @@
 //! crack growth direction, and the paper's numbers printed beside ours.
 
 use rustfrac_core::fem::{Dirichlet, FemModel, LinearSystem};
-use rustfrac_core::loading::{
-    plate_conditions, sigma22, tributary_lengths, Grip, PlateEdges, PlateLoad,
-};
+use rustfrac_core::loading::{plate_conditions, sigma22, Grip, PlateEdges, PlateLoad};
 use rustfrac_core::material::{Elastic, Plane};
 use rustfrac_core::mesh::{Mesh, Side};
 use rustfrac_core::sif::williams_displacement;
 use rustfrac_core::xfem::{run, GrowthParams, XfemModel, XfemOptions, XfemParams};
 use rustfrac_core::Error;
 use std::sync::Arc;
-
-fn plate_edges(m: &Mesh) -> PlateEdges {
-    let top = m.side_nodes(Side::Top);
-    let bottom = m.side_nodes(Side::Bottom);
-    let xt: Vec<f64> = top.iter().map(|&n| m.coords[n][0]).collect();
-    let xb: Vec<f64> = bottom.iter().map(|&n| m.coords[n][0]).collect();
-    PlateEdges {
-        top_len: tributary_lengths(&xt),
-        bottom_len: tributary_lengths(&xb),
-        top,
-        bottom,
-    }
-}
 
 fn no_progress(_: usize, _: usize) {}
 
@@ -167,7 +152,7 @@ fn inclined_centre_crack_matches_closed_forms() {
     let lines = graded_lines(1.65, 0.1, l, 1.25);
     let mesh = Arc::new(Mesh::from_lines(lines.clone(), lines).unwrap());
     let mat = Elastic::new(1000.0, 0.3, Plane::Strain, 1.0).unwrap();
-    let edges = plate_edges(&mesh);
+    let edges = PlateEdges::of_mesh(&mesh);
     let k0 = sigma * (PI * a).sqrt();
     for deg in [0.0f64, 15.0, 30.0, 45.0, 60.0, 75.0] {
         let b = deg.to_radians();
@@ -292,7 +277,7 @@ fn fem_seam(nx: usize, ny: usize) -> (f64, f64) {
     let (mesh, pairs) = base.with_seam(ny / 2, 1.1).unwrap();
     let mat = Elastic::new(10000.0, 0.25, Plane::Strain, 1.0).unwrap();
     let model = FemModel::new(mesh, mat, 2).unwrap();
-    let edges = plate_edges(&model.mesh);
+    let edges = PlateEdges::of_mesh(&model.mesh);
     let load = PlateLoad {
         grip: Grip::Free,
         u0: 0.01,
