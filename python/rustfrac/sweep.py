@@ -112,7 +112,9 @@ def define_points(preset: str = "full") -> list[dict[str, Any]]:
         raise ValueError(f"unknown sweep preset {preset!r} (tiny | full)")
     pts: list[dict[str, Any]] = []
     for nx, ny in meshes:
-        sc = edge_crack_plate("xfem", mesh=(nx, ny), growth_steps=growth, name=f"xfem mesh {nx}x{ny}")
+        sc = edge_crack_plate(
+            "xfem", mesh=(nx, ny), growth_steps=growth, name=f"xfem mesh {nx}x{ny}"
+        )
         pts.append(_point("mesh", "xfem", "nx", nx, _h(nx, ny), sc))
     for n in nsubs:
         sc = edge_crack_plate("xfem", nsub=n, growth_steps=growth, name=f"xfem nsub {n}")
@@ -310,9 +312,15 @@ def references(records: Sequence[dict[str, Any]]) -> dict[str, dict[str, dict[st
             if not pts:
                 continue
             finest = pts[-1][1]
-            ref = {"value": finest, "finest": finest, "kind": "finest", "rate": None,
-                   "levels": len(pts), "finest_h": pts[-1][0],
-                   "why": "fewer than 3 levels" if len(pts) < 3 else "no consistent rate"}
+            ref = {
+                "value": finest,
+                "finest": finest,
+                "kind": "finest",
+                "rate": None,
+                "levels": len(pts),
+                "finest_h": pts[-1][0],
+                "why": "fewer than 3 levels" if len(pts) < 3 else "no consistent rate",
+            }
             if len(pts) >= 3:
                 hs, fs = zip(*pts[-3:])
                 rich = richardson(hs, fs)
