@@ -244,7 +244,7 @@ def _sweep_dask(
 ) -> list[dict[str, Any]]:
     try:
         from distributed import Client, as_completed
-    except ImportError as e:  # pragma: no cover (the test extra installs dask)
+    except ImportError as e:
         raise ImportError(
             "sweeping on a dask cluster needs dask.distributed: pip install 'rustfrac[dask]'"
         ) from e
