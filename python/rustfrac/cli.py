@@ -149,6 +149,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
                 f"preset  {method} {name}: {p['point']} ({p['param']} = {p['value']}), "
                 f"{p['wall_time_s']:.3f} s, max rel. error {p['err_max']:.2e}"
                 + ("" if p["meets_tolerance"] else f" (tolerance {p['tolerance']:g} not met)")
+                + (" (the reference level: error 0 by construction)" if p["is_reference"] else "")
             )
     files = ["sweep.csv", "sweep.json", "sweep.md"] + [
         f"sweep_{m}.png" for m in sorted({r["method"] for r in records})
