@@ -103,3 +103,21 @@ def test_missing_dask_names_the_extra(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setitem(sys.modules, "distributed", None)
     with pytest.raises(ImportError, match=r"rustfrac\[dask\]"):
         sweep(define_points("tiny")[:1], scheduler="tcp://127.0.0.1:1")
+
+
+def test_ctrl_c_keeps_finished_points(tmp_path: Path) -> None:
+    from rustfrac.sweep import SweepInterrupted, write_outputs
+
+    points = [p for p in define_points("tiny") if p["method"] == "xfem"][:3]
+
+    def stop(done: int, total: int, message: str) -> None:
+        raise KeyboardInterrupt  # as Ctrl-C arriving after the first finished point
+
+    with pytest.raises(SweepInterrupted) as exc:
+        sweep(points, workers=1, progress=stop)
+    done = exc.value.records
+    # the first point, and the one running when the interrupt came (one worker, queue cancelled)
+    assert 1 <= len(done) <= 2 and all(r["K_I"] > 0 for r in done)
+    doc = write_outputs(tmp_path, points, done, extra={"interrupted": True})
+    assert doc["interrupted"] and len(doc["points"]) == len(done)
+    assert (tmp_path / "sweep.csv").exists() and (tmp_path / "sweep.md").exists()

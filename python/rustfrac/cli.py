@@ -108,7 +108,7 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def _cmd_sweep(args: argparse.Namespace) -> int:
-    from .sweep import define_points, sweep, write_outputs
+    from .sweep import SweepInterrupted, define_points, sweep, write_outputs
 
     log = (lambda *a: None) if args.quiet else (lambda *a: print(*a, flush=True))
     points = define_points(args.preset)
@@ -116,8 +116,11 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     log(f"sweep   {len(points)} points, preset {args.preset}, {backend}")
     bar = None if args.quiet else ProgressBar(delay=0.0)
     t0 = time.perf_counter()
+    interrupted = False
     try:
         records = sweep(points, workers=args.workers, scheduler=args.scheduler, progress=bar)
+    except SweepInterrupted as e:
+        interrupted, records = True, e.records
     except KeyboardInterrupt:
         print("rustfrac: interrupted; no sweep files written", file=sys.stderr)
         return 130
@@ -141,8 +144,18 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
             "preset": args.preset,
             "backend": backend,
             "total_wall_time_s": time.perf_counter() - t0,
+            "interrupted": interrupted,
+            "points_done": len(records),
+            "points_total": len(points),
         },
     )
+    if interrupted:
+        print(
+            f"rustfrac: interrupted; the {len(records)} finished points of {len(points)} were "
+            f"written to {args.out}/",
+            file=sys.stderr,
+        )
+        return 130
     for method, ps in doc["presets"].items():
         for name, p in ps.items():
             log(

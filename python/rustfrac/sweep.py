@@ -38,6 +38,7 @@ from .scenes import edge_crack_plate
 
 __all__ = [
     "QUANTITIES",
+    "SweepInterrupted",
     "choose_presets",
     "define_points",
     "errors",
@@ -67,6 +68,14 @@ NUMERIC_KEYS: tuple[str, ...] = (
 PD_SIZE = (2.73, 1.67)
 
 Progress = Callable[[int, int, str], Any]
+
+
+class SweepInterrupted(KeyboardInterrupt):
+    """Ctrl-C during :func:`sweep`: ``records`` holds the points that finished (in point order)."""
+
+    def __init__(self, records: list[dict[str, Any]]) -> None:
+        super().__init__(f"sweep interrupted after {len(records)} points")
+        self.records = records
 
 
 # --------------------------------------------------------------------------- points
@@ -210,6 +219,10 @@ def sweep(
         scheduler: None (local process pool), a scheduler address ``"tcp://host:port"``, or a
             ``distributed.Client``.
         progress: ``progress(done, total, message)`` after each finished point.
+
+    Raises:
+        SweepInterrupted: on Ctrl-C (a ``KeyboardInterrupt``), with the finished records; the
+            points still running are cancelled.
     """
     points = list(points)
     if scheduler is not None:
@@ -229,13 +242,23 @@ def _sweep_local(
         # a fresh process per point: exact peak memory, no state carried between points
         kw.update(max_tasks_per_child=1, mp_context=mp.get_context("spawn"))
     out: list[dict[str, Any] | None] = [None] * len(points)
-    with ProcessPoolExecutor(**kw) as ex:
+    ex = ProcessPoolExecutor(**kw)
+    try:
         futs = {ex.submit(run_point, p): i for i, p in enumerate(points)}
         for k, f in enumerate(as_completed(futs), 1):
             i = futs[f]
             out[i] = f.result()
             if progress is not None:
                 progress(k, len(points), f"sweep: {out[i]['name']}")
+    except KeyboardInterrupt:
+        # cancel the queued points, let the running ones end (a terminal's Ctrl-C interrupts
+        # them too) and keep every point that finished
+        ex.shutdown(wait=True, cancel_futures=True)
+        for f, i in futs.items():
+            if out[i] is None and f.done() and not f.cancelled() and f.exception() is None:
+                out[i] = f.result()
+        raise SweepInterrupted([r for r in out if r is not None]) from None
+    ex.shutdown()
     return [r for r in out if r is not None]
 
 
@@ -254,11 +277,15 @@ def _sweep_dask(
         futs = client.map(run_point, points, pure=False)
         index = {f.key: i for i, f in enumerate(futs)}
         out: list[dict[str, Any] | None] = [None] * len(points)
-        for k, f in enumerate(as_completed(futs), 1):
-            i = index[f.key]
-            out[i] = f.result()
-            if progress is not None:
-                progress(k, len(points), f"sweep: {out[i]['name']}")
+        try:
+            for k, f in enumerate(as_completed(futs), 1):
+                i = index[f.key]
+                out[i] = f.result()
+                if progress is not None:
+                    progress(k, len(points), f"sweep: {out[i]['name']}")
+        except KeyboardInterrupt:
+            client.cancel(futs)
+            raise SweepInterrupted([r for r in out if r is not None]) from None
         return [r for r in out if r is not None]
     finally:
         if own:
@@ -518,7 +545,8 @@ def plot(records: Sequence[dict[str, Any]], method: str, path: Path) -> None:
         title += f"\n(zero error, not drawn: {', '.join(zero)})"
     ax.set_title(title, fontsize=9)
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8)
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(fontsize=8)
     with _atomic(path, "wb") as f:
         fig.savefig(f, format="png", dpi=120, bbox_inches="tight")
     plt.close(fig)
@@ -539,6 +567,8 @@ def write_outputs(
 
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
+    records = list(records)
+    points = [p for p in points if p["scene"].get("name", "") in {r["name"] for r in records}]
     refs = references(records)
     recs = errors(records, refs)
     presets = choose_presets(recs, points)
