@@ -56,7 +56,11 @@ def test_dask_cluster_gives_identical_numbers(tiny: tuple[Path, dict[str, Any]])
         n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None
     ) as cluster, distributed.Client(cluster) as client:  # fmt: skip
         remote = sweep(points, scheduler=client)
+        # a scheduler address (as `rustfrac sweep --scheduler tcp://...` passes it)
+        by_address = sweep(points[:2], scheduler=cluster.scheduler_address)
     assert len(remote) == len(doc["points"])
+    for a, b in zip(remote, by_address):
+        assert all(a[k] == b[k] for k in NUMERIC_KEYS)
     for a, b in zip(doc["points"], remote):
         assert a["name"] == b["name"]
         for k in NUMERIC_KEYS:
