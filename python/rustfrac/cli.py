@@ -1,5 +1,6 @@
 """Command line: ``rustfrac run SCENE.toml --out DIR [--quiet]`` and
-``rustfrac fig7 --out DIR [--preset paper|fast] [--bc free|clamped] [--quiet]``.
+``rustfrac fig7 --out DIR [--preset paper|fast] [--bc free|clamped] [--quiet]`` and
+``rustfrac sweep --out DIR [--preset tiny|full] [--scheduler ADDR] [--workers N] [--quiet]``.
 
 Exit codes: 0 success, 1 the run failed (singular system, internal error), 2 bad input (unreadable
 or invalid scene file, bad arguments).
@@ -89,7 +90,85 @@ def _parser() -> argparse.ArgumentParser:
         "--bc", choices=("free", "clamped"), default="free", help="grip variant (u1 on the grips)"
     )
     f.add_argument("--quiet", "-q", action="store_true", help="print nothing but errors")
+    w = sub.add_parser(
+        "sweep", help="speed-accuracy sweep of XFEM and CCM-PD (error against time, presets)"
+    )
+    w.add_argument("--out", type=Path, default=Path("sweep"), help="output directory")
+    w.add_argument(
+        "--preset", choices=("tiny", "full"), default="full",
+        help="full: 5+ XFEM meshes, 4 PD grids, nsub, r_I, m, PD size (minutes); tiny: seconds",
+    )
+    w.add_argument(
+        "--scheduler", default=None,
+        help="dask.distributed scheduler address (tcp://host:port); default: local processes",
+    )
+    w.add_argument("--workers", type=int, default=None, help="local processes (default: cores)")
+    w.add_argument("--quiet", "-q", action="store_true", help="print nothing but errors")
     return p
+
+
+def _cmd_sweep(args: argparse.Namespace) -> int:
+    from .sweep import SweepInterrupted, define_points, sweep, write_outputs
+
+    log = (lambda *a: None) if args.quiet else (lambda *a: print(*a, flush=True))
+    points = define_points(args.preset)
+    backend = f"dask {args.scheduler}" if args.scheduler else f"local, {args.workers or 'all'} workers"
+    log(f"sweep   {len(points)} points, preset {args.preset}, {backend}")
+    bar = None if args.quiet else ProgressBar(delay=0.0)
+    t0 = time.perf_counter()
+    interrupted = False
+    try:
+        records = sweep(points, workers=args.workers, scheduler=args.scheduler, progress=bar)
+    except SweepInterrupted as e:
+        interrupted, records = True, e.records
+    except KeyboardInterrupt:
+        print("rustfrac: interrupted; no sweep files written", file=sys.stderr)
+        return 130
+    except ImportError as e:
+        print(f"rustfrac: error: {e}", file=sys.stderr)
+        return 2
+    except RustfracError as e:
+        print(f"rustfrac: run failed: {type(e).__name__}: {e}", file=sys.stderr)
+        return 1
+    finally:
+        if bar is not None:
+            bar.close()
+    doc = write_outputs(
+        args.out,
+        points,
+        records,
+        extra={
+            "command": f"rustfrac sweep --out {args.out} --preset {args.preset}"
+            + (f" --scheduler {args.scheduler}" if args.scheduler else "")
+            + (f" --workers {args.workers}" if args.workers else ""),
+            "preset": args.preset,
+            "backend": backend,
+            "total_wall_time_s": time.perf_counter() - t0,
+            "interrupted": interrupted,
+            "points_done": len(records),
+            "points_total": len(points),
+        },
+    )
+    if interrupted:
+        print(
+            f"rustfrac: interrupted; the {len(records)} finished points of {len(points)} were "
+            f"written to {args.out}/",
+            file=sys.stderr,
+        )
+        return 130
+    for method, ps in doc["presets"].items():
+        for name, p in ps.items():
+            log(
+                f"preset  {method} {name}: {p['point']} ({p['param']} = {p['value']}), "
+                f"{p['wall_time_s']:.3f} s, max rel. error {p['err_max']:.2e}"
+                + ("" if p["meets_tolerance"] else f" (tolerance {p['tolerance']:g} not met)")
+                + (" (the reference level: error 0 by construction)" if p["is_reference"] else "")
+            )
+    files = ["sweep.csv", "sweep.json", "sweep.md"] + [
+        f"sweep_{m}.png" for m in sorted({r["method"] for r in records})
+    ]
+    log(f"saved   {args.out}/ ({', '.join(files)})")
+    return 0
 
 
 def _cmd_fig7(args: argparse.Namespace) -> int:
@@ -248,6 +327,8 @@ def main(argv: list[str] | None = None) -> int:
         return _cmd_run(args)
     if args.command == "fig7":
         return _cmd_fig7(args)
+    if args.command == "sweep":
+        return _cmd_sweep(args)
     return 2  # pragma: no cover (argparse enforces the subcommands)
 
 
