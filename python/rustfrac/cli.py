@@ -127,9 +127,6 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     except ImportError as e:
         print(f"rustfrac: error: {e}", file=sys.stderr)
         return 2
-    except RustfracError as e:
-        print(f"rustfrac: run failed: {type(e).__name__}: {e}", file=sys.stderr)
-        return 1
     finally:
         if bar is not None:
             bar.close()
@@ -190,12 +187,6 @@ def _cmd_fig7(args: argparse.Namespace) -> int:
     except KeyboardInterrupt:
         print("rustfrac: interrupted; finished parts were written", file=sys.stderr)
         return 130
-    except InvalidParameterError as e:
-        print(f"rustfrac: error: invalid input: {e}", file=sys.stderr)
-        return 2
-    except RustfracError as e:
-        print(f"rustfrac: run failed: {type(e).__name__}: {e}", file=sys.stderr)
-        return 1
     finally:
         for b in bars:
             b.close()
@@ -223,15 +214,6 @@ def _cmd_run(args: argparse.Namespace) -> int:
     bar = None if args.quiet else ProgressBar(delay=0.0 if growth else 0.5)
     try:
         res: Result = run(scene, progress=bar)
-    except MethodNotAvailableError as e:
-        print(f"rustfrac: error: {e}", file=sys.stderr)
-        return 2
-    except InvalidParameterError as e:
-        print(f"rustfrac: error: invalid input: {e}", file=sys.stderr)
-        return 2
-    except RustfracError as e:
-        print(f"rustfrac: run failed: {type(e).__name__}: {e}", file=sys.stderr)
-        return 1
     finally:
         if bar is not None:
             bar.close()
@@ -323,13 +305,20 @@ def _log_pd(log: Callable[..., None], res: _Result) -> None:
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``rustfrac`` console script; returns the exit code."""
     args = _parser().parse_args(argv)
-    if args.command == "run":
-        return _cmd_run(args)
-    if args.command == "fig7":
-        return _cmd_fig7(args)
-    if args.command == "sweep":
-        return _cmd_sweep(args)
-    return 2  # pragma: no cover (argparse enforces the subcommands)
+    commands = {"run": _cmd_run, "fig7": _cmd_fig7, "sweep": _cmd_sweep}
+    # one mapping of errors to exit codes for every command (commands handle only their own
+    # special cases, such as an unreadable scene file or an interrupted sweep)
+    try:
+        return commands[args.command](args)
+    except KeyboardInterrupt:
+        print("rustfrac: interrupted", file=sys.stderr)
+        return 130
+    except (InvalidParameterError, MethodNotAvailableError) as e:
+        print(f"rustfrac: error: invalid input: {e}", file=sys.stderr)
+        return 2
+    except RustfracError as e:
+        print(f"rustfrac: run failed: {type(e).__name__}: {e}", file=sys.stderr)
+        return 1
 
 
 if __name__ == "__main__":  # pragma: no cover
