@@ -86,20 +86,29 @@ _BC_DESC = {
 }
 
 
+def _plate_kwargs(scene: Scene) -> dict[str, Any]:
+    """The native solvers' common keywords: plate, material and load of the scene."""
+    p, mat, load = scene.plate, scene.material, scene.load
+    return {
+        "width": p.width,
+        "height": p.height,
+        "e": mat.E,
+        "nu": mat.nu,
+        "plane": mat.plane,
+        "thickness": mat.thickness,
+        "bc": load.bc,
+        # traction grips prescribe no displacement (the PD history's "u0" is then 0)
+        "u0": 0.0 if load.bc == "traction" else load.u0,
+        "traction": load.traction,
+    }
+
+
 def _run_fem(scene: Scene, progress: ProgressCallback | None) -> Result:
-    p, mat, load, c, mesh = scene.plate, scene.material, scene.load, scene.crack, scene.mesh
+    load, c, mesh = scene.load, scene.crack, scene.mesh
     out = _core.solve_fem_plate(
-        width=p.width,
-        height=p.height,
+        **_plate_kwargs(scene),
         nx=mesh.nx,
         ny=mesh.ny,
-        e=mat.E,
-        nu=mat.nu,
-        plane=mat.plane,
-        thickness=mat.thickness,
-        bc=load.bc,
-        u0=load.u0,
-        traction=load.traction,
         seam=(c.a0, c.y) if c.kind == "seam" else None,
         gauss=mesh.gauss,
         progress=progress,
@@ -227,28 +236,13 @@ def _run_xfem(scene: Scene, progress: ProgressCallback | None) -> Result:
     """XFEM: ``fields["u"]`` holds the nodal displacements (the standard dofs: the shifted
     enrichments vanish at the nodes), ``fields["u_enriched"]`` the whole solution vector; the
     growth history (origin first) is in ``history``."""
-    p, mat, load, c, mesh, x = (
-        scene.plate,
-        scene.material,
-        scene.load,
-        scene.crack,
-        scene.mesh,
-        scene.xfem,
-    )
+    mat, load, c, mesh, x = scene.material, scene.load, scene.crack, scene.mesh, scene.xfem
     growth = x.growth_steps > 0
     try:
         out = _core.solve_xfem_plate(
-            width=p.width,
-            height=p.height,
+            **_plate_kwargs(scene),
             nx=mesh.nx,
             ny=mesh.ny,
-            e=mat.E,
-            nu=mat.nu,
-            plane=mat.plane,
-            thickness=mat.thickness,
-            bc=load.bc,
-            u0=load.u0,
-            traction=load.traction,
             crack=c.polyline(),
             nsub=x.nsub,
             tip_nsub=x.tip_nsub,
@@ -323,7 +317,7 @@ def _run_pd(scene: Scene, progress: ProgressCallback | None) -> Result:
     sigma22 against cmod starts with the linear loading branch from (0, 0). Under ``bc =
     "traction"`` the load factor scales the traction and ``u0`` is 0 (no prescribed displacement).
     """
-    p, mat, load, c, pd = scene.plate, scene.material, scene.load, scene.crack, scene.pd
+    mat, load, c, pd = scene.material, scene.load, scene.crack, scene.pd
     regions = []
     if scene.method == "ccm_pd":
         (cx, cy), (sx, sy) = pd.center, pd.size
@@ -331,19 +325,10 @@ def _run_pd(scene: Scene, progress: ProgressCallback | None) -> Result:
     precrack = [(0.0, c.y), (c.a0, c.y)] if c.kind == "edge" else []
     out = _core.solve_pd_plate(
         method=scene.method,
-        width=p.width,
-        height=p.height,
+        **_plate_kwargs(scene),
         dx=pd.dx,
         m=pd.m,
-        e=mat.E,
-        nu=mat.nu,
-        plane=mat.plane,
-        thickness=mat.thickness,
         g0=mat.G0,
-        bc=load.bc,
-        # traction grips prescribe no displacement: history "u0" is then 0
-        u0=0.0 if load.bc == "traction" else load.u0,
-        traction=load.traction,
         pd_regions=regions,
         precrack=precrack,
         sla_steps=pd.sla_steps,
