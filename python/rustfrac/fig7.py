@@ -193,9 +193,10 @@ def fig7(
         if name in results:
             results[name].save(outdir / ("xfem" if name == "xfem_growth" else name))
 
-    W, E, nu, G0 = 11.0, 10000.0, 0.25, 0.367
-    a = np.linspace(1.1, 0.7 * W, 120)
-    hb_c, hb_s = handbook.edge_crack_curve(a, W, E, nu, G0)
+    ref = scenes["xfem"]  # the plate, material and crack every run shares
+    W, mat, a0, yc = ref.plate.width, ref.material, ref.crack.a0, ref.crack.y
+    a = np.linspace(a0, 0.7 * W, 120)
+    hb_c, hb_s = handbook.edge_crack_curve(a, W, mat.E, mat.nu, mat.G0, mat.plane)
     hb = (np.concatenate([[0.0], hb_c]), np.concatenate([[0.0], hb_s]))
     files: list[str] = []
     curves: list[figures.Curve] = []
@@ -235,7 +236,7 @@ def fig7(
                 r.fields["damage"],
                 p.dx,
                 title=f"CCM-PD damage after {len(r.history['sigma22']) - 1} SLA steps",
-                crack_y=10.5,
+                crack_y=yc,
             ),
             outdir / "fig8a.png",
         )
@@ -319,7 +320,7 @@ def _pd_disc(r: Result, dx: float) -> dict[str, np.ndarray]:
     is_pd = np.zeros(len(xy), bool)
     is_pd[np.asarray(r.fields["pd_nodes"], int)] = True
     cells = xy[el]
-    a0, yc = 1.1, 10.5
+    (x0, yc), (a0, _) = np.asarray(r.meta["precrack"], float)[[0, -1]]
     # FEM elements cut by the pre-crack are removed in the core (the crack is a real slit there)
     removed = (cells[:, :, 1].min(axis=1) < yc) & (cells[:, :, 1].max(axis=1) > yc)
     removed &= cells[:, :, 0].min(axis=1) < a0
@@ -328,7 +329,7 @@ def _pd_disc(r: Result, dx: float) -> dict[str, np.ndarray]:
         "is_pd": is_pd,
         "elements": el,
         "removed": removed,
-        "crack": np.array([[0.0, yc], [a0, yc]]),
+        "crack": np.array([[x0, yc], [a0, yc]]),
     }
 
 
