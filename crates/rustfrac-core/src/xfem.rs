@@ -1424,9 +1424,9 @@ impl XfemModel {
                     }
                 }
                 let mut gq = [0.0; 2];
-                for k in 0..4 {
-                    gq[0] += b.grads[k][0] * q[k];
-                    gq[1] += b.grads[k][1] * q[k];
+                for (gk, qk) in b.grads.iter().zip(q) {
+                    gq[0] += gk[0] * qk;
+                    gq[1] += gk[1] * qk;
                 }
                 // to the tip frame: x~ = R (x - tip), R = [[c, s], [-s, c]]
                 let d = sub(x, tp.pos);
