@@ -501,3 +501,28 @@ fn bad_crack_sets_are_refused() {
     p.extra_cracks = vec![vec![[1.0, 2.0], [0.45, 2.0]]];
     check(p, "r_I");
 }
+
+/// Two symmetric edge cracks growing towards each other stop before they meet: once the other
+/// crack would enter a tip's SIF domain the run ends with status "cracks meet" (coalescence is
+/// not modelled), with a gap of at least r_I between the last recorded tips.
+#[test]
+fn growth_stops_before_cracks_meet() {
+    let mut p = dent_params(0.1, 40, 161);
+    p.growth = Some(GrowthParams {
+        g0: 0.367,
+        da: None,
+        a_stop: 0.49,
+        max_steps: 100,
+    });
+    let r = run(&p, &no_progress).unwrap();
+    let last = r.tip_history.last().unwrap();
+    let gap = last[1].pos[0] - last[0].pos[0];
+    println!(
+        "status '{}' after {} states, last gap {gap:.4} (r_I {:.4})",
+        r.status,
+        r.history.len(),
+        r.r_i
+    );
+    assert_eq!(r.status, "cracks meet");
+    assert!(gap > r.r_i && gap < 2.0 * r.r_i + 0.1, "{gap}");
+}
