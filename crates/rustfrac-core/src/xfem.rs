@@ -62,7 +62,9 @@
 //! * Refused with `Error::InvalidInput { param: "cracks" }`: cracks that cross or touch each
 //!   other (junctions and coalescence are not modelled), and tips of different cracks in one
 //!   element (one element cannot resolve two singularities, and the SIF domain of either tip
-//!   would contain the other). Invalid single polylines name "cracks[k]".
+//!   would contain the other). Invalid single polylines name "cracks[k]". (Both tips of one
+//!   crack in one element, a crack shorter than an element, are accepted as before, but their
+//!   SIF domains are refused: `r_I`, the domain would reach the other tip.)
 //! * SIFs: another crack entering the support of a tip's q-function would add face terms the
 //!   domain form lacks (the auxiliary field is traction-free on the tip's own crack only), so
 //!   such a radius is refused (`r_I`, [`XfemModel::other_crack_in_domain`]); growth stops with
