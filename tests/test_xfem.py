@@ -379,6 +379,7 @@ EXAMPLES = [
     "paper_xfem_traction.toml",
     "tall_plate_handbook.toml",
     "inclined_crack.toml",
+    "double_edge_crack.toml",
 ]
 
 

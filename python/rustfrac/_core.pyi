@@ -66,6 +66,7 @@ def solve_xfem_plate(
     u0: float = 0.0,
     traction: float = 0.0,
     crack: Sequence[Sequence[float]] | npt.NDArray[np.floating[Any]],
+    extra_cracks: Sequence[Sequence[Sequence[float]]] = (),
     nsub: int = 4,
     tip_nsub: int = 0,
     r_i: float = 2.5,
@@ -79,7 +80,8 @@ def solve_xfem_plate(
     progress: ProgressCallback | None = None,
 ) -> dict[str, Any]:
     """The plate with XFEM (GIL released); ``crack`` is a polyline (an end on the boundary is a
-    mouth, an end inside a tip); ``tip_nsub = 0`` means nsub; ``r_i``/``extra_radii`` in
+    mouth, an end inside a tip), ``extra_cracks`` further polylines (they must neither cross nor
+    touch; tips are numbered crack by crack, ``crack`` first); ``tip_nsub = 0`` means nsub; ``r_i``/``extra_radii`` in
     tip-element lengths; ``growth_steps > 0`` runs LEFM growth (needs ``g0``; ``da = None``: one
     element length; ``a_stop = None``: 0.7 width).
 
@@ -88,11 +90,15 @@ def solve_xfem_plate(
     status, bc: str; coords (n,2), elements (m,4) int64, u (n_dofs,) (u[:n_std] are the nodal
     displacements), heaviside_nodes, tip_nodes (int64), crack (k,2) final polyline,
     crack_initial (k0,2), radii (r,5) [radius, K_I, K_II, J_from_K, J_domain], radii_factor (r,),
-    tips (t,6) [x1, x2, K_I, K_II, J_from_K, J_domain], deformed_cells, deformed_disp (c,4,2); snapshot_cells, snapshot_disp (C,4,2) and
+    tips (t,6) [x1, x2, K_I, K_II, J_from_K, J_domain] (every tip), tip_crack (t,) int64 (0 =
+    ``crack``, k = ``extra_cracks[k-1]``), cracks (P,2) and cracks_offsets (C+1,) int64 (final
+    polylines of all cracks), deformed_cells, deformed_disp (c,4,2); snapshot_cells, snapshot_disp (C,4,2) and
     snapshot_offsets (s+1,) (growth: patch k = rows offsets[k]:offsets[k+1], history row k+1);
     growth history (origin first; empty without growth): history_load_factor, history_sigma22,
     history_cmod, history_u0, history_traction, history_a, history_K_I, history_K_II,
-    history_kink_angle, history_tip_x, history_tip_y."""
+    history_kink_angle, history_tip_x, history_tip_y (the most critical tip), and every tip's
+    state as (s, t) arrays tip_history_x, tip_history_y, tip_history_K_I, tip_history_K_II,
+    tip_history_kink_angle, tip_history_grows (1.0: the tip grew after that state)."""
 
 def _progress_demo(steps: int, step_s: float, progress: ProgressCallback | None = None) -> int: ...
 def _panic_demo() -> None: ...

@@ -240,6 +240,13 @@ def _cmd_run(args: argparse.Namespace) -> int:
             f"(domain J = {res.scalars.get('J_domain', float('nan')):.10g}, "
             f"r_I = {res.meta.get('r_I', float('nan')):.6g})"
         )
+        tips = res.tip_sifs
+        if len(tips) > 1:
+            for k, t in enumerate(tips):
+                log(
+                    f"  tip {k} (crack {t['crack']}) at ({t['x1']:.6g}, {t['x2']:.6g}): "
+                    f"K_I = {t['K_I']:.10g}, K_II = {t['K_II']:.10g}"
+                )
     if res.method in ("pd", "ccm_pd"):
         _log_pd(log, res)
     elif "status" in res.meta:

@@ -51,7 +51,10 @@ class Result:
             XFEM: ``u_enriched`` (n_dofs,), ``heaviside_nodes``, ``tip_nodes``, ``crack`` (k, 2)
             (final polyline), ``crack_initial``, ``radii`` (r, 5) [radius, K_I, K_II, J_from_K,
             J_domain], ``radii_factor``, ``tips`` (t, 6) [x1, x2, K_I, K_II, J_from_K,
-            J_domain], ``deformed_cells`` / ``deformed_disp`` (c, 4, 2) near the tip.
+            J_domain] for every tip (see :attr:`tip_sifs`), ``tip_crack`` (t,), ``cracks``
+            (P, 2) with ``cracks_offsets`` (final polylines of all cracks), growth runs
+            ``tip_history_<x|y|K_I|K_II|kink_angle|grows>`` (s, t) (every tip at every history
+            row), ``deformed_cells`` / ``deformed_disp`` (c, 4, 2) near the tip.
         history: growth / SLA runs: equal-length arrays ("load_factor", "sigma22", "cmod", "u0",
             ...; XFEM adds "traction", "a", "K_I", "K_II", "kink_angle", "tip_x", "tip_y", with
             the unloaded origin first); empty for a single linear solve.
@@ -105,6 +108,30 @@ class Result:
     def J(self) -> float | None:
         """J-integral at the reference load (XFEM), else None."""
         return self.scalars.get("J")
+
+    @property
+    def tip_sifs(self) -> list[dict[str, float]]:
+        """XFEM: the SIFs of every crack tip at the reference load, one dict per tip with keys
+        ``crack`` (index: 0 the primary crack, k the k-th further crack), ``x1``, ``x2``, ``K_I``,
+        ``K_II``, ``J`` (from K) and ``J_domain``; tips are numbered crack by crack. Empty for
+        other methods."""
+        tips = self.fields.get("tips")
+        if tips is None:
+            return []
+        crack = self.fields.get("tip_crack", np.zeros(len(tips), dtype=np.int64))
+        keys = ("x1", "x2", "K_I", "K_II", "J", "J_domain")
+        return [
+            {"crack": int(c), **{k: float(v) for k, v in zip(keys, row)}}
+            for c, row in zip(crack, tips)
+        ]
+
+    @property
+    def crack_polylines(self) -> list[np.ndarray]:
+        """XFEM: the final polyline (k, 2) of every crack (the primary crack first)."""
+        pts, off = self.fields.get("cracks"), self.fields.get("cracks_offsets")
+        if pts is None or off is None:
+            return [self.fields["crack"]] if "crack" in self.fields else []
+        return [pts[off[k] : off[k + 1]] for k in range(len(off) - 1)]
 
     @property
     def gamma(self) -> float | None:

@@ -165,15 +165,27 @@ XFEM_EXTRA_RADII: tuple[float, ...] = (1.5, 2.0, 3.0, 3.5)
 
 def _extra_radii(scene: Scene) -> list[float]:
     """The radii of :data:`XFEM_EXTRA_RADII` whose q-domain around the primary tip stays inside
-    the plate (and clear of the other tip), as the core requires."""
+    the plate and clear of the other tip and of the other cracks, as the core requires."""
     p, m, c = scene.plate, scene.mesh, scene.crack
-    h = math.sqrt(p.width / m.nx * p.height / m.ny)
-    pts = c.polyline()
+    dx, dy = p.width / m.nx, p.height / m.ny
+    h = math.sqrt(dx * dy)
+    pts = c.polyline(p)
     tx, ty = pts[-1]
     room = min(tx, p.width - tx, ty, p.height - ty)
     if c.kind == "center":
         room = min(room, 2 * c.a0 - 1.5 * h)
+    for other in scene.extra_cracks:
+        # the q-function reaches one element beyond its radius
+        room = min(room, _distance_to_segment((tx, ty), *other.polyline(p)) - dx - dy)
     return [f for f in XFEM_EXTRA_RADII if f * h < (1 - 1e-9) * room]
+
+
+def _distance_to_segment(
+    x: tuple[float, float], a: tuple[float, float], b: tuple[float, float]
+) -> float:
+    dx, dy = b[0] - a[0], b[1] - a[1]
+    t = min(1.0, max(0.0, ((x[0] - a[0]) * dx + (x[1] - a[1]) * dy) / (dx * dx + dy * dy)))
+    return math.hypot(x[0] - a[0] - t * dx, x[1] - a[1] - t * dy)
 
 
 def _growth_progress(scene: Scene, progress: ProgressCallback | None) -> ProgressCallback | None:
@@ -219,14 +231,20 @@ _XFEM_PARAMS: dict[str, str] = {
     "a_stop": "xfem.a_stop",
     "g0": "material.G0",
     "crack": "crack.a0",
+    "cracks": "crack",
 }
 
 
 def _scene_param(err: InvalidParameterError) -> InvalidParameterError:
-    """The core's error naming the scene key (``invalid r_I: ...`` -> ``xfem.r_I``)."""
+    """The core's error naming the scene key (``invalid r_I: ...`` -> ``xfem.r_I``; the core's
+    ``cracks[k]`` -> ``crack[k]``, ``crack`` for k = 0)."""
     msg = str(err)
     if err.param is None and msg.startswith("invalid ") and ":" in msg:
-        key = _XFEM_PARAMS.get(msg[len("invalid ") : msg.index(":")])
+        core = msg[len("invalid ") : msg.index(":")]
+        key = _XFEM_PARAMS.get(core)
+        if core.startswith("cracks[") and core.endswith("]"):
+            k = int(core[len("cracks[") : -1])
+            key = "crack.a0" if k == 0 else f"crack[{k}]"
         if key is not None:
             return InvalidParameterError(f"invalid {key} (core: {msg})", key)
     return err
@@ -243,7 +261,8 @@ def _run_xfem(scene: Scene, progress: ProgressCallback | None) -> Result:
             **_plate_kwargs(scene),
             nx=mesh.nx,
             ny=mesh.ny,
-            crack=c.polyline(),
+            crack=c.polyline(scene.plate),
+            extra_cracks=[e.polyline(scene.plate) for e in scene.extra_cracks],
             nsub=x.nsub,
             tip_nsub=x.tip_nsub,
             r_i=x.r_I,
@@ -295,7 +314,10 @@ def _run_xfem(scene: Scene, progress: ProgressCallback | None) -> Result:
             },
             r_I=float(out["r_i"]),
             r_I_elements=x.r_I,
-            crack_initial=[list(map(float, q)) for q in c.polyline()],
+            crack_initial=[list(map(float, q)) for q in c.polyline(scene.plate)],
+            cracks_initial=[
+                [list(map(float, q)) for q in e.polyline(scene.plate)] for e in scene.cracks
+            ],
             timings={"rust_s": float(out["wall_time_s"])},
         ),
     )

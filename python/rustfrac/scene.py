@@ -17,7 +17,7 @@ TOML layout (only ``method`` is required; omitted sections and keys take the pap
     [plate]     width = 11.0, height = 21.0                         # W along x1, L along x2
     [material]  E = 10000.0, nu = 0.25, plane = "strain", thickness = 1.0, G0 = 0.367
     [load]      bc = "free", u0 = 0.01, traction = 9.993            # bc: free | clamped | traction
-    [crack]     kind = "seam", a0 = 1.1, y = 10.5, angle = 0.0, x = 5.5
+    [crack]     kind = "seam", a0 = 1.1, y = 10.5, angle = 0.0, x = 5.5, side = "left"
                 # fem: none | seam; xfem: edge | center; pd, ccm_pd: none | edge (angle 0)
     [mesh]      nx = 44, ny = 83, gauss = 2                         # fem and xfem
     [xfem]      nsub = 4, tip_nsub = 0, r_I = 2.5, fixed_area_radius = 0.0,
@@ -33,7 +33,14 @@ Cracks: ``kind = "edge"`` starts on the left edge at (0, ``y``) and runs a lengt
 ``angle`` degrees from the x1 axis (counter-clockwise; PD: 0 only); ``kind = "center"`` (XFEM) is
 an interior crack of half-length ``a0`` centred at (``x``, ``y``) at ``angle`` degrees; ``"seam"``
 (FEM) duplicates the nodes of the grid line nearest ``y`` from x1 = 0 to ``a0``. The crack must lie
-inside the plate (tips strictly inside).
+inside the plate (tips strictly inside). An XFEM edge crack may start on any ``side`` ("left",
+"right": at height ``y``; "bottom", "top": at abscissa ``x``), ``angle`` then being measured
+counter-clockwise from that side's inward normal.
+
+Several cracks (XFEM only): write an array of tables instead of the single ``[crack]`` table,
+one ``[[crack]]`` per crack (the first is the primary crack: CMOD and the history's ``a`` refer
+to it); in Python pass ``crack=[Crack(...), ...]`` (or ``extra_cracks``). Cracks must neither
+cross nor touch each other; errors name ``crack[k].<key>`` for the k-th crack (k >= 1).
 
 
 ``[pd]``: ``center``/``size`` give the PD rectangle of ``ccm_pd`` (pure ``pd`` covers the whole plate
@@ -247,19 +254,26 @@ class Load(_Section):
     }
 
 
+_SIDES: tuple[str, ...] = ("left", "right", "bottom", "top")
+
+
 @dataclass(frozen=True)
 class Crack(_Section):
     """A straight crack. ``kind``: "none" (uncracked), "seam" (FEM: duplicated nodes on the grid
     line nearest x2 = ``y``, from x1 = 0 to ``a0``), "edge" (from (0, ``y``), length ``a0``, at
     ``angle`` degrees from x1, -90 < angle < 90; XFEM level set / PD pre-broken bonds, PD angle 0
     only) or "center" (XFEM: interior crack centred at (``x``, ``y``), half-length ``a0``, at
-    ``angle`` degrees). ``x`` is used by "center" cracks only."""
+    ``angle`` degrees). ``x`` is used by "center" cracks and by edge cracks on the bottom or top.
+    ``side`` (XFEM edge cracks): the edge the crack starts from, "left" (default; mouth (0, y)),
+    "right" (mouth (width, y)), "bottom" (mouth (x, 0)) or "top" (mouth (x, height)); ``angle``
+    is measured counter-clockwise from that side's inward normal (+x1 for "left")."""
 
     kind: str = "seam"
     a0: float = 1.1
     y: float = 10.5
     angle: float = 0.0
     x: float = 5.5
+    side: str = "left"
     _name: ClassVar[str] = "crack"
     _specs: ClassVar[dict[str, _Spec]] = {
         "kind": _choice("none", "seam", "edge", "center"),
@@ -269,11 +283,12 @@ class Crack(_Section):
             "float", "-180 <= angle <= 180 degrees", lambda v: math.isfinite(v) and abs(v) <= 180
         ),
         "x": _POS,
+        "side": _choice(*_SIDES),
     }
 
-    def polyline(self) -> list[tuple[float, float]]:
+    def polyline(self, plate: Plate | None = None) -> list[tuple[float, float]]:
         """The crack as two points: (mouth, tip) for "edge" and "seam", (tip, tip) for "center";
-        empty for "none"."""
+        empty for "none". Edge cracks on the right or top side need the ``plate``."""
         if self.kind == "none":
             return []
         t = math.radians(self.angle)
@@ -285,7 +300,19 @@ class Crack(_Section):
             ]
         if self.kind == "seam":
             return [(0.0, self.y), (self.a0, self.y)]
-        return [(0.0, self.y), (self.a0 * c, self.y + self.a0 * s)]
+        if self.side in ("right", "top") and plate is None:
+            raise ValueError(f"an edge crack on the {self.side} side needs the plate")
+        w = plate.width if plate is not None else 0.0
+        h = plate.height if plate is not None else 0.0
+        # mouth and inward normal of the side; the crack turns by angle from the normal
+        mouth, n = {
+            "left": ((0.0, self.y), (1.0, 0.0)),
+            "right": ((w, self.y), (-1.0, 0.0)),
+            "bottom": ((self.x, 0.0), (0.0, 1.0)),
+            "top": ((self.x, h), (0.0, -1.0)),
+        }[self.side]
+        d = (n[0] * c - n[1] * s, n[0] * s + n[1] * c)
+        return [mouth, (mouth[0] + self.a0 * d[0], mouth[1] + self.a0 * d[1])]
 
 
 @dataclass(frozen=True)
@@ -446,16 +473,50 @@ class Scene:
     plate: Plate = field(default_factory=Plate)
     material: Material = field(default_factory=Material)
     load: Load = field(default_factory=Load)
-    #: default: the paper's crack, as a seam for "fem" and as an "edge" crack for the others
+    #: default: the paper's crack, as a seam for "fem" and as an "edge" crack for the others;
+    #: a list of cracks (XFEM) is split into ``crack`` (the first) and ``extra_cracks``
     crack: Crack = None  # type: ignore[assignment]
     mesh: MeshOptions = field(default_factory=MeshOptions)
     xfem: XfemOptions = field(default_factory=XfemOptions)
     pd: PdOptions = field(default_factory=PdOptions)
     name: str = ""
+    #: further cracks (XFEM only); ``cracks`` is ``(crack, *extra_cracks)``
+    extra_cracks: tuple[Crack, ...] = ()
+
+    @property
+    def cracks(self) -> tuple[Crack, ...]:
+        """All cracks: the primary ``crack`` first, then ``extra_cracks``."""
+        return (self.crack, *self.extra_cracks)
 
     def __post_init__(self) -> None:
         _coerce("method", _choice(*METHODS), self.method)
         _coerce("name", _Spec("str", "a string"), self.name)
+        extra = self.extra_cracks
+        if isinstance(extra, (Crack, Mapping)) or not isinstance(extra, (list, tuple)):
+            raise InvalidTypeError(
+                f"extra_cracks must be a list of Crack or dicts, got {type(extra).__name__}",
+                "extra_cracks",
+            )
+        if isinstance(self.crack, (list, tuple)):
+            if not self.crack:
+                raise _bad("crack", "expected at least one crack, got an empty list")
+            if extra:
+                raise _bad("crack", "give several cracks either as a list or as extra_cracks")
+            extra = tuple(self.crack[1:])
+            object.__setattr__(self, "crack", self.crack[0])
+        cracks = []
+        for k, c in enumerate(extra, start=1):
+            if isinstance(c, Mapping):
+                try:
+                    c = Crack.from_dict(c)
+                except InvalidParameterError as e:
+                    raise _renamed(e, k) from e
+            elif not isinstance(c, Crack):
+                raise InvalidTypeError(
+                    f"crack[{k}] must be a Crack or a dict, got {type(c).__name__}", f"crack[{k}]"
+                )
+            cracks.append(c)
+        object.__setattr__(self, "extra_cracks", tuple(cracks))
         if self.crack is None:
             object.__setattr__(
                 self, "crack", Crack(kind="seam" if self.method == "fem" else "edge")
@@ -473,13 +534,27 @@ class Scene:
     def _check_consistency(self) -> None:
         m, p, c = self.method, self.plate, self.crack
         kinds = _CRACK_KINDS[m]
-        if c.kind not in kinds:
+        if self.extra_cracks and m != "xfem":
             raise _bad(
-                "crack.kind",
-                f"method {m!r} takes one of {', '.join(map(repr, kinds))}, got {c.kind!r}",
+                "crack",
+                f"method {m!r} takes one crack, got {len(self.cracks)}; several cracks need "
+                "method 'xfem'",
             )
-        if c.kind != "none":
-            self._check_crack_geometry()
+        for k, ck in enumerate(self.cracks):
+            pre = _crack_name(k)
+            if ck.kind not in kinds:
+                raise _bad(
+                    f"{pre}.kind",
+                    f"method {m!r} takes one of {', '.join(map(repr, kinds))}, got {ck.kind!r}",
+                )
+            if ck.kind != "none":
+                self._check_crack_geometry(ck, pre)
+            if m != "xfem" and ck.side != "left":
+                raise _bad(
+                    f"{pre}.side",
+                    f"method {m!r} supports edge cracks from the left side only, got {ck.side!r}",
+                )
+        self._check_cracks_apart()
         if m in ("fem", "pd", "ccm_pd") and c.angle != 0.0:
             raise _bad(
                 "crack.angle",
@@ -494,11 +569,12 @@ class Scene:
                     f"expected 0 (0.7 plate.width) or 0 < a_stop < plate.width = {p.width}, "
                     f"got {x.a_stop}",
                 )
-            if x.a_stop != 0.0 and x.growth_steps > 0 and not x.a_stop > c.a0:
+            a0 = max(ck.a0 for ck in self.cracks)
+            if x.a_stop != 0.0 and x.growth_steps > 0 and not x.a_stop > a0:
                 raise _bad(
                     "xfem.a_stop",
-                    f"growth needs a stop length beyond the initial crack: a_stop > crack.a0 = "
-                    f"{c.a0}, got {x.a_stop}",
+                    f"growth needs a stop length beyond the initial crack(s): a_stop > crack.a0 = "
+                    f"{a0}, got {x.a_stop}",
                 )
         if m in ("pd", "ccm_pd"):
             if self.material.nu != PD_NU:
@@ -538,34 +614,52 @@ class Scene:
                         f"[{x0:.6g}, {x1:.6g}] x [{y0:.6g}, {y1:.6g}]",
                     )
 
-    def _check_crack_geometry(self) -> None:
-        p, c = self.plate, self.crack
+    def _check_cracks_apart(self) -> None:
+        """Refuses cracks that cross or touch (the core cannot model crack junctions)."""
+        lines = [c.polyline(self.plate) for c in self.cracks]
+        tol = 1e-9 * math.hypot(self.plate.width, self.plate.height)
+        for i in range(len(lines)):
+            for j in range(i + 1, len(lines)):
+                if _segment_distance(*lines[i], *lines[j]) <= tol:
+                    raise _bad(
+                        _crack_name(j),
+                        f"cracks must neither cross nor touch each other (junctions are not "
+                        f"modelled): {_crack_name(j)} {lines[j]} meets {_crack_name(i)} "
+                        f"{lines[i]}",
+                    )
+
+    def _check_crack_geometry(self, c: Crack, pre: str = "crack") -> None:
+        p = self.plate
         w, h = p.width, p.height
         if not c.y < h:
-            raise _bad("crack.y", f"expected 0 < y < plate.height = {h}, got {c.y}")
+            raise _bad(f"{pre}.y", f"expected 0 < y < plate.height = {h}, got {c.y}")
         if c.kind in ("seam", "edge"):
             if c.kind == "edge" and not -90.0 < c.angle < 90.0:
                 raise _bad(
-                    "crack.angle",
+                    f"{pre}.angle",
                     f"an edge crack must point into the plate: -90 < angle < 90, got {c.angle}",
                 )
-            tx, ty = c.polyline()[1]
+            if c.kind == "edge" and c.side in ("bottom", "top") and not c.x < w:
+                raise _bad(f"{pre}.x", f"expected 0 < x < plate.width = {w}, got {c.x}")
+            tx, ty = c.polyline(p)[1]
             if not (0.0 < tx < w and 0.0 < ty < h):
                 raise _bad(
-                    "crack.a0",
+                    f"{pre}.a0",
                     f"the crack tip ({tx:.6g}, {ty:.6g}) must lie inside the plate "
                     f"(0, {w}) x (0, {h})"
                     + (
-                        f": expected 0 < a0 < plate.width = {w}, got {c.a0}" if c.angle == 0 else ""
+                        f": expected 0 < a0 < plate.width = {w}, got {c.a0}"
+                        if c.angle == 0 and c.side == "left"
+                        else ""
                     ),
                 )
         elif c.kind == "center":
             if not c.x < w:
-                raise _bad("crack.x", f"expected 0 < x < plate.width = {w}, got {c.x}")
+                raise _bad(f"{pre}.x", f"expected 0 < x < plate.width = {w}, got {c.x}")
             for tx, ty in c.polyline():
                 if not (0.0 < tx < w and 0.0 < ty < h):
                     raise _bad(
-                        "crack.a0",
+                        f"{pre}.a0",
                         f"the centre crack (half-length a0 = {c.a0} at ({c.x}, {c.y}), "
                         f"angle {c.angle}) has a tip at ({tx:.6g}, {ty:.6g}) outside the plate "
                         f"(0, {w}) x (0, {h})",
@@ -601,7 +695,20 @@ class Scene:
         if "name" in d:
             kwargs["name"] = d["name"]
         for key in METHOD_SECTIONS[method]:
-            if key in d:
+            if key not in d:
+                continue
+            if key == "crack" and isinstance(d[key], (list, tuple)):
+                # [[crack]]: an array of tables, one per crack
+                if not d[key]:
+                    raise _bad("crack", "expected at least one [[crack]] table, got none")
+                cracks = []
+                for k, c in enumerate(d[key]):
+                    try:
+                        cracks.append(Crack.from_dict(c))
+                    except (InvalidParameterError, InvalidTypeError) as e:
+                        raise _renamed(e, k) from e
+                kwargs["crack"] = cracks
+            else:
                 kwargs[key] = _SECTIONS[key].from_dict(d[key])
         return cls(**kwargs)
 
@@ -663,17 +770,22 @@ class Scene:
             out["name"] = self.name
         for key in METHOD_SECTIONS[self.method]:
             out[key] = getattr(self, key).to_dict()
+        if self.extra_cracks:
+            out["crack"] = [c.to_dict() for c in self.cracks]
         return out
 
     def to_toml(self) -> str:
         """The scene as TOML text; ``Scene.from_toml_str(s.to_toml()) == s``."""
         d = self.to_dict()
-        lines = [f"{k} = {_toml_value(v)}" for k, v in d.items() if not isinstance(v, dict)]
+        lines = [
+            f"{k} = {_toml_value(v)}" for k, v in d.items() if not isinstance(v, (dict, list))
+        ]
         for k, v in d.items():
-            if isinstance(v, dict):
+            tables = [v] if isinstance(v, dict) else v if isinstance(v, list) else []
+            for t in tables:
                 lines.append("")
-                lines.append(f"[{k}]")
-                lines.extend(f"{kk} = {_toml_value(vv)}" for kk, vv in v.items())
+                lines.append(f"[{k}]" if isinstance(v, dict) else f"[[{k}]]")
+                lines.extend(f"{kk} = {_toml_value(vv)}" for kk, vv in t.items())
         return "\n".join(lines) + "\n"
 
     def save_toml(self, path: PathLike) -> Path:
@@ -693,6 +805,8 @@ class Scene:
             crack = f"{c.kind} crack a0={c.a0:g} at x2={c.y:g}"
         if c.kind != "none" and c.angle != 0.0:
             crack += f", angle {c.angle:g} deg"
+        if self.extra_cracks:
+            crack += f" and {len(self.extra_cracks)} more crack(s)"
         if self.method == "xfem" and self.xfem.growth_steps > 0:
             crack += f", up to {self.xfem.growth_steps} growth steps"
         if self.method in ("fem", "xfem"):
@@ -708,6 +822,49 @@ class Scene:
             f"method {self.method}, plate {self.plate.width:g} x {self.plate.height:g}, {crack}, "
             f"bc {self.load.bc} ({load}), {disc}"
         )
+
+
+def _crack_name(k: int) -> str:
+    """The scene name of crack k: "crack" for the primary crack, "crack[k]" for the others."""
+    return "crack" if k == 0 else f"crack[{k}]"
+
+
+def _renamed(e: InvalidParameterError | InvalidTypeError, k: int) -> Any:
+    """An error about ``crack.<key>`` re-issued for crack k (``crack[k].<key>``)."""
+    if k == 0:
+        return e
+    param = (e.param or "crack").replace("crack", _crack_name(k), 1)
+    msg = str(e).replace("crack.", f"{_crack_name(k)}.").replace("[crack]", f"[[crack]] {k}")
+    return type(e)(msg, param)
+
+
+def _point_segment_distance(
+    x: tuple[float, float], a: tuple[float, float], b: tuple[float, float]
+) -> float:
+    dx, dy = b[0] - a[0], b[1] - a[1]
+    t = min(1.0, max(0.0, ((x[0] - a[0]) * dx + (x[1] - a[1]) * dy) / (dx * dx + dy * dy)))
+    return math.hypot(x[0] - a[0] - t * dx, x[1] - a[1] - t * dy)
+
+
+def _segment_distance(
+    a: tuple[float, float],
+    b: tuple[float, float],
+    c: tuple[float, float],
+    d: tuple[float, float],
+) -> float:
+    """Smallest distance between the segments a-b and c-d (0 when they cross)."""
+
+    def cross(o: tuple[float, float], p: tuple[float, float], q: tuple[float, float]) -> float:
+        return (p[0] - o[0]) * (q[1] - o[1]) - (p[1] - o[1]) * (q[0] - o[0])
+
+    if cross(a, b, c) * cross(a, b, d) < 0 and cross(c, d, a) * cross(c, d, b) < 0:
+        return 0.0
+    return min(
+        _point_segment_distance(a, c, d),
+        _point_segment_distance(b, c, d),
+        _point_segment_distance(c, a, b),
+        _point_segment_distance(d, a, b),
+    )
 
 
 def _toml_value(v: Any) -> str:

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
+from typing import Any
+
 from .scene import (
     Crack,
     Load,
@@ -55,6 +58,7 @@ def edge_crack_plate(
     stop_crack_length: float = 0.0,
     damage_at_steps: tuple[int, ...] | list[int] = (),
     name: str = "",
+    cracks: Sequence[Crack | Mapping[str, Any]] | None = None,
 ) -> Scene:
     """The paper's edge-cracked plate (section 3).
 
@@ -81,6 +85,10 @@ def edge_crack_plate(
             PD rectangle of the CCM-PD model (pure PD covers the plate), and SLA steps.
         tie_tol, refactor_every, fast, stop_crack_length, damage_at_steps: SLA options (see
             :class:`~rustfrac.scene.PdOptions`).
+        cracks: XFEM only: several cracks, each a :class:`~rustfrac.scene.Crack` or a dict of
+            its keys (e.g. ``{"kind": "edge", "side": "right", "a0": 1.1, "y": 10.5}``), in place
+            of the single crack that ``crack``, ``a0``, ``crack_y``, ``crack_angle`` and
+            ``crack_x`` describe; the first is the primary crack (CMOD, history ``a``).
 
     Every value is validated; bad ones raise :class:`~rustfrac.errors.InvalidParameterError`.
     """
@@ -98,7 +106,11 @@ def edge_crack_plate(
         plate=Plate(width=width, height=height),
         material=Material(E=E, nu=nu, plane=plane, thickness=thickness, G0=G0),
         load=Load(bc=bc, u0=u0, traction=traction),
-        crack=Crack(kind=crack, a0=a0, y=crack_y, angle=crack_angle, x=crack_x),
+        crack=(
+            Crack(kind=crack, a0=a0, y=crack_y, angle=crack_angle, x=crack_x)
+            if cracks is None
+            else list(cracks)  # type: ignore[arg-type]  # Scene splits and validates the list
+        ),
         mesh=MeshOptions(nx=nx, ny=ny, gauss=gauss),
         xfem=XfemOptions(
             nsub=nsub,

@@ -46,7 +46,7 @@ fn williams_case(
     for &nd in &nodes {
         let mut x = mesh.coords[nd];
         // on the crack faces at the mouth take the side of the node's Heaviside value
-        if (x[0] + 1.0).abs() < 1e-12 && model.crack.level_set(x).abs() < 1e-12 {
+        if (x[0] + 1.0).abs() < 1e-12 && model.cracks[0].level_set(x).abs() < 1e-12 {
             x[1] -= 1e-12;
         }
         let u = exact(x);

@@ -288,7 +288,9 @@ fn solve_fem_plate<'py>(
 /// with `growth_steps > 0`, quasi-static LEFM crack growth (`rustfrac_core::xfem::run`).
 ///
 /// `crack` is a polyline [(x1, x2), ...] with at least two points; an end on the plate boundary is
-/// a mouth (edge crack), an end inside is a tip. `tip_nsub = 0` means `nsub`; `r_i` and
+/// a mouth (edge crack), an end inside is a tip. `extra_cracks` are further polylines (several
+/// cracks: they must neither cross nor touch, nor put tips of two cracks in one element; errors
+/// name "cracks" or "cracks[k]"). Tips are numbered crack by crack (`crack` first). `tip_nsub = 0` means `nsub`; `r_i` and
 /// `extra_radii` are in tip-element lengths; `fixed_area_radius = None` enriches the tip element
 /// nodes only; growth needs `g0`; `da = None` grows one element length per step and
 /// `a_stop = None` stops at 0.7 width.
@@ -299,19 +301,25 @@ fn solve_fem_plate<'py>(
 /// first: u[:n_std] are the nodal displacements), heaviside_nodes, tip_nodes (int64),
 /// crack (k,2) (final polyline), crack_initial (k0,2), radii (r,5) [radius, K_I, K_II, J_from_K,
 /// J_domain] sorted by radius, radii_factor (r,), tips (t,6) [x1, x2, K_I, K_II, J_from_K,
-/// J_domain], deformed_cells and deformed_disp (c,4,2) (near the primary tip; plot
+/// J_domain] for every tip, tip_crack (t,) int64 (the crack of each tip: 0 = `crack`, k =
+/// extra_cracks[k-1]), cracks (P,2) with cracks_offsets (C+1,) int64 (final polylines of all
+/// cracks, crack k = rows offsets[k]..offsets[k+1]), deformed_cells and deformed_disp (c,4,2)
+/// (near the primary tip; plot
 /// cells + scale * disp), snapshot_cells / snapshot_disp (C,4,2) with snapshot_offsets (s+1,)
 /// (the patch around the growing tip at each critical state, displacements at the critical load;
 /// snapshot k belongs to history row k + 1), and the growth history as history_<name> arrays (load_factor, sigma22,
-/// cmod, u0, traction, a, K_I, K_II, kink_angle, tip_x, tip_y; empty without growth;
-/// history[0] is the unloaded origin).
+/// cmod, u0, traction, a, K_I, K_II, kink_angle, tip_x, tip_y: the most critical tip; empty
+/// without growth; history[0] is the unloaded origin) with every tip's state in tip_history_x,
+/// tip_history_y, tip_history_K_I, tip_history_K_II, tip_history_kink_angle and
+/// tip_history_grows (1.0 if the tip grew after that state) as (s, t) float64 arrays.
 ///
 /// Progress: `progress(done, total, message)` after the first solve and after each growth step
 /// (the core cannot be interrupted mid-run: an exception from the callback is re-raised when the
 /// run returns).
 #[pyfunction]
 #[pyo3(signature = (*, width, height, nx, ny, e, nu, plane = "strain", thickness = 1.0,
-                    bc = "free", u0 = 0.0, traction = 0.0, crack, nsub = 4, tip_nsub = 0,
+                    bc = "free", u0 = 0.0, traction = 0.0, crack, extra_cracks = vec![],
+                    nsub = 4, tip_nsub = 0,
                     r_i = 2.5, extra_radii = vec![1.5, 2.0, 3.0, 3.5], fixed_area_radius = None,
                     area_threshold = xfem::DEFAULT_AREA_THRESHOLD, growth_steps = 0, g0 = None,
                     da = None, a_stop = None, progress = None))]
@@ -330,6 +338,7 @@ fn solve_xfem_plate<'py>(
     u0: f64,
     traction: f64,
     crack: Vec<[f64; 2]>,
+    extra_cracks: Vec<Vec<[f64; 2]>>,
     nsub: usize,
     tip_nsub: usize,
     r_i: f64,
@@ -368,6 +377,7 @@ fn solve_xfem_plate<'py>(
             ny,
             material: material(e, nu, plane, thickness)?,
             crack,
+            extra_cracks,
             load: PlateLoad {
                 grip: Grip::parse(bc)?,
                 u0,
@@ -427,6 +437,32 @@ fn solve_xfem_plate<'py>(
         .map(|(p, s)| [p[0], p[1], s.k_i, s.k_ii, s.j_from_k, s.j_domain])
         .collect();
     d.set_item("tips", arr2(py, tips))?;
+    d.set_item("tip_crack", index_i64(py, &r.tip_crack))?;
+    let mut offsets: Vec<i64> = vec![0];
+    let mut pts: Vec<[f64; 2]> = Vec::new();
+    for c in &r.cracks {
+        pts.extend_from_slice(c);
+        offsets.push(pts.len() as i64);
+    }
+    d.set_item("cracks", arr2(py, pts))?;
+    d.set_item("cracks_offsets", PyArray1::from_vec(py, offsets))?;
+    let n_tips = r.tips.len();
+    let tip_col = |f: fn(&xfem::TipStep) -> f64| {
+        let flat: Vec<f64> = r.tip_history.iter().flatten().map(f).collect();
+        Array2::from_shape_vec((r.tip_history.len(), n_tips), flat)
+            .expect("one entry per tip and state")
+            .into_pyarray(py)
+            .into_any()
+    };
+    d.set_item("tip_history_x", tip_col(|s| s.pos[0]))?;
+    d.set_item("tip_history_y", tip_col(|s| s.pos[1]))?;
+    d.set_item("tip_history_K_I", tip_col(|s| s.k_i))?;
+    d.set_item("tip_history_K_II", tip_col(|s| s.k_ii))?;
+    d.set_item("tip_history_kink_angle", tip_col(|s| s.kink_angle))?;
+    d.set_item(
+        "tip_history_grows",
+        tip_col(|s| f64::from(u8::from(s.grows))),
+    )?;
     d.set_item("deformed_cells", quads(py, r.deformed.cells))?;
     d.set_item("deformed_disp", quads(py, r.deformed.disp))?;
     // growth snapshots: concatenated cells, snapshot k = rows offsets[k]..offsets[k+1]
