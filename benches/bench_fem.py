@@ -172,7 +172,7 @@ def work_rust_phases(nx: int, ny: int, binary: str) -> dict:
     ru = resource.getrusage(resource.RUSAGE_CHILDREN)
     return {
         "assemble_s": ph["pattern"] + ph["assemble"],
-        "reduce_s": ph["reduce"],
+        "reduce_s": ph["reduce"] + ph.get("gather", 0.0),
         "symbolic_s": ph["symbolic"],
         "numeric_s": ph["numeric"],
         "solve_s": ph["solve"],

@@ -387,11 +387,10 @@ impl LinearSystem {
         dof_xy: Option<&[[f64; 2]]>,
     ) -> Result<Self> {
         let (mask, prescribed) = bc.to_mask(k.ncols)?;
-        let reduction = Reduction::new(&k, &mask)?;
-        let kff = reduction.reduce(&k);
+        let mut reduction = Reduction::new(&k, &mask)?;
         let free_xy: Option<Vec<[f64; 2]>> =
             dof_xy.map(|xy| reduction.free.iter().map(|&d| xy[d]).collect());
-        let chol = Cholesky::new_with(&kff, free_xy.as_deref())?;
+        let chol = reduction.with_reduced(&k, |kff| Cholesky::new_with(kff, free_xy.as_deref()))?;
         Ok(Self {
             k,
             reduction,
@@ -402,8 +401,8 @@ impl LinearSystem {
 
     /// Replaces the matrix values (same pattern) and refactorises, reusing the symbolic analysis.
     pub fn refactor(&mut self, k: CscMatrix) -> Result<()> {
-        let kff = self.reduction.reduce(&k);
-        self.chol.factorize(&kff)?;
+        let chol = &mut self.chol;
+        self.reduction.with_reduced(&k, |kff| chol.factorize(kff))?;
         self.k = k;
         Ok(())
     }

@@ -8,7 +8,7 @@
 //! large grids (the same idea as METIS inside CHOLMOD, with geometry instead of graph
 //! partitioning).
 
-/// Subsets at most this large are numbered as they come (sorted along the split axis).
+/// Subsets at most this large are not split further (numbered in lexicographic order).
 const LEAF: usize = 48;
 
 /// Nested-dissection permutation `perm` (perm[new] = old) of the unknowns of a square matrix with
@@ -36,10 +36,6 @@ fn dissect(
     out: &mut Vec<usize>,
 ) {
     use std::sync::atomic::Ordering::Relaxed;
-    if set.len() <= LEAF || id >= (1 << 30) {
-        out.extend(set);
-        return;
-    }
     let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
     for &v in &set {
         for a in 0..2 {
@@ -48,6 +44,17 @@ fn dissect(
         }
     }
     let axis = if hi[0] - lo[0] >= hi[1] - lo[1] { 0 } else { 1 };
+    if set.len() <= LEAF || id >= (1 << 30) {
+        // a leaf in lexicographic order (long axis, then short axis, then index): a node's dofs
+        // and the nodes of one grid line stay adjacent, which gives few, wide supernodes
+        set.sort_unstable_by(|&a, &b| {
+            (xy[a][axis].total_cmp(&xy[b][axis]))
+                .then(xy[a][1 - axis].total_cmp(&xy[b][1 - axis]))
+                .then(a.cmp(&b))
+        });
+        out.extend(set);
+        return;
+    }
     let mid = set.len() / 2;
     set.select_nth_unstable_by(mid, |a, b| xy[*a][axis].total_cmp(&xy[*b][axis]));
     // split by value, so that unknowns at one position (a node's dofs, a grid line) stay together

@@ -20,7 +20,7 @@ use faer::linalg::cholesky::llt::factor::LltRegularization;
 use faer::perm::PermRef;
 use faer::prelude::*;
 use faer::sparse::linalg::cholesky::{
-    factorize_symbolic_cholesky, LltRef, SymbolicCholesky, SymmetricOrdering,
+    factorize_symbolic_cholesky, LltRef, SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering,
 };
 use faer::sparse::linalg::solvers::{Lu as FaerLu, SymbolicLu};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
@@ -215,13 +215,7 @@ impl Cholesky {
                 }),
             }
         })?;
-        // faer replaced every pivot <= eps by SENTINEL_PIVOT (its count is not returned by the
-        // sparse API), so the regularised pivots are the factor entries of that magnitude.
-        let count = self
-            .values
-            .iter()
-            .filter(|v| v.abs() >= SENTINEL_PIVOT.sqrt() * 0.5)
-            .count();
+        let count = self.regularised_pivots();
         if count > 0 {
             return Err(Error::Singular {
                 detail: format!(
@@ -232,6 +226,35 @@ impl Cholesky {
         }
         self.factorised = true;
         Ok(())
+    }
+
+    /// Number of pivots faer replaced by [`SENTINEL_PIVOT`] (its count is not returned by the
+    /// sparse API): the diagonal entries of L of that magnitude. In the supernodal storage each
+    /// supernode is a dense column-major block whose leading square holds its diagonal; the
+    /// simplicial storage is scanned whole.
+    fn regularised_pivots(&self) -> usize {
+        let big = SENTINEL_PIVOT.sqrt() * 0.5;
+        match self.symbolic.raw() {
+            SymbolicCholeskyRaw::Supernodal(sn) => {
+                let (begin, end, cpv) = (
+                    sn.supernode_begin(),
+                    sn.supernode_end(),
+                    sn.col_ptr_for_val(),
+                );
+                (0..sn.n_supernodes())
+                    .map(|s| {
+                        let ncols = end[s] - begin[s];
+                        let nrows = (cpv[s + 1] - cpv[s]) / ncols.max(1);
+                        (0..ncols)
+                            .filter(|&j| self.values[cpv[s] + j * nrows + j].abs() >= big)
+                            .count()
+                    })
+                    .sum()
+            }
+            SymbolicCholeskyRaw::Simplicial(_) => {
+                self.values.iter().filter(|v| v.abs() >= big).count()
+            }
+        }
     }
 
     /// Solves A X = B in place; `rhs` is column-major n x k.

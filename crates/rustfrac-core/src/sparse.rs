@@ -175,30 +175,41 @@ impl Pattern {
                 fill[c] += 1;
             }
         }
-        // each column: union of the block rows, sorted unique (parallel over columns)
-        let cols: Vec<Vec<usize>> = (0..n)
-            .into_par_iter()
-            .map(|c| {
-                let mut rows: Vec<usize> = vec![c];
-                for &b in &blocks_of_col[cnt[c]..cnt[c + 1]] {
-                    rows.extend_from_slice(&rows_of[b]);
+        // each column: union of the block rows, sorted unique; built in two parallel passes
+        // (lengths, then rows written in place) with a marker array per task for the duplicates
+        let rows_of_col = |c: usize, mark: &mut Vec<usize>, out: &mut dyn FnMut(usize)| {
+            mark[c] = c;
+            out(c);
+            for &b in &blocks_of_col[cnt[c]..cnt[c + 1]] {
+                for &r in &rows_of[b] {
+                    if mark[r] != c {
+                        mark[r] = c;
+                        out(r);
+                    }
                 }
-                rows.sort_unstable();
-                rows.dedup();
-                rows
+            }
+        };
+        let marker = || vec![usize::MAX; n];
+        let col_ptr = column_pointers(n, marker, |mark, cols| {
+            cols.map(|c| {
+                let mut len = 0;
+                rows_of_col(c, mark, &mut |_| len += 1);
+                len
             })
-            .collect();
-        let mut col_ptr = Vec::with_capacity(n + 1);
-        col_ptr.push(0);
-        let mut total = 0;
-        for c in &cols {
-            total += c.len();
-            col_ptr.push(total);
-        }
-        let mut row_idx = Vec::with_capacity(total);
-        for c in cols {
-            row_idx.extend(c);
-        }
+            .collect()
+        });
+        let mut row_idx = vec![0usize; col_ptr[n]];
+        for_column_chunks(&col_ptr, &mut row_idx, marker, |mark, cols, seg| {
+            let mut k = 0;
+            for c in cols {
+                let start = k;
+                rows_of_col(c, mark, &mut |r| {
+                    seg[k] = r;
+                    k += 1;
+                });
+                seg[start..k].sort_unstable();
+            }
+        });
         let colours = colour_blocks(n, rows_of);
         Ok(Self {
             n,
@@ -232,33 +243,92 @@ impl Pattern {
     where
         F: Fn(usize, &mut Vec<f64>) + Sync,
     {
-        let mut a = self.zeros();
-        let ptr = SyncPtr(a.val.as_mut_ptr());
-        let col_ptr = &a.col_ptr;
-        let row_idx = &a.row_idx;
-        for colour in &self.colours {
-            colour.par_iter().for_each_init(Vec::new, |buf, &b| {
-                buf.clear();
-                block(b, buf);
-                let (rows, cols) = (&rows_of[b], &cols_of[b]);
-                debug_assert_eq!(buf.len(), rows.len() * cols.len());
-                for (j, &c) in cols.iter().enumerate() {
-                    let seg = &row_idx[col_ptr[c]..col_ptr[c + 1]];
-                    for (i, &r) in rows.iter().enumerate() {
-                        let v = buf[i * cols.len() + j];
-                        if v == 0.0 {
-                            continue;
-                        }
-                        let k = col_ptr[c] + seg.binary_search(&r).expect("entry in pattern");
-                        // SAFETY: blocks of one colour write disjoint rows, so no two threads
-                        // touch the same entry `k`; `k` < nnz by construction of the pattern.
-                        unsafe { *ptr.get().add(k) += v };
-                    }
-                }
-            });
+        CscMatrix {
+            nrows: self.n,
+            ncols: self.n,
+            col_ptr: self.col_ptr.clone(),
+            row_idx: self.row_idx.clone(),
+            val: self.values(rows_of, cols_of, block),
         }
-        a
     }
+
+    /// As [`Pattern::assemble`] for a pattern used once: the matrix takes over its structure.
+    pub fn into_matrix<F>(
+        self,
+        rows_of: &[Vec<usize>],
+        cols_of: &[Vec<usize>],
+        block: F,
+    ) -> CscMatrix
+    where
+        F: Fn(usize, &mut Vec<f64>) + Sync,
+    {
+        let val = self.values(rows_of, cols_of, block);
+        CscMatrix {
+            nrows: self.n,
+            ncols: self.n,
+            col_ptr: self.col_ptr,
+            row_idx: self.row_idx,
+            val,
+        }
+    }
+
+    /// The assembled values, in the order of `row_idx`.
+    fn values<F>(&self, rows_of: &[Vec<usize>], cols_of: &[Vec<usize>], block: F) -> Vec<f64>
+    where
+        F: Fn(usize, &mut Vec<f64>) + Sync,
+    {
+        let mut val = vec![0.0; self.row_idx.len()];
+        let ptr = SyncPtr(val.as_mut_ptr());
+        let col_ptr = &self.col_ptr;
+        let row_idx = &self.row_idx;
+        for colour in &self.colours {
+            colour
+                .par_iter()
+                .for_each_init(Scratch::default, |Scratch { buf, order, pos }, &b| {
+                    buf.clear();
+                    block(b, buf);
+                    let (rows, cols) = (&rows_of[b], &cols_of[b]);
+                    debug_assert_eq!(buf.len(), rows.len() * cols.len());
+                    // the block's rows in increasing order, so that each column's positions are
+                    // found by one merge along the (sorted) column instead of a search per entry
+                    order.clear();
+                    order.extend(0..rows.len());
+                    order.sort_unstable_by_key(|&i| rows[i]);
+                    pos.resize(rows.len(), 0);
+                    for (j, &c) in cols.iter().enumerate() {
+                        let (c0, c1) = (col_ptr[c], col_ptr[c + 1]);
+                        let mut k = c0;
+                        for &i in order.iter() {
+                            while row_idx[k] < rows[i] {
+                                k += 1;
+                                assert!(k < c1, "entry in pattern");
+                            }
+                            assert!(row_idx[k] == rows[i], "entry in pattern");
+                            pos[i] = k;
+                        }
+                        for (i, &k) in pos.iter().enumerate() {
+                            let v = buf[i * cols.len() + j];
+                            if v == 0.0 {
+                                continue;
+                            }
+                            // SAFETY: blocks of one colour write disjoint rows, so no two
+                            // threads touch the same entry `k`; `k` < nnz (checked above).
+                            unsafe { *ptr.get().add(k) += v };
+                        }
+                    }
+                });
+        }
+        val
+    }
+}
+
+/// Per-thread buffers of [`Pattern::assemble`]: the block values, its rows in increasing order and
+/// their positions in the current column.
+#[derive(Default)]
+struct Scratch {
+    buf: Vec<f64>,
+    order: Vec<usize>,
+    pos: Vec<usize>,
 }
 
 #[derive(Clone, Copy)]
@@ -271,6 +341,54 @@ impl SyncPtr {
     fn get(self) -> *mut f64 {
         self.0
     }
+}
+
+/// Columns per parallel task when building column structures.
+const COLUMN_CHUNK: usize = 8192;
+
+/// Column pointers of an n-column matrix from the column lengths, computed in parallel over
+/// chunks of columns (`lengths(cols)` returns the lengths of the columns of one chunk).
+/// `init` makes the per-task scratch state.
+fn column_pointers<S, I, F>(n: usize, init: I, lengths: F) -> Vec<usize>
+where
+    I: Fn() -> S + Sync + Send,
+    F: Fn(&mut S, std::ops::Range<usize>) -> Vec<usize> + Sync + Send,
+{
+    let lens: Vec<Vec<usize>> = (0..n.div_ceil(COLUMN_CHUNK))
+        .into_par_iter()
+        .map_init(init, |st, k| {
+            lengths(st, k * COLUMN_CHUNK..((k + 1) * COLUMN_CHUNK).min(n))
+        })
+        .collect();
+    let mut col_ptr = Vec::with_capacity(n + 1);
+    col_ptr.push(0);
+    let mut total = 0;
+    for l in lens.iter().flatten() {
+        total += l;
+        col_ptr.push(total);
+    }
+    col_ptr
+}
+
+/// Runs `fill(cols, seg)` in parallel for the chunks of columns of [`column_pointers`], `seg`
+/// being the part of `data` (laid out by `col_ptr`) that holds those columns.
+fn for_column_chunks<T, S, I, F>(col_ptr: &[usize], data: &mut [T], init: I, fill: F)
+where
+    T: Send,
+    I: Fn() -> S + Sync + Send,
+    F: Fn(&mut S, std::ops::Range<usize>, &mut [T]) + Sync + Send,
+{
+    let n = col_ptr.len() - 1;
+    let mut segs = Vec::with_capacity(n.div_ceil(COLUMN_CHUNK));
+    let mut rest = data;
+    for k in 0..n.div_ceil(COLUMN_CHUNK) {
+        let cols = k * COLUMN_CHUNK..((k + 1) * COLUMN_CHUNK).min(n);
+        let (seg, tail) = rest.split_at_mut(col_ptr[cols.end] - col_ptr[cols.start]);
+        segs.push((cols, seg));
+        rest = tail;
+    }
+    segs.into_par_iter()
+        .for_each_init(init, |st, (cols, seg)| fill(st, cols, seg));
 }
 
 /// Greedy colouring of the blocks: a block takes the lowest colour not yet used by a block that
@@ -327,7 +445,7 @@ pub struct Reduction {
     /// pattern of K_ff (values empty)
     pub reduced: CscMatrix,
     /// for each entry of K_ff, its position in the full matrix's `val`
-    gather: Vec<usize>,
+    gather: Vec<u32>,
 }
 
 impl Reduction {
@@ -349,21 +467,54 @@ impl Reduction {
             }
         }
         let nf = free.len();
-        let mut col_ptr = Vec::with_capacity(nf + 1);
-        let mut row_idx = Vec::new();
-        let mut gather = Vec::new();
-        col_ptr.push(0);
-        for &c in &free {
-            for k in full.col_ptr[c]..full.col_ptr[c + 1] {
-                let r = map[full.row_idx[k]];
-                if r != usize::MAX {
-                    row_idx.push(r);
-                    gather.push(k);
-                }
-            }
-            col_ptr.push(row_idx.len());
+        if full.nnz() > u32::MAX as usize {
+            return Err(Error::invalid(
+                "matrix for the Dirichlet elimination",
+                &format!("at most {} stored entries", u32::MAX),
+                full.nnz(),
+            ));
         }
-        let val = vec![0.0; row_idx.len()];
+        // K_ff column by column (parallel chunks, lengths first, then rows written in place);
+        // each entry remembers its position in the full matrix
+        let free_rows = |c: usize| {
+            (full.col_ptr[free[c]]..full.col_ptr[free[c] + 1])
+                .filter(|&k| map[full.row_idx[k]] != usize::MAX)
+        };
+        let col_ptr = column_pointers(
+            nf,
+            || (),
+            |_, cols| cols.map(|c| free_rows(c).count()).collect(),
+        );
+        let mut row_idx = vec![0usize; col_ptr[nf]];
+        let mut gather = vec![0u32; col_ptr[nf]];
+        for_column_chunks(
+            &col_ptr,
+            &mut row_idx,
+            || (),
+            |_, cols, seg| {
+                let mut i = 0;
+                for c in cols {
+                    for k in free_rows(c) {
+                        seg[i] = map[full.row_idx[k]];
+                        i += 1;
+                    }
+                }
+            },
+        );
+        for_column_chunks(
+            &col_ptr,
+            &mut gather,
+            || (),
+            |_, cols, seg| {
+                let mut i = 0;
+                for c in cols {
+                    for k in free_rows(c) {
+                        seg[i] = k as u32;
+                        i += 1;
+                    }
+                }
+            },
+        );
         Ok(Self {
             map,
             free,
@@ -372,7 +523,7 @@ impl Reduction {
                 ncols: nf,
                 col_ptr,
                 row_idx,
-                val,
+                val: Vec::new(),
             },
             gather,
         })
@@ -380,8 +531,26 @@ impl Reduction {
 
     /// K_ff values from the full matrix (same pattern as at construction).
     pub fn reduce(&self, full: &CscMatrix) -> CscMatrix {
-        let mut r = self.reduced.clone();
-        r.val = self.gather.iter().map(|&k| full.val[k]).collect();
+        CscMatrix {
+            val: self.values(full),
+            ..self.reduced.clone()
+        }
+    }
+
+    /// The entries of K_ff, in the order of `reduced`.
+    fn values(&self, full: &CscMatrix) -> Vec<f64> {
+        self.gather
+            .par_iter()
+            .map(|&k| full.val[k as usize])
+            .collect()
+    }
+
+    /// Calls `f` with K_ff (values from `full`) without copying the reduced pattern: the values
+    /// are set in `reduced` for the duration of the call.
+    pub fn with_reduced<R>(&mut self, full: &CscMatrix, f: impl FnOnce(&CscMatrix) -> R) -> R {
+        self.reduced.val = self.values(full);
+        let r = f(&self.reduced);
+        self.reduced.val = Vec::new();
         r
     }
 

@@ -1176,7 +1176,7 @@ impl XfemModel {
             .map(|e| self.element_dofs(e))
             .collect();
         let pattern = Pattern::symmetric(self.n_dofs, &blocks)?;
-        Ok(pattern.assemble(&blocks, &blocks, |e, out| self.element_block(e, out)))
+        Ok(pattern.into_matrix(&blocks, &blocks, |e, out| self.element_block(e, out)))
     }
 
     /// Displacement of the enriched field at a point (None outside the plate).

@@ -6,6 +6,7 @@ use rustfrac_core::loading::{plate_conditions, sigma22, Grip, PlateEdges, PlateL
 use rustfrac_core::material::{Elastic, Plane};
 use rustfrac_core::mesh::{Mesh, Side};
 use rustfrac_core::solver::{Cholesky, Lu};
+use rustfrac_core::sparse::CscMatrix;
 use rustfrac_core::Error;
 
 #[test]
@@ -214,4 +215,46 @@ fn missing_constraints_are_reported_as_singular() {
         LinearSystem::new(model.stiffness(), &Dirichlet::default()),
         Err(Error::Singular { .. })
     ));
+}
+
+#[test]
+fn zero_pivot_is_reported_in_a_large_supernodal_factor() {
+    // 2D Laplacian on a 150 x 150 grid (22 500 unknowns, nested dissection: supernodal factor)
+    // with one unknown decoupled and its diagonal zero: exactly one zero pivot
+    let (m, hole) = (150usize, 150 * 75 + 75);
+    let mut trip = Vec::new();
+    for j in 0..m {
+        for i in 0..m {
+            let v = j * m + i;
+            if v == hole {
+                trip.push((v, v, 0.0));
+                continue;
+            }
+            trip.push((v, v, 4.0));
+            for (di, dj) in [(1i64, 0i64), (-1, 0), (0, 1), (0, -1)] {
+                let (a, b) = (i as i64 + di, j as i64 + dj);
+                if (0..m as i64).contains(&a) && (0..m as i64).contains(&b) {
+                    let w = b as usize * m + a as usize;
+                    if w != hole {
+                        trip.push((v, w, -1.0));
+                    }
+                }
+            }
+        }
+    }
+    let a = CscMatrix::from_triplets(m * m, m * m, &trip).unwrap();
+    let xy: Vec<[f64; 2]> = (0..m * m)
+        .map(|v| [(v % m) as f64, (v / m) as f64])
+        .collect();
+    match Cholesky::new_with(&a, Some(&xy)) {
+        Err(Error::Singular { detail }) => assert!(detail.starts_with("1 pivot"), "{detail}"),
+        Err(e) => panic!("wrong error {e}"),
+        Ok(_) => panic!("a singular matrix was factorised"),
+    }
+    // the same matrix with the hole's diagonal restored factorises
+    let b =
+        CscMatrix::from_triplets(m * m, m * m, &[trip, vec![(hole, hole, 1.0)]].concat()).unwrap();
+    let ch = Cholesky::new_with(&b, Some(&xy)).unwrap();
+    let x = ch.solve(&vec![1.0; m * m]).unwrap();
+    assert!((x[hole] - 1.0).abs() < 1e-12);
 }
