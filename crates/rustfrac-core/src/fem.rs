@@ -8,7 +8,7 @@ use crate::error::{Error, Result};
 use crate::material::Elastic;
 use crate::mesh::{Mesh, Side};
 use crate::quadrature::{subquad_rule, QPoint};
-use crate::solver::Cholesky;
+use crate::solver::{Cholesky, ConditionEstimate};
 use crate::sparse::{CscMatrix, Pattern, Reduction};
 
 /// Bilinear shape functions N1..N4 at (xi, eta), eq. (6).
@@ -406,6 +406,12 @@ impl LinearSystem {
         self.chol.factorize(&kff)?;
         self.k = k;
         Ok(())
+    }
+
+    /// Condition estimate of the factorised K_ff (see [`ConditionEstimate`]; a few extra solves
+    /// with the factor, no refactorisation).
+    pub fn condition_estimate(&self) -> Result<ConditionEstimate> {
+        self.chol.condition_estimate(&self.reduction.reduce(&self.k))
     }
 
     /// Solves for external forces `f` with the prescribed values scaled by `scale`.
