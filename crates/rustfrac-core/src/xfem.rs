@@ -72,6 +72,7 @@ use crate::loading::{plate_conditions, sigma22, Grip, PlateEdges, PlateLoad};
 use crate::material::Elastic;
 use crate::mesh::Mesh;
 use crate::quadrature::{subquad_rule, QPoint};
+use crate::solver::{condition_warning, ConditionEstimate};
 use crate::sif::{k_equivalent, kink_angle, DomainIntegral, DomainSifs};
 use crate::sparse::{CscMatrix, Pattern};
 use std::collections::HashMap;
@@ -1150,7 +1151,9 @@ impl XfemModel {
                 }
                 // to the tip frame: x~ = R (x - tip), R = [[c, s], [-s, c]]
                 let d = sub(x, tp.pos);
-                let xl = [c * d[0] + s * d[1], -s * d[0] + c * d[1]];
+                // the auxiliary fields are discontinuous across the crack too: points on it take
+                // the face the computed field gives them
+                let xl = on_face(&tp, [c * d[0] + s * d[1], -s * d[0] + c * d[1]], self.crack.snap);
                 let gql = [c * gq[0] + s * gq[1], -s * gq[0] + c * gq[1]];
                 // G~ = R G R^T
                 let rg = [
@@ -1347,6 +1350,8 @@ pub struct GrowthStep {
     pub kink_angle: f64,
     /// position of the (most critical) tip
     pub tip: [f64; 2],
+    /// condition estimate of this step's solve ([`ConditionEstimate::value`]; 0 for the origin)
+    pub condition: f64,
 }
 
 /// Result of [`run`].
@@ -1396,6 +1401,10 @@ pub struct XfemResult {
     /// growth runs: the deformed patch around the growing tip at every critical state
     /// (displacements at the critical load, i.e. scaled by lambda), for Fig. 8b
     pub snapshots: Vec<DeformedPatch>,
+    /// condition estimate of the initial crack's solve (see [`ConditionEstimate`])
+    pub condition: ConditionEstimate,
+    /// numerical warnings (e.g. a condition estimate above [`crate::solver::COND_WARN`])
+    pub warnings: Vec<String>,
 }
 
 /// One solve of a plate model at the reference load.
@@ -1404,6 +1413,7 @@ struct PlateSolve {
     sigma22: f64,
     cmod: f64,
     anchor: usize,
+    condition: ConditionEstimate,
 }
 
 fn solve_plate(
@@ -1416,6 +1426,7 @@ fn solve_plate(
     let (bc, f, anchor) = plate_conditions(edges, load, model.n_dofs, t)?;
     let sys = LinearSystem::with_positions(model.stiffness()?, &bc, Some(&model.dof_positions()))?;
     let sol = sys.solve(&f, 1.0)?;
+    let condition = sys.condition_estimate()?;
     let s22 = sigma22(edges, &sol.reactions, &f, width, t);
     let cmod = model.cmod(&sol.u)?;
     Ok(PlateSolve {
@@ -1423,6 +1434,7 @@ fn solve_plate(
         sigma22: s22,
         cmod,
         anchor,
+        condition,
     })
 }
 
@@ -1575,6 +1587,10 @@ pub fn run(params: &XfemParams, progress: &(dyn Fn(usize, usize) + Sync)) -> Res
         crack: model.crack.points.clone(),
         deformed,
         snapshots: Vec::new(),
+        condition: first.condition,
+        warnings: condition_warning("initial solve", &first.condition)
+            .into_iter()
+            .collect(),
     };
     let Some(g) = params.growth else {
         progress(1, 1);
@@ -1596,12 +1612,15 @@ pub fn run(params: &XfemParams, progress: &(dyn Fn(usize, usize) + Sync)) -> Res
         k_ii: 0.0,
         kink_angle: 0.0,
         tip: model.crack.tips[0].pos,
+        condition: 0.0,
     });
     let mut sol = first;
     let (x_max, y_max) = (params.width, params.height);
     for step in 0..g.max_steps {
         if step > 0 {
             sol = solve_plate(&model, &edges, &params.load, params.width)?;
+            res.warnings
+                .extend(condition_warning(&format!("growth step {step}"), &sol.condition));
         }
         let h_t = model.tip_element_size(0);
         let da = g.da.unwrap_or_else(|| model.tip_element_length(0));
@@ -1634,6 +1653,7 @@ pub fn run(params: &XfemParams, progress: &(dyn Fn(usize, usize) + Sync)) -> Res
             k_ii: lam * s.k_ii,
             kink_angle: kinks[t],
             tip: model.crack.tips[t].pos,
+            condition: sol.condition.value(),
         });
         let mut snap = model.deformed_near_tip(&sol.u, t, 5.0 * h_t, 4)?;
         for d in snap.disp.iter_mut().flatten().flatten() {
