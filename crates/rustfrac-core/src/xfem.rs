@@ -46,8 +46,8 @@
 //! is the same polynomial integrand, so it is exact either way).
 //!
 //! # SIFs
-//! Domain interaction integral with the q-function of eq. (29) (q_I = 1 for nodes closer to the tip
-//! than r_I); elements with mixed nodal q form the domain and are integrated with their own rule
+//! Domain interaction integral with the q-function of eq. (29) (q_I = 1 for nodes not farther from
+//! the tip than r_I, with a relative tolerance of 1e-9); elements with mixed nodal q form the domain and are integrated with their own rule
 //! (`nsub x nsub` sub-quads for standard elements). r_I = `r_i_factor` x the tip element's size
 //! sqrt(dx dy). The domain must not reach the plate boundary (a traction-free edge crossing the
 //! domain adds a boundary term the domain form does not contain): such radii are refused.
@@ -72,8 +72,8 @@ use crate::loading::{plate_conditions, sigma22, Grip, PlateEdges, PlateLoad};
 use crate::material::Elastic;
 use crate::mesh::Mesh;
 use crate::quadrature::{subquad_rule, QPoint};
-use crate::solver::{condition_warning, ConditionEstimate};
 use crate::sif::{k_equivalent, kink_angle, DomainIntegral, DomainSifs};
+use crate::solver::{condition_warning, ConditionEstimate};
 use crate::sparse::{CscMatrix, Pattern};
 use std::collections::HashMap;
 use std::sync::Arc;
@@ -784,8 +784,7 @@ impl XfemModel {
                 }
                 for (t, tip) in crack.tips.iter().enumerate() {
                     if let Some(&base) = t_dof[t].get(&n) {
-                        let (fk, _) =
-                            branch_functions_snapped(tip, mesh.coords[n], crack.snap);
+                        let (fk, _) = branch_functions_snapped(tip, mesh.coords[n], crack.snap);
                         for (j, &f) in fk.iter().enumerate() {
                             funcs.push(Func::Branch {
                                 k,
@@ -1084,7 +1083,7 @@ impl XfemModel {
         let h_el = self.tip_element_size(tip);
         // q must vanish on the plate boundary (a traction-free edge with q != 0 would add a
         // boundary term the domain form lacks): every boundary node must lie outside the circle
-        if radius >= dist_b {
+        if radius * (1.0 + 1e-9) >= dist_b {
             return Err(Error::invalid(
                 "r_I",
                 &format!(
@@ -1115,8 +1114,10 @@ impl XfemModel {
             if (mesh.xs[i] - tp.pos[0]).abs() > span || (mesh.ys[j] - tp.pos[1]).abs() > span {
                 continue;
             }
+            // closed disc with a relative tolerance: nodes at distance r (e.g. the two nodes of
+            // an edge whose midpoint is the tip, r = h/2) get the same q whatever the rounding
             let q: [f64; 4] = conn.map(|n| {
-                if norm(sub(mesh.coords[n], tp.pos)) < radius {
+                if norm(sub(mesh.coords[n], tp.pos)) <= radius * (1.0 + 1e-9) {
                     1.0
                 } else {
                     0.0
@@ -1153,7 +1154,11 @@ impl XfemModel {
                 let d = sub(x, tp.pos);
                 // the auxiliary fields are discontinuous across the crack too: points on it take
                 // the face the computed field gives them
-                let xl = on_face(&tp, [c * d[0] + s * d[1], -s * d[0] + c * d[1]], self.crack.snap);
+                let xl = on_face(
+                    &tp,
+                    [c * d[0] + s * d[1], -s * d[0] + c * d[1]],
+                    self.crack.snap,
+                );
                 let gql = [c * gq[0] + s * gq[1], -s * gq[0] + c * gq[1]];
                 // G~ = R G R^T
                 let rg = [
@@ -1508,6 +1513,44 @@ fn validate(p: &XfemParams) -> Result<()> {
     Ok(())
 }
 
+/// Smallest distance, in tip-element lengths, between a crack tip and the plate boundary that the
+/// plate driver accepts: a shorter edge crack or a narrower ligament is not resolved by the mesh.
+/// Measured on the tall strip against Tada (tests/xfem_extremes.rs, benches/RESULTS.md): an edge
+/// crack 0.8 elements long gives K_I 24 % low; a ligament of 2, 4, 8, 16 elements gives K_I 17, 8.4,
+/// 3.6, 1.7 % low (error ~ 0.3 h / ligament), and within one element no q-domain fits.
+pub const MIN_TIP_CLEARANCE: f64 = 2.0;
+
+/// Refuses crack tips closer than [`MIN_TIP_CLEARANCE`] element lengths to the plate boundary.
+fn check_tip_clearance(model: &XfemModel) -> Result<()> {
+    let mesh = &model.mesh;
+    let (w, h) = mesh.size();
+    let (x0, y0) = (mesh.xs[0], mesh.ys[0]);
+    for (t, tip) in model.crack.tips.iter().enumerate() {
+        let p = tip.pos;
+        let d = (p[0] - x0)
+            .min(x0 + w - p[0])
+            .min(p[1] - y0)
+            .min(y0 + h - p[1]);
+        let h_el = model.tip_element_size(t);
+        if d < MIN_TIP_CLEARANCE * h_el * (1.0 - 1e-9) {
+            return Err(Error::invalid(
+                "crack",
+                &format!(
+                    "crack tips at least {MIN_TIP_CLEARANCE} element lengths from the plate \
+                     boundary: the mesh cannot resolve a crack or a ligament shorter than that \
+                     (refine the mesh)"
+                ),
+                format!(
+                    "tip {:?} at {d:.4e} = {:.2} element lengths ({h_el:.4e}) from the boundary",
+                    p,
+                    d / h_el
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// Runs the XFEM plate model: a single solve with SIFs at the reference load, and with
 /// `growth = Some(..)` quasi-static LEFM growth.
 ///
@@ -1518,7 +1561,8 @@ fn validate(p: &XfemParams) -> Result<()> {
 /// a, lambda K_I, lambda K_II, theta_c, tip). Each tip then advances by `da` in the direction
 /// theta_c from its current direction. The run stops with `status` "a_stop reached" once the next
 /// crack would be longer than `a_stop`, "ligament used up" when a new tip would come closer to the
-/// plate boundary than r_I (the remaining ligament no longer holds the SIF domain), "max_steps
+/// plate boundary than r_I or [`MIN_TIP_CLEARANCE`] element lengths (the remaining ligament no
+/// longer holds the SIF domain or is not resolved), "max_steps
 /// reached", or "crack closes (K_eq <= 0)".
 /// `progress(step, max_steps)` is called after each step.
 pub fn run(params: &XfemParams, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<XfemResult> {
@@ -1539,6 +1583,7 @@ pub fn run(params: &XfemParams, progress: &(dyn Fn(usize, usize) + Sync)) -> Res
     };
     let edges = PlateEdges::of_mesh(&mesh);
     let mut model = XfemModel::new(mesh.clone(), params.material, params.crack.clone(), opts)?;
+    check_tip_clearance(&model)?;
     let first = solve_plate(&model, &edges, &params.load, params.width)?;
     let h_tip = model.tip_element_size(0);
     let r_i = params.r_i_factor * h_tip;
@@ -1619,8 +1664,10 @@ pub fn run(params: &XfemParams, progress: &(dyn Fn(usize, usize) + Sync)) -> Res
     for step in 0..g.max_steps {
         if step > 0 {
             sol = solve_plate(&model, &edges, &params.load, params.width)?;
-            res.warnings
-                .extend(condition_warning(&format!("growth step {step}"), &sol.condition));
+            res.warnings.extend(condition_warning(
+                &format!("growth step {step}"),
+                &sol.condition,
+            ));
         }
         let h_t = model.tip_element_size(0);
         let da = g.da.unwrap_or_else(|| model.tip_element_length(0));
@@ -1672,7 +1719,7 @@ pub fn run(params: &XfemParams, progress: &(dyn Fn(usize, usize) + Sync)) -> Res
             ];
             let p = [tip.pos[0] + da * d[0], tip.pos[1] + da * d[1]];
             // the q-domain of the next step must still fit between the tip and the boundary
-            let margin = r.max(0.5 * h_t);
+            let margin = r.max(MIN_TIP_CLEARANCE * h_t);
             if p[0] < margin || p[0] > x_max - margin || p[1] < margin || p[1] > y_max - margin {
                 ligament = true;
             }
