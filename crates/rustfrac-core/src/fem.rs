@@ -411,7 +411,8 @@ impl LinearSystem {
     /// Condition estimate of the factorised K_ff (see [`ConditionEstimate`]; a few extra solves
     /// with the factor, no refactorisation).
     pub fn condition_estimate(&self) -> Result<ConditionEstimate> {
-        self.chol.condition_estimate(&self.reduction.reduce(&self.k))
+        self.chol
+            .condition_estimate(&self.reduction.reduce(&self.k))
     }
 
     /// Solves for external forces `f` with the prescribed values scaled by `scale`.

@@ -363,6 +363,13 @@ impl Lu {
 /// no longer be told apart from discretisation error. Well-posed XFEM models measure 1e5-1e9.
 pub const COND_WARN: f64 = 1e12;
 
+/// Steps of Hager's iteration in [`Cholesky::condition_estimate`]. 0 = its first gradient step
+/// only (2 solves): within 13 % of the exact cond_1 on every test matrix and 0.4 % of the 5-step
+/// estimate on the 352 x 665 plate (tests/xfem_extremes.rs); a solve costs ~10 % of a
+/// factorisation there, so each further step (2 solves, plus 1 for Higham's alternative vector)
+/// is left to [`Cholesky::condition_estimate_with`].
+pub const CONDITION_ITERATIONS: usize = 0;
+
 /// Cheap condition estimate of a factorised SPD matrix A, for the *equilibrated* matrix
 /// A^ = D^(-1/2) A D^(-1/2), D = diag(A) (unit diagonal). Working with A^ makes the numbers
 /// dimensionless and invariant to the units of every unknown (Young's modulus, plate size, the
@@ -408,7 +415,8 @@ impl Cholesky {
                 }
             }
             SymbolicCholeskyRaw::Supernodal(s) => {
-                let (begin, end, cpv) = (s.supernode_begin(), s.supernode_end(), s.col_ptr_for_val());
+                let (begin, end, cpv) =
+                    (s.supernode_begin(), s.supernode_end(), s.col_ptr_for_val());
                 for sn in 0..s.n_supernodes() {
                     let ncols = end[sn] - begin[sn];
                     let nrows = s.supernode(sn).pattern().len() + ncols;
@@ -437,11 +445,21 @@ impl Cholesky {
     /// Condition estimate of the factorised matrix `a` (the matrix passed to the last successful
     /// [`Cholesky::factorize`], full symmetric storage): see [`ConditionEstimate`].
     ///
-    /// Cost: one pass over `a` and the factor's diagonal, plus 2-11 (typically 4-5) solves with
-    /// the factor (Hager's iteration, at most 5 steps, plus Higham's alternative vector); no new
-    /// factorisation. On the 352 x 665 XFEM plate this is ~10 % of the factorisation time
-    /// (benches/RESULTS.md).
+    /// Cost: one pass over `a` and the factor's diagonal, plus 2 solves with the factor
+    /// ([`CONDITION_ITERATIONS`] = 0); no new factorisation. On the 352 x 665 XFEM plate about
+    /// 20 % of the factorisation time (benches/RESULTS.md).
     pub fn condition_estimate(&self, a: &CscMatrix) -> Result<ConditionEstimate> {
+        self.condition_estimate_with(a, CONDITION_ITERATIONS)
+    }
+
+    /// [`Cholesky::condition_estimate`] with at most `iterations` steps of Hager's iteration
+    /// (LAPACK's xLACN2 allows 5; each step costs up to two solves, plus one for Higham's
+    /// alternative vector when `iterations` > 0).
+    pub fn condition_estimate_with(
+        &self,
+        a: &CscMatrix,
+        iterations: usize,
+    ) -> Result<ConditionEstimate> {
         if !self.factorised {
             return Err(Error::Internal {
                 detail: "condition_estimate called before a successful factorize".into(),
@@ -490,9 +508,11 @@ impl Cholesky {
             dmax = dmax.max(dh);
         }
         let pivot_ratio = dmax / dmin;
-        // Hager-Higham on B = A^-1^ = D^(1/2) A^-1 D^(1/2) (symmetric, so B^T = B)
+        // Hager-Higham on B = A^-1^ = D^(1/2) A^-1 D^(1/2) (symmetric, so B^T = B). One
+        // right-hand side per solve: faer's two-column solve measured 7x slower than two
+        // single ones on the 352 x 665 plate.
         let mut solves = 0;
-        let mut apply = |x: &mut Vec<f64>| -> Result<()> {
+        let mut apply = |x: &mut [f64]| -> Result<()> {
             for (v, si) in x.iter_mut().zip(&s) {
                 *v /= si;
             }
@@ -509,6 +529,9 @@ impl Cholesky {
                 .map(|&v| if v >= 0.0 { 1.0 } else { -1.0 })
                 .collect()
         };
+        // Hager's start x = 1/n: ||B x||_1 and ||B sign(B x)||_inf are both lower bounds of
+        // ||B||_1 (the second is a column sum of |B| at most); with `iterations` > 0, Higham's
+        // alternating vector x_i = (-1)^i (1 + i / (n - 1)) and Hager's steps x = e_j follow
         let mut x = vec![1.0 / n as f64; n];
         apply(&mut x)?;
         let mut est = norm1(&x);
@@ -516,8 +539,23 @@ impl Cholesky {
             let mut xi = sign(&x);
             let mut z = xi.clone();
             apply(&mut z)?;
+            est = est.max(z.iter().map(|v| v.abs()).fold(0.0, f64::max));
+            if iterations > 0 {
+                let mut alt: Vec<f64> = (0..n)
+                    .map(|i| {
+                        let m = 1.0 + i as f64 / (n - 1) as f64;
+                        if i % 2 == 0 {
+                            m
+                        } else {
+                            -m
+                        }
+                    })
+                    .collect();
+                apply(&mut alt)?;
+                est = est.max(2.0 * norm1(&alt) / (3.0 * n as f64));
+            }
             let mut jlast = usize::MAX;
-            for _ in 0..5 {
+            for it in 0..iterations {
                 let j = (0..n)
                     .max_by(|&a, &b| z[a].abs().total_cmp(&z[b].abs()))
                     .unwrap_or(0);
@@ -530,7 +568,7 @@ impl Cholesky {
                 apply(&mut y)?;
                 let new = norm1(&y);
                 let sy = sign(&y);
-                if sy == xi || new <= est {
+                if sy == xi || new <= est || it + 1 == iterations {
                     est = est.max(new);
                     break;
                 }
@@ -543,19 +581,6 @@ impl Cholesky {
                     break;
                 }
             }
-            // Higham's alternative vector guards against the rare underestimates of Hager's
-            let mut alt: Vec<f64> = (0..n)
-                .map(|i| {
-                    let v = 1.0 + i as f64 / (n - 1) as f64;
-                    if i % 2 == 0 {
-                        v
-                    } else {
-                        -v
-                    }
-                })
-                .collect();
-            apply(&mut alt)?;
-            est = est.max(2.0 * norm1(&alt) / (3.0 * n as f64));
         }
         let cond1 = norm_a * est;
         if !(cond1.is_finite() && pivot_ratio.is_finite()) {
