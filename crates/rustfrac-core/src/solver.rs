@@ -407,10 +407,9 @@ impl Cholesky {
             SymbolicCholeskyRaw::Simplicial(s) => {
                 let (cp, ri) = (s.col_ptr(), s.row_idx());
                 for (j, dj) in d.iter_mut().enumerate() {
-                    for k in cp[j]..cp[j + 1] {
-                        if ri[k] == j {
-                            *dj = self.values[k] * self.values[k];
-                        }
+                    let (lo, hi) = (cp[j], cp[j + 1]);
+                    if let Some(k) = ri[lo..hi].iter().position(|&r| r == j) {
+                        *dj = self.values[lo + k] * self.values[lo + k];
                     }
                 }
             }
@@ -483,7 +482,7 @@ impl Cholesky {
         let mut s = vec![0.0; n]; // D^(-1/2)
         for (c, sc) in s.iter_mut().enumerate() {
             let dc = a.find(c, c).map_or(0.0, |k| a.val[k]);
-            if !(dc > 0.0) {
+            if dc.is_nan() || dc <= 0.0 {
                 return Err(Error::NotPositiveDefinite {
                     detail: format!("diagonal entry {c} is {dc}"),
                 });
