@@ -408,11 +408,15 @@ impl LinearSystem {
         Ok(())
     }
 
-    /// Condition estimate of the factorised K_ff (see [`ConditionEstimate`]; a few extra solves
-    /// with the factor, no refactorisation).
+    /// Condition estimate of the factorised K_ff (see [`ConditionEstimate`]; two extra solves
+    /// with the factor, K_ff read in place, no refactorisation).
     pub fn condition_estimate(&self) -> Result<ConditionEstimate> {
-        self.chol
-            .condition_estimate(&self.reduction.reduce(&self.k))
+        self.chol.condition_estimate_free(
+            &self.k,
+            &self.reduction.map,
+            &self.reduction.free,
+            crate::solver::CONDITION_ITERATIONS,
+        )
     }
 
     /// Solves for external forces `f` with the prescribed values scaled by `scale`.
