@@ -53,8 +53,8 @@ class Result:
             J_domain], ``radii_factor``, ``tips`` (t, 6) [x1, x2, K_I, K_II, J_from_K,
             J_domain], ``deformed_cells`` / ``deformed_disp`` (c, 4, 2) near the tip.
         history: growth / SLA runs: equal-length arrays ("load_factor", "sigma22", "cmod", "u0",
-            ...; XFEM adds "traction", "a", "K_I", "K_II", "kink_angle", "tip_x", "tip_y", with
-            the unloaded origin first); empty for a single linear solve.
+            ...; XFEM adds "traction", "a", "K_I", "K_II", "kink_angle", "tip_x", "tip_y",
+            "condition", with the unloaded origin first); empty for a single linear solve.
         scalars: further scalars (energy, residual, K_I, K_II, J, gamma, condition, ...).
         meta: version, scene (as a dict), bc variant, anchor node, timings, warnings.
     """
