@@ -9,6 +9,8 @@ import numpy.typing as npt
 
 __version__: str
 PROGRESS_INTERVAL_S: float
+#: condition estimate above which a result carries a warning (rustfrac_core::solver::COND_WARN)
+COND_WARN: float
 
 ProgressCallback = Callable[[int, int, str], Any]
 
@@ -32,7 +34,8 @@ def solve_fem_plate(
     """The paper's plate with plain Q4 FEM (GIL released). Keys: coords (n,2), elements (m,4)
     int64, u (2n,), reactions (2n,), nodal_stress (n,3), gauss_points (g,2), gauss_stress (g,3)
     as float64 arrays; sigma22, cmod, energy, residual, wall_time_s: float; n_dofs, anchor_node:
-    int; seam_y: float | None; bc: str."""
+    int; seam_y: float | None; bc: str; condition (dimensionless condition estimate of the
+    equilibrated stiffness), condition_pivot_ratio: float; warnings: list[str]."""
 
 def solve_fem_grid(
     *,
@@ -85,7 +88,9 @@ def solve_xfem_plate(
     tip-element lengths; ``growth_steps > 0`` runs LEFM growth (needs ``g0``; ``da = None``: one
     element length; ``a_stop = None``: 0.7 width).
 
-    Keys: K_I, K_II, J (from K), J_domain, r_i (absolute), sigma22, cmod, wall_time_s: float;
+    Keys: K_I, K_II, J (from K), J_domain, r_i (absolute), sigma22, cmod, wall_time_s,
+    condition (dimensionless condition estimate of the initial solve), condition_pivot_ratio:
+    float; warnings: list[str];
     n_dofs, n_std, n_heaviside_nodes, n_tip_nodes, n_dropped_nodes, anchor_node: int;
     status, bc: str; coords (n,2), elements (m,4) int64, u (n_dofs,) (u[:n_std] are the nodal
     displacements), heaviside_nodes, tip_nodes (int64), crack (k,2) final polyline,
@@ -96,9 +101,10 @@ def solve_xfem_plate(
     snapshot_offsets (s+1,) (growth: patch k = rows offsets[k]:offsets[k+1], history row k+1);
     growth history (origin first; empty without growth): history_load_factor, history_sigma22,
     history_cmod, history_u0, history_traction, history_a, history_K_I, history_K_II,
-    history_kink_angle, history_tip_x, history_tip_y (the most critical tip), and every tip's
-    state as (s, t) arrays tip_history_x, tip_history_y, tip_history_K_I, tip_history_K_II,
-    tip_history_kink_angle, tip_history_grows (1.0: the tip grew after that state)."""
+    history_kink_angle, history_tip_x, history_tip_y (the most critical tip), history_condition
+    (0 at the origin), and every tip's state as (s, t) arrays tip_history_x, tip_history_y,
+    tip_history_K_I, tip_history_K_II, tip_history_kink_angle, tip_history_grows (1.0: the tip
+    grew after that state)."""
 
 def _progress_demo(steps: int, step_s: float, progress: ProgressCallback | None = None) -> int: ...
 def _panic_demo() -> None: ...

@@ -9,6 +9,7 @@ range, a wrong type, an unknown or missing key) is also a :class:`ValueError` (o
 from __future__ import annotations
 
 __all__ = [
+    "IllConditionedWarning",
     "InternalError",
     "InvalidParameterError",
     "InvalidTypeError",
@@ -53,6 +54,12 @@ class SeparatedError(SingularSystemError):
 
 class InternalError(RustfracError, RuntimeError):
     """An internal failure of the numerical core (e.g. a caught Rust panic). Please report it."""
+
+
+class IllConditionedWarning(RuntimeWarning):
+    """A solve's condition estimate exceeded ``rustfrac._core.COND_WARN`` (1e12): round-off may
+    reach ``condition * 2.2e-16`` relative in the solution. The result is still returned; its
+    ``warnings`` and ``condition`` say which solve."""
 
 
 class MethodNotAvailableError(RustfracError, NotImplementedError):

@@ -56,10 +56,10 @@ class Result:
             ``tip_history_<x|y|K_I|K_II|kink_angle|grows>`` (s, t) (every tip at every history
             row), ``deformed_cells`` / ``deformed_disp`` (c, 4, 2) near the tip.
         history: growth / SLA runs: equal-length arrays ("load_factor", "sigma22", "cmod", "u0",
-            ...; XFEM adds "traction", "a", "K_I", "K_II", "kink_angle", "tip_x", "tip_y", with
-            the unloaded origin first); empty for a single linear solve.
-        scalars: further scalars (energy, residual, K_I, K_II, J, gamma, ...).
-        meta: version, scene (as a dict), bc variant, anchor node, timings.
+            ...; XFEM adds "traction", "a", "K_I", "K_II", "kink_angle", "tip_x", "tip_y",
+            "condition", with the unloaded origin first); empty for a single linear solve.
+        scalars: further scalars (energy, residual, K_I, K_II, J, gamma, condition, ...).
+        meta: version, scene (as a dict), bc variant, anchor node, timings, warnings.
     """
 
     method: str
@@ -134,6 +134,18 @@ class Result:
         return [pts[off[k] : off[k + 1]] for k in range(len(off) - 1)]
 
     @property
+    def condition(self) -> float | None:
+        """Dimensionless condition estimate of the (first) solve: the Hager-Higham 1-norm
+        estimate of the Jacobi-scaled stiffness (FEM and XFEM), else None. Growth runs also have
+        ``history["condition"]`` per step."""
+        return self.scalars.get("condition")
+
+    @property
+    def warnings(self) -> list[str]:
+        """Numerical warnings of the run (e.g. a condition estimate above 1e12)."""
+        return list(self.meta.get("warnings", []))
+
+    @property
     def gamma(self) -> float | None:
         """PD stiffness correction factor (PD and CCM-PD), else None."""
         return self.scalars.get("gamma")
@@ -151,6 +163,8 @@ class Result:
         )
         if self.K_I is not None:
             s += f", K_I = {self.K_I:.6g}, K_II = {self.K_II:.3g}"
+        if self.condition is not None:
+            s += f", condition {self.condition:.2g}"
         if self.history:
             s += f", {len(next(iter(self.history.values())))} history points"
         if "bc" in self.meta:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 import time
+import warnings
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any, Callable
@@ -11,7 +12,12 @@ from typing import Any, Callable
 import numpy as np
 
 from . import _core
-from .errors import InvalidParameterError, InvalidTypeError, MethodNotAvailableError
+from .errors import (
+    IllConditionedWarning,
+    InvalidParameterError,
+    InvalidTypeError,
+    MethodNotAvailableError,
+)
 from .result import Result
 from .scene import Scene
 
@@ -40,6 +46,10 @@ def run(
         InvalidParameterError: the scene is invalid (a ``ValueError``).
         SingularSystemError: the system is singular (a rigid mode left, a separated body).
         MethodNotAvailableError: the method is validated but not bound in this build yet.
+
+    Warns:
+        IllConditionedWarning: a solve's condition estimate exceeded ``_core.COND_WARN`` (the
+            messages are also in ``result.warnings``).
     """
     scene = _as_scene(scene)
     runner = _RUNNERS.get(scene.method)
@@ -51,6 +61,8 @@ def run(
     t0 = time.perf_counter()
     res = runner(scene, progress)
     res.meta.setdefault("timings", {})["total_s"] = time.perf_counter() - t0
+    for msg in res.warnings:
+        warnings.warn(f"{scene.method}: {msg}", IllConditionedWarning, stacklevel=2)
     return res
 
 
@@ -103,6 +115,14 @@ def _plate_kwargs(scene: Scene) -> dict[str, Any]:
     }
 
 
+def _condition_scalars(out: Mapping[str, Any]) -> dict[str, float]:
+    """The solve's condition estimate (FEM and XFEM): see ``Result.condition``."""
+    return {
+        "condition": float(out["condition"]),
+        "condition_pivot_ratio": float(out["condition_pivot_ratio"]),
+    }
+
+
 def _run_fem(scene: Scene, progress: ProgressCallback | None) -> Result:
     load, c, mesh = scene.load, scene.crack, scene.mesh
     out = _core.solve_fem_plate(
@@ -121,12 +141,17 @@ def _run_fem(scene: Scene, progress: ProgressCallback | None) -> Result:
         n_dofs=int(out["n_dofs"]),
         wall_time_s=float(out["wall_time_s"]),
         fields=fields,
-        scalars={"energy": out["energy"], "residual": out["residual"]},
+        scalars={
+            "energy": out["energy"],
+            "residual": out["residual"],
+            **_condition_scalars(out),
+        },
         meta=_meta(
             scene,
             _BC_DESC[load.bc],
             None if load.bc == "clamped" else int(out["anchor_node"]),
             seam_y=out["seam_y"],
+            warnings=list(out["warnings"]),
             timings={"rust_s": float(out["wall_time_s"])},
         ),
     )
@@ -145,6 +170,7 @@ XFEM_HISTORY: tuple[str, ...] = (
     "kink_angle",
     "tip_x",
     "tip_y",
+    "condition",
 )
 _XFEM_SCALARS: tuple[str, ...] = (
     "K_I",
@@ -292,6 +318,7 @@ def _run_xfem(scene: Scene, progress: ProgressCallback | None) -> Result:
     scalars: dict[str, Any] = {k: out[k] for k in _XFEM_SCALARS}
     scalars["r_I"] = scalars.pop("r_i")
     scalars = {k: (int(v) if k.startswith("n_") else float(v)) for k, v in scalars.items()}
+    scalars.update(_condition_scalars(out))
     return Result(
         method="xfem",
         sigma22=float(out["sigma22"]),
@@ -306,6 +333,7 @@ def _run_xfem(scene: Scene, progress: ProgressCallback | None) -> Result:
             _BC_DESC[load.bc],
             None if load.bc == "clamped" else int(out["anchor_node"]),
             status=str(out["status"]),
+            warnings=list(out["warnings"]),
             enrichment={
                 "n_std": n_std,
                 "n_heaviside_nodes": int(out["n_heaviside_nodes"]),

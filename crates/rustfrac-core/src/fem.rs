@@ -8,7 +8,7 @@ use crate::error::{Error, Result};
 use crate::material::Elastic;
 use crate::mesh::{Mesh, Side};
 use crate::quadrature::{subquad_rule, QPoint};
-use crate::solver::Cholesky;
+use crate::solver::{Cholesky, ConditionEstimate};
 use crate::sparse::{CscMatrix, Pattern, Reduction};
 
 /// Bilinear shape functions N1..N4 at (xi, eta), eq. (6).
@@ -405,6 +405,17 @@ impl LinearSystem {
         self.reduction.with_reduced(&k, |kff| chol.factorize(kff))?;
         self.k = k;
         Ok(())
+    }
+
+    /// Condition estimate of the factorised K_ff (see [`ConditionEstimate`]; two extra solves
+    /// with the factor, K_ff read in place, no refactorisation).
+    pub fn condition_estimate(&self) -> Result<ConditionEstimate> {
+        self.chol.condition_estimate_free(
+            &self.k,
+            &self.reduction.map,
+            &self.reduction.free,
+            crate::solver::CONDITION_ITERATIONS,
+        )
     }
 
     /// Solves for external forces `f` with the prescribed values scaled by `scale`.

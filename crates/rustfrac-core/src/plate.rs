@@ -6,6 +6,7 @@ use crate::fem::{FemModel, LinearSystem};
 use crate::loading::{plate_conditions, sigma22, PlateEdges, PlateLoad};
 use crate::material::Elastic;
 use crate::mesh::Mesh;
+use crate::solver::{condition_warning, ConditionEstimate};
 use std::time::Instant;
 
 /// Parameters of a FEM plate run.
@@ -46,6 +47,10 @@ pub struct FemPlateResult {
     /// y of the seam actually used (grid line nearest to the requested one)
     pub seam_y: Option<f64>,
     pub wall_time_s: f64,
+    /// condition estimate of the solve (see [`ConditionEstimate`])
+    pub condition: ConditionEstimate,
+    /// numerical warnings (e.g. a condition estimate above [`crate::solver::COND_WARN`])
+    pub warnings: Vec<String>,
 }
 
 /// Builds and solves the FEM plate.
@@ -82,6 +87,7 @@ pub fn run(p: &FemPlateParams) -> Result<FemPlateResult> {
     let (bc, f, anchor) = plate_conditions(&edges, &p.load, model.n_dofs(), p.material.thickness)?;
     let sys = LinearSystem::with_positions(model.stiffness(), &bc, Some(&model.dof_positions()))?;
     let sol = sys.solve(&f, 1.0)?;
+    let condition = sys.condition_estimate()?;
     let s22 = sigma22(&edges, &sol.reactions, &f, p.width, p.material.thickness);
     let cmod = mouth.map_or(0.0, |(lo, up)| sol.u[2 * up + 1] - sol.u[2 * lo + 1]);
     let (gauss_points, gauss_stress) = model.gauss_stresses(&sol.u);
@@ -102,5 +108,7 @@ pub fn run(p: &FemPlateParams) -> Result<FemPlateResult> {
         anchor_node: anchor,
         seam_y,
         wall_time_s: t0.elapsed().as_secs_f64(),
+        condition,
+        warnings: condition_warning("solve", &condition).into_iter().collect(),
     })
 }

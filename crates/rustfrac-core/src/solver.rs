@@ -376,3 +376,313 @@ impl Lu {
         Ok(x)
     }
 }
+
+/// Relative-accuracy threshold on [`ConditionEstimate::cond1`] above which results carry a
+/// warning. A backward-stable Cholesky solve has a forward error of about `cond eps` in the
+/// norm of the equilibrated (Jacobi-scaled) unknowns (van der Sluis: the diagonal scaling is the
+/// near-optimal one, so this is the number that governs the solve). With eps = 1.1e-16, cond = 1e12
+/// allows errors of ~1e-4 in the displacements and hence in K, CMOD and sigma22: the size of the
+/// discretisation error of the finest meshes we run (6.6e-4 at 352 x 665), so above it round-off can
+/// no longer be told apart from discretisation error. Well-posed XFEM models measure 1e5-1e9.
+pub const COND_WARN: f64 = 1e12;
+
+/// Steps of Hager's iteration in [`Cholesky::condition_estimate`]. 0 = its first gradient step
+/// only (2 solves): within 13 % of the exact cond_1 on every test matrix and 0.4 % of the 5-step
+/// estimate on the 352 x 665 plate (tests/xfem_extremes.rs); a solve costs ~10 % of a
+/// factorisation there, so each further step (2 solves, plus 1 for Higham's alternative vector)
+/// is left to [`Cholesky::condition_estimate_with`].
+pub const CONDITION_ITERATIONS: usize = 0;
+
+/// Cheap condition estimate of a factorised SPD matrix A, for the *equilibrated* matrix
+/// A^ = D^(-1/2) A D^(-1/2), D = diag(A) (unit diagonal). Working with A^ makes the numbers
+/// dimensionless and invariant to the units of every unknown (Young's modulus, plate size, the
+/// sqrt(length) units of the branch-function dofs), and A^ is what governs the accuracy of the
+/// Cholesky solve (van der Sluis 1969; Demmel 1989).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ConditionEstimate {
+    /// Hager-Higham estimate of the 1-norm condition number ||A^||_1 ||A^-1||_1 (Higham 1988,
+    /// LAPACK xLACN2): a lower bound of the true cond_1(A^) that is in practice within a factor
+    /// of 3 of it (usually exact), and an upper bound of cond_2(A^) up to that factor
+    /// (cond_2 <= cond_1 for symmetric matrices).
+    pub cond1: f64,
+    /// ratio of the largest to the smallest pivot of the LDL^T factorisation of A^ (d_i = L_ii^2 /
+    /// A_ii): a guaranteed lower bound of cond_2(A^) (every pivot lies in [lambda_min,
+    /// lambda_max]); free, but may underestimate by orders of magnitude
+    pub pivot_ratio: f64,
+    /// number of solves with the factor the 1-norm estimate used
+    pub solves: usize,
+}
+
+impl ConditionEstimate {
+    /// The estimate reported and compared with [`COND_WARN`]: the larger of the two (both are
+    /// lower bounds of cond_1(A^)).
+    pub fn value(&self) -> f64 {
+        self.cond1.max(self.pivot_ratio)
+    }
+}
+
+impl Cholesky {
+    /// Squared diagonal of L (the LDL^T pivots) indexed by the *original* unknown.
+    fn pivots(&self) -> Vec<f64> {
+        use faer::sparse::linalg::cholesky::SymbolicCholeskyRaw;
+        let mut d = vec![0.0; self.n];
+        match self.symbolic.raw() {
+            SymbolicCholeskyRaw::Simplicial(s) => {
+                let (cp, ri) = (s.col_ptr(), s.row_idx());
+                for (j, dj) in d.iter_mut().enumerate() {
+                    let (lo, hi) = (cp[j], cp[j + 1]);
+                    if let Some(k) = ri[lo..hi].iter().position(|&r| r == j) {
+                        *dj = self.values[lo + k] * self.values[lo + k];
+                    }
+                }
+            }
+            SymbolicCholeskyRaw::Supernodal(s) => {
+                let (begin, end, cpv) =
+                    (s.supernode_begin(), s.supernode_end(), s.col_ptr_for_val());
+                for sn in 0..s.n_supernodes() {
+                    let ncols = end[sn] - begin[sn];
+                    let nrows = s.supernode(sn).pattern().len() + ncols;
+                    let block = &self.values[cpv[sn]..cpv[sn + 1]];
+                    for k in 0..ncols {
+                        let l = block[k * nrows + k];
+                        d[begin[sn] + k] = l * l;
+                    }
+                }
+            }
+        }
+        // pivot k of the permuted matrix belongs to original unknown perm_fwd[k]
+        match self.symbolic.perm() {
+            Some(p) => {
+                let (fwd, _) = p.arrays();
+                let mut out = vec![0.0; self.n];
+                for (k, &o) in fwd.iter().enumerate() {
+                    out[o] = d[k];
+                }
+                out
+            }
+            None => d,
+        }
+    }
+
+    /// Condition estimate of the factorised matrix `a` (the matrix passed to the last successful
+    /// [`Cholesky::factorize`], full symmetric storage): see [`ConditionEstimate`].
+    ///
+    /// Cost: one pass over `a` and the factor's diagonal, plus 2 solves with the factor
+    /// ([`CONDITION_ITERATIONS`] = 0); no new factorisation. On the 352 x 665 XFEM plate 13 % of
+    /// the factorisation time, reading K_ff in place (benches/RESULTS.md).
+    pub fn condition_estimate(&self, a: &CscMatrix) -> Result<ConditionEstimate> {
+        self.condition_estimate_with(a, CONDITION_ITERATIONS)
+    }
+
+    /// [`Cholesky::condition_estimate`] with at most `iterations` steps of Hager's iteration
+    /// (LAPACK's xLACN2 allows 5; each step costs up to two solves, plus one for Higham's
+    /// alternative vector when `iterations` > 0).
+    pub fn condition_estimate_with(
+        &self,
+        a: &CscMatrix,
+        iterations: usize,
+    ) -> Result<ConditionEstimate> {
+        if a.nrows != self.n || a.ncols != self.n {
+            return Err(Error::SizeMismatch {
+                what: "matrix vs factorisation (condition estimate)".into(),
+                expected: self.n,
+                got: a.nrows,
+            });
+        }
+        let diag: Vec<f64> = (0..self.n)
+            .map(|c| a.find(c, c).map_or(0.0, |k| a.val[k]))
+            .collect();
+        self.estimate(&diag, iterations, |s| {
+            // ||A^||_1: largest scaled column sum
+            let mut norm = 0.0f64;
+            for c in 0..a.ncols {
+                let mut sum = 0.0;
+                for k in a.col_ptr[c]..a.col_ptr[c + 1] {
+                    sum += a.val[k].abs() * s[a.row_idx[k]];
+                }
+                norm = norm.max(sum * s[c]);
+            }
+            norm
+        })
+    }
+
+    /// [`Cholesky::condition_estimate`] of the free-free block K_ff of a full matrix, read in
+    /// place through `map` (full dof -> free index or `usize::MAX`) and `free` (free index -> full
+    /// dof), i.e. without gathering K_ff again (see [`crate::sparse::Reduction`]).
+    pub fn condition_estimate_free(
+        &self,
+        full: &CscMatrix,
+        map: &[usize],
+        free: &[usize],
+        iterations: usize,
+    ) -> Result<ConditionEstimate> {
+        if free.len() != self.n || map.len() != full.ncols {
+            return Err(Error::SizeMismatch {
+                what: "free dofs vs factorisation (condition estimate)".into(),
+                expected: self.n,
+                got: free.len(),
+            });
+        }
+        let diag: Vec<f64> = free
+            .iter()
+            .map(|&c| full.find(c, c).map_or(0.0, |k| full.val[k]))
+            .collect();
+        self.estimate(&diag, iterations, |s| {
+            let mut norm = 0.0f64;
+            for (i, &c) in free.iter().enumerate() {
+                let mut sum = 0.0;
+                for k in full.col_ptr[c]..full.col_ptr[c + 1] {
+                    let r = map[full.row_idx[k]];
+                    if r != usize::MAX {
+                        sum += full.val[k].abs() * s[r];
+                    }
+                }
+                norm = norm.max(sum * s[i]);
+            }
+            norm
+        })
+    }
+
+    /// The estimator itself, given the diagonal of A and ||D^-1/2 A D^-1/2||_1 as a function of
+    /// s = D^-1/2.
+    fn estimate(
+        &self,
+        diag: &[f64],
+        iterations: usize,
+        scaled_norm1: impl Fn(&[f64]) -> f64,
+    ) -> Result<ConditionEstimate> {
+        if !self.factorised {
+            return Err(Error::Internal {
+                detail: "condition_estimate called before a successful factorize".into(),
+            });
+        }
+        let n = self.n;
+        if n == 0 {
+            return Ok(ConditionEstimate {
+                cond1: 1.0,
+                pivot_ratio: 1.0,
+                solves: 0,
+            });
+        }
+        let mut s = vec![0.0; n]; // D^(-1/2)
+        for (c, (sc, &dc)) in s.iter_mut().zip(diag).enumerate() {
+            if dc.is_nan() || dc <= 0.0 {
+                return Err(Error::NotPositiveDefinite {
+                    detail: format!("diagonal entry {c} is {dc}"),
+                });
+            }
+            *sc = 1.0 / dc.sqrt();
+        }
+        let norm_a = scaled_norm1(&s);
+        // pivots of A^: d_i / A_ii
+        let piv = self.pivots();
+        let (mut dmin, mut dmax) = (f64::INFINITY, 0.0f64);
+        for (i, &d) in piv.iter().enumerate() {
+            let dh = d * s[i] * s[i];
+            dmin = dmin.min(dh);
+            dmax = dmax.max(dh);
+        }
+        let pivot_ratio = dmax / dmin;
+        // Hager-Higham on B = A^-1^ = D^(1/2) A^-1 D^(1/2) (symmetric, so B^T = B). One
+        // right-hand side per solve: faer's two-column solve measured 7x slower than two
+        // single ones on the 352 x 665 plate.
+        let mut solves = 0;
+        let mut apply = |x: &mut [f64]| -> Result<()> {
+            for (v, si) in x.iter_mut().zip(&s) {
+                *v /= si;
+            }
+            self.solve_in_place(x)?;
+            for (v, si) in x.iter_mut().zip(&s) {
+                *v /= si;
+            }
+            solves += 1;
+            Ok(())
+        };
+        let norm1 = |y: &[f64]| y.iter().map(|v| v.abs()).sum::<f64>();
+        let sign = |y: &[f64]| -> Vec<f64> {
+            y.iter()
+                .map(|&v| if v >= 0.0 { 1.0 } else { -1.0 })
+                .collect()
+        };
+        // Hager's start x = 1/n: ||B x||_1 and ||B sign(B x)||_inf are both lower bounds of
+        // ||B||_1 (the second is a column sum of |B| at most); with `iterations` > 0, Higham's
+        // alternating vector x_i = (-1)^i (1 + i / (n - 1)) and Hager's steps x = e_j follow
+        let mut x = vec![1.0 / n as f64; n];
+        apply(&mut x)?;
+        let mut est = norm1(&x);
+        if n > 1 {
+            let mut xi = sign(&x);
+            let mut z = xi.clone();
+            apply(&mut z)?;
+            est = est.max(z.iter().map(|v| v.abs()).fold(0.0, f64::max));
+            if iterations > 0 {
+                let mut alt: Vec<f64> = (0..n)
+                    .map(|i| {
+                        let m = 1.0 + i as f64 / (n - 1) as f64;
+                        if i % 2 == 0 {
+                            m
+                        } else {
+                            -m
+                        }
+                    })
+                    .collect();
+                apply(&mut alt)?;
+                est = est.max(2.0 * norm1(&alt) / (3.0 * n as f64));
+            }
+            let mut jlast = usize::MAX;
+            for it in 0..iterations {
+                let j = (0..n)
+                    .max_by(|&a, &b| z[a].abs().total_cmp(&z[b].abs()))
+                    .unwrap_or(0);
+                if j == jlast {
+                    break;
+                }
+                jlast = j;
+                let mut y = vec![0.0; n];
+                y[j] = 1.0;
+                apply(&mut y)?;
+                let new = norm1(&y);
+                let sy = sign(&y);
+                if sy == xi || new <= est || it + 1 == iterations {
+                    est = est.max(new);
+                    break;
+                }
+                est = new;
+                xi = sy;
+                z.clone_from(&xi);
+                apply(&mut z)?;
+                let zmax = z.iter().map(|v| v.abs()).fold(0.0, f64::max);
+                if zmax <= z[j].abs() {
+                    break;
+                }
+            }
+        }
+        let cond1 = norm_a * est;
+        if !(cond1.is_finite() && pivot_ratio.is_finite()) {
+            return Err(Error::Singular {
+                detail: format!(
+                    "condition estimate is not finite (cond1 {cond1:e}, pivot ratio {pivot_ratio:e})"
+                ),
+            });
+        }
+        Ok(ConditionEstimate {
+            cond1,
+            pivot_ratio,
+            solves,
+        })
+    }
+}
+
+/// The warning a result carries when a solve's condition estimate exceeds [`COND_WARN`] (None
+/// otherwise); `what` names the solve (e.g. "growth step 12").
+pub fn condition_warning(what: &str, c: &ConditionEstimate) -> Option<String> {
+    (c.value() > COND_WARN).then(|| {
+        format!(
+            "{what}: condition estimate {:.2e} of the equilibrated stiffness exceeds {COND_WARN:.0e}: \
+             round-off may reach {:.0e} relative in the solution (refine or coarsen the mesh near \
+             the crack, or raise area_threshold)",
+            c.value(),
+            c.value() * f64::EPSILON
+        )
+    })
+}

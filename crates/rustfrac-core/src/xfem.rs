@@ -10,8 +10,10 @@
 //! (x - x*) . n (eq. 1) with x* the closest point and n the unit normal obtained by turning the
 //! segment direction (from points[0] towards points[n]) by +90 degrees (the mean of the two
 //! normals at an interior vertex; beyond an end the end segment's line decides, i.e. the
-//! Heaviside function is that of the crack extended straight). H(x) = +1 if phi > 0, else -1
-//! (eq. 1 literally: a point exactly on the crack takes -1).
+//! Heaviside function is that of the crack extended straight). H(x) = +1 if phi > snap, else -1
+//! (eq. 1, with snap = [`SNAP_REL`] x the smallest element spacing): a point on the crack, in
+//! particular a node of a crack running along a mesh line or through nodes, takes -1 whatever the
+//! rounding of its coordinates, so every such node lies on the same side.
 //!
 //! # Enrichment (eqs. 3, 15-19)
 //! * Tip elements: the elements whose closed rectangle contains a tip. Their nodes (plus, with
@@ -81,8 +83,8 @@
 //! fit, which differs from it by up to 1.8 %).
 //!
 //! # SIFs
-//! Domain interaction integral with the q-function of eq. (29) (q_I = 1 for nodes closer to the tip
-//! than r_I); elements with mixed nodal q form the domain and are integrated with their own rule
+//! Domain interaction integral with the q-function of eq. (29) (q_I = 1 for nodes not farther from
+//! the tip than r_I, with a relative tolerance of 1e-9); elements with mixed nodal q form the domain and are integrated with their own rule
 //! (`nsub x nsub` sub-quads for standard elements). r_I = `r_i_factor` x the tip element's size
 //! sqrt(dx dy). The domain must not reach the plate boundary (a traction-free edge crossing the
 //! domain adds a boundary term the domain form does not contain): such radii are refused.
@@ -108,6 +110,7 @@ use crate::material::Elastic;
 use crate::mesh::Mesh;
 use crate::quadrature::{subquad_rule, QPoint};
 use crate::sif::{k_equivalent, kink_angle, DomainIntegral, DomainSifs};
+use crate::solver::{condition_warning, ConditionEstimate};
 use crate::sparse::{CscMatrix, Pattern};
 use std::collections::HashMap;
 use std::sync::Arc;
@@ -124,10 +127,16 @@ pub struct Tip {
     pub at_start: bool,
 }
 
+/// Points closer to the crack than `SNAP_REL` x the smallest element spacing count as lying on it
+/// (H = -1); relative, so the rule does not depend on the units of length.
+pub const SNAP_REL: f64 = 1e-10;
+
 /// A polyline crack with its tips (see the module documentation).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Crack {
     pub points: Vec<[f64; 2]>,
+    /// level-set values |phi| <= snap count as on the crack (`SNAP_REL` x smallest spacing)
+    pub snap: f64,
     /// `points[0]` lies on the plate boundary (edge crack mouth)
     pub mouth: bool,
     /// tips: the last point first (if it is a tip), then the first point (if it is a tip)
@@ -238,6 +247,7 @@ impl Crack {
         }
         Ok(Self {
             points,
+            snap: SNAP_REL * mesh.min_spacing(),
             mouth: start_b,
             tips,
         })
@@ -296,10 +306,10 @@ impl Crack {
         }
     }
 
-    /// Heaviside function of eq. (1).
+    /// Heaviside function of eq. (1); points within `snap` of the crack take -1.
     #[inline]
     pub fn heaviside(&self, x: [f64; 2]) -> f64 {
-        if self.level_set(x) > 0.0 {
+        if self.level_set(x) > self.snap {
             1.0
         } else {
             -1.0
@@ -352,12 +362,36 @@ fn positive_area(poly: &[[f64; 2]], a: [f64; 2], b: [f64; 2]) -> f64 {
     0.5 * area.abs()
 }
 
+/// A tip-frame point behind the tip within `snap` of the tip's line moved onto the H = -1 face
+/// (x~2 = -0 for the last polyline point's tip, +0 for a tip at `points[0]`, whose frame is
+/// reversed), so that atan2 gives the angle of that face whatever the rounding.
+#[inline]
+fn on_face(tip: &Tip, xl: [f64; 2], snap: f64) -> [f64; 2] {
+    if xl[0] < 0.0 && xl[1].abs() <= snap {
+        [xl[0], if tip.at_start { 0.0 } else { -0.0 }]
+    } else {
+        xl
+    }
+}
+
 /// Branch functions of eq. (2) and their global gradients at `x` for a tip.
 #[inline]
 pub fn branch_functions(tip: &Tip, x: [f64; 2]) -> ([f64; 4], [[f64; 2]; 4]) {
+    branch_functions_snapped(tip, x, 0.0)
+}
+
+/// [`branch_functions`] with the crack faces' side fixed the way [`Crack::heaviside`] fixes it:
+/// a point behind the tip within `snap` of the tip's line lies on the H = -1 face (theta = -pi
+/// for the last polyline point's tip, +pi for a tip at `points[0]`, whose frame is reversed).
+/// Without this a node or a Gauss point lying on the crack (a crack through nodes, a sub-quad
+/// point on an element diagonal) takes theta = +pi or -pi by the rounding of its coordinates,
+/// i.e. the branch functions of the wrong face: K_I was off by 2.6 % and K_II by 7 % for a 45
+/// degree crack through nodes (tests/xfem_extremes.rs).
+#[inline]
+pub fn branch_functions_snapped(tip: &Tip, x: [f64; 2], snap: f64) -> ([f64; 4], [[f64; 2]; 4]) {
     let d = sub(x, tip.pos);
     let (c, s) = (tip.dir[0], tip.dir[1]);
-    let (xl, yl) = (c * d[0] + s * d[1], -s * d[0] + c * d[1]);
+    let [xl, yl] = on_face(tip, [c * d[0] + s * d[1], -s * d[0] + c * d[1]], snap);
     let r = xl.hypot(yl);
     let th = yl.atan2(xl);
     let sr = r.sqrt();
@@ -882,7 +916,7 @@ impl XfemModel {
                     let area = (hi[0] - lo[0]) * (hi[1] - lo[1]);
                     let Some(&(k, _)) = crossed.get(&e) else {
                         let c = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
-                        let ap = if crack.level_set(c) > 0.0 { area } else { 0.0 };
+                        let ap = if crack.heaviside(c) > 0.0 { area } else { 0.0 };
                         return (ap, area, ap);
                     };
                     let poly = [lo, [hi[0], lo[1]], hi, [lo[0], hi[1]]];
@@ -893,7 +927,7 @@ impl XfemModel {
                             lo[0] + 0.5 * (q.xi + 1.0) * (hi[0] - lo[0]),
                             lo[1] + 0.5 * (q.eta + 1.0) * (hi[1] - lo[1]),
                         ];
-                        if crack.level_set(x) > 0.0 {
+                        if crack.heaviside(x) > 0.0 {
                             aq += 0.25 * q.w * area;
                         }
                     }
@@ -996,7 +1030,11 @@ impl XfemModel {
                 for &t in tips_of_node.get(&n).map_or(&[][..], |v| v.as_slice()) {
                     let base = t_dof[t][&n];
                     let slot = slot_of(&mut etips, t);
-                    let (fk, _) = branch_functions(&tips[t], mesh.coords[n]);
+                    let (fk, _) = branch_functions_snapped(
+                        &tips[t],
+                        mesh.coords[n],
+                        cracks[tip_crack[t]].snap,
+                    );
                     for (j, &f) in fk.iter().enumerate() {
                         funcs.push(Func::Branch { k, slot, j, fk: f });
                         dofs.extend([base + 2 * j, base + 2 * j + 1]);
@@ -1129,7 +1167,9 @@ impl XfemModel {
         b.h.clear();
         b.h.extend(en.heav.iter().map(|&c| self.cracks[c].heaviside(x)));
         b.br.clear();
-        b.br.extend(en.tips.iter().map(|&t| branch_functions(&self.tips[t], x)));
+        b.br.extend(en.tips.iter().map(|&t| {
+            branch_functions_snapped(&self.tips[t], x, self.cracks[self.tip_crack[t]].snap)
+        }));
         for f in &en.funcs {
             match *f {
                 Func::Std(k) => {
@@ -1350,7 +1390,7 @@ impl XfemModel {
         let h_el = self.tip_element_size(tip);
         // q must vanish on the plate boundary (a traction-free edge with q != 0 would add a
         // boundary term the domain form lacks): every boundary node must lie outside the circle
-        if radius >= dist_b {
+        if radius * (1.0 + 1e-9) >= dist_b {
             return Err(Error::invalid(
                 "r_I",
                 &format!(
@@ -1396,8 +1436,10 @@ impl XfemModel {
             if (mesh.xs[i] - tp.pos[0]).abs() > span || (mesh.ys[j] - tp.pos[1]).abs() > span {
                 continue;
             }
+            // closed disc with a relative tolerance: nodes at distance r (e.g. the two nodes of
+            // an edge whose midpoint is the tip, r = h/2) get the same q whatever the rounding
             let q: [f64; 4] = conn.map(|n| {
-                if norm(sub(mesh.coords[n], tp.pos)) < radius {
+                if norm(sub(mesh.coords[n], tp.pos)) <= radius * (1.0 + 1e-9) {
                     1.0
                 } else {
                     0.0
@@ -1432,7 +1474,13 @@ impl XfemModel {
                 }
                 // to the tip frame: x~ = R (x - tip), R = [[c, s], [-s, c]]
                 let d = sub(x, tp.pos);
-                let xl = [c * d[0] + s * d[1], -s * d[0] + c * d[1]];
+                // the auxiliary fields are discontinuous across the crack too: points on it take
+                // the face the computed field gives them
+                let xl = on_face(
+                    &tp,
+                    [c * d[0] + s * d[1], -s * d[0] + c * d[1]],
+                    self.cracks[self.tip_crack[tip]].snap,
+                );
                 let gql = [c * gq[0] + s * gq[1], -s * gq[0] + c * gq[1]];
                 // G~ = R G R^T
                 let rg = [
@@ -1643,6 +1691,8 @@ pub struct GrowthStep {
     pub kink_angle: f64,
     /// position of the most critical tip (first in global tip order on ties)
     pub tip: [f64; 2],
+    /// condition estimate of this step's solve ([`ConditionEstimate::value`]; 0 for the origin)
+    pub condition: f64,
 }
 
 /// The state of one tip at one point of the load path (see [`XfemResult::tip_history`]).
@@ -1717,6 +1767,10 @@ pub struct XfemResult {
     /// growth runs: the deformed patch around the growing tip at every critical state
     /// (displacements at the critical load, i.e. scaled by lambda), for Fig. 8b
     pub snapshots: Vec<DeformedPatch>,
+    /// condition estimate of the initial crack's solve (see [`ConditionEstimate`])
+    pub condition: ConditionEstimate,
+    /// numerical warnings (e.g. a condition estimate above [`crate::solver::COND_WARN`])
+    pub warnings: Vec<String>,
 }
 
 /// One solve of a plate model at the reference load.
@@ -1725,6 +1779,7 @@ struct PlateSolve {
     sigma22: f64,
     cmod: f64,
     anchor: usize,
+    condition: ConditionEstimate,
 }
 
 fn solve_plate(
@@ -1737,6 +1792,7 @@ fn solve_plate(
     let (bc, f, anchor) = plate_conditions(edges, load, model.n_dofs, t)?;
     let sys = LinearSystem::with_positions(model.stiffness()?, &bc, Some(&model.dof_positions()))?;
     let sol = sys.solve(&f, 1.0)?;
+    let condition = sys.condition_estimate()?;
     let s22 = sigma22(edges, &sol.reactions, &f, width, t);
     let cmod = model.cmod(&sol.u)?;
     Ok(PlateSolve {
@@ -1744,6 +1800,7 @@ fn solve_plate(
         sigma22: s22,
         cmod,
         anchor,
+        condition,
     })
 }
 
@@ -1817,6 +1874,44 @@ fn validate(p: &XfemParams) -> Result<()> {
     Ok(())
 }
 
+/// Smallest distance, in tip-element lengths, between a crack tip and the plate boundary that the
+/// plate driver accepts: a shorter edge crack or a narrower ligament is not resolved by the mesh.
+/// Measured on the tall strip against Tada (tests/xfem_extremes.rs, benches/RESULTS.md): an edge
+/// crack 0.8 elements long gives K_I 24 % low; a ligament of 2, 4, 8, 16 elements gives K_I 17, 8.4,
+/// 3.6, 1.7 % low (error ~ 0.3 h / ligament), and within one element no q-domain fits.
+pub const MIN_TIP_CLEARANCE: f64 = 2.0;
+
+/// Refuses crack tips closer than [`MIN_TIP_CLEARANCE`] element lengths to the plate boundary.
+fn check_tip_clearance(model: &XfemModel) -> Result<()> {
+    let mesh = &model.mesh;
+    let (w, h) = mesh.size();
+    let (x0, y0) = (mesh.xs[0], mesh.ys[0]);
+    for (t, tip) in model.tips.iter().enumerate() {
+        let p = tip.pos;
+        let d = (p[0] - x0)
+            .min(x0 + w - p[0])
+            .min(p[1] - y0)
+            .min(y0 + h - p[1]);
+        let h_el = model.tip_element_size(t);
+        if d < MIN_TIP_CLEARANCE * h_el * (1.0 - 1e-9) {
+            return Err(Error::invalid(
+                "crack",
+                &format!(
+                    "crack tips at least {MIN_TIP_CLEARANCE} element lengths from the plate \
+                     boundary: the mesh cannot resolve a crack or a ligament shorter than that \
+                     (refine the mesh)"
+                ),
+                format!(
+                    "tip {:?} at {d:.4e} = {:.2} element lengths ({h_el:.4e}) from the boundary",
+                    p,
+                    d / h_el
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// Runs the XFEM plate model: a single solve with SIFs at the reference load, and with
 /// `growth = Some(..)` quasi-static LEFM growth.
 ///
@@ -1854,6 +1949,7 @@ pub fn run(params: &XfemParams, progress: &(dyn Fn(usize, usize) + Sync)) -> Res
     };
     let edges = PlateEdges::of_mesh(&mesh);
     let mut model = XfemModel::new_multi(mesh.clone(), params.material, params.cracks(), opts)?;
+    check_tip_clearance(&model)?;
     let first = solve_plate(&model, &edges, &params.load, params.width)?;
     let h_tip = model.tip_element_size(0);
     let r_i = params.r_i_factor * h_tip;
@@ -1909,6 +2005,10 @@ pub fn run(params: &XfemParams, progress: &(dyn Fn(usize, usize) + Sync)) -> Res
         cracks: model.cracks.iter().map(|c| c.points.clone()).collect(),
         deformed,
         snapshots: Vec::new(),
+        condition: first.condition,
+        warnings: condition_warning("initial solve", &first.condition)
+            .into_iter()
+            .collect(),
     };
     let Some(g) = params.growth else {
         progress(1, 1);
@@ -1930,6 +2030,7 @@ pub fn run(params: &XfemParams, progress: &(dyn Fn(usize, usize) + Sync)) -> Res
         k_ii: 0.0,
         kink_angle: 0.0,
         tip: model.tips[0].pos,
+        condition: 0.0,
     });
     res.tip_history.push(
         model
@@ -1949,6 +2050,10 @@ pub fn run(params: &XfemParams, progress: &(dyn Fn(usize, usize) + Sync)) -> Res
     for step in 0..g.max_steps {
         if step > 0 {
             sol = solve_plate(&model, &edges, &params.load, params.width)?;
+            res.warnings.extend(condition_warning(
+                &format!("growth step {step}"),
+                &sol.condition,
+            ));
         }
         let n_tips = model.tips.len();
         let sizes: Vec<f64> = (0..n_tips).map(|t| model.tip_element_size(t)).collect();
@@ -1989,6 +2094,7 @@ pub fn run(params: &XfemParams, progress: &(dyn Fn(usize, usize) + Sync)) -> Res
             k_ii: lam * s.k_ii,
             kink_angle: kinks[t],
             tip: model.tips[t].pos,
+            condition: sol.condition.value(),
         });
         res.tip_history.push(
             (0..n_tips)
@@ -2025,7 +2131,7 @@ pub fn run(params: &XfemParams, progress: &(dyn Fn(usize, usize) + Sync)) -> Res
             ];
             let p = [tip.pos[0] + da * d[0], tip.pos[1] + da * d[1]];
             // the q-domain of the next step must still fit between the tip and the boundary
-            let margin = (params.r_i_factor * sizes[k]).max(0.5 * sizes[k]);
+            let margin = (params.r_i_factor * sizes[k]).max(MIN_TIP_CLEARANCE * sizes[k]);
             if p[0] < margin || p[0] > x_max - margin || p[1] < margin || p[1] > y_max - margin {
                 ligament = true;
             }

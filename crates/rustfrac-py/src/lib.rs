@@ -213,7 +213,9 @@ fn material(e: f64, nu: f64, plane: &str, thickness: f64) -> Result<Elastic, Cor
 ///
 /// Returns a dict: coords (n,2), elements (m,4) int64, u (2n,), reactions (2n,),
 /// nodal_stress (n,3) [s11, s22, s12], gauss_points (g,2), gauss_stress (g,3); scalars sigma22,
-/// cmod, energy, residual, n_dofs, anchor_node, seam_y (or None), wall_time_s, bc.
+/// cmod, energy, residual, n_dofs, anchor_node, seam_y (or None), wall_time_s, bc, condition
+/// (dimensionless condition estimate of the solve, `rustfrac_core::solver::ConditionEstimate`),
+/// condition_pivot_ratio, warnings (list of str).
 #[pyfunction]
 #[pyo3(signature = (*, width, height, nx, ny, e, nu, plane = "strain", thickness = 1.0,
                     bc = "free", u0 = 0.0, traction = 0.0, seam = None, gauss = 2,
@@ -280,6 +282,9 @@ fn solve_fem_plate<'py>(
     d.set_item("anchor_node", r.anchor_node)?;
     d.set_item("seam_y", r.seam_y)?;
     d.set_item("wall_time_s", r.wall_time_s)?;
+    d.set_item("condition", r.condition.value())?;
+    d.set_item("condition_pivot_ratio", r.condition.pivot_ratio)?;
+    d.set_item("warnings", r.warnings)?;
     d.set_item("bc", params.load.grip.name())?;
     Ok(d)
 }
@@ -297,7 +302,8 @@ fn solve_fem_plate<'py>(
 ///
 /// Returns a dict: scalars K_I, K_II, J (from K, eq. 32), J_domain (eq. 33), r_i (absolute),
 /// sigma22, cmod, n_dofs, n_std, n_heaviside_nodes, n_tip_nodes, n_dropped_nodes, anchor_node,
-/// status, bc, wall_time_s; arrays coords (n,2), elements (m,4) int64, u (n_dofs,) (standard dofs
+/// status, bc, wall_time_s, condition (dimensionless condition estimate of the initial solve),
+/// condition_pivot_ratio, warnings (list of str); arrays coords (n,2), elements (m,4) int64, u (n_dofs,) (standard dofs
 /// first: u[:n_std] are the nodal displacements), heaviside_nodes, tip_nodes (int64),
 /// crack (k,2) (final polyline), crack_initial (k0,2), radii (r,5) [radius, K_I, K_II, J_from_K,
 /// J_domain] sorted by radius, radii_factor (r,), tips (t,6) [x1, x2, K_I, K_II, J_from_K,
@@ -308,8 +314,8 @@ fn solve_fem_plate<'py>(
 /// cells + scale * disp), snapshot_cells / snapshot_disp (C,4,2) with snapshot_offsets (s+1,)
 /// (the patch around the growing tip at each critical state, displacements at the critical load;
 /// snapshot k belongs to history row k + 1), and the growth history as history_<name> arrays (load_factor, sigma22,
-/// cmod, u0, traction, a, K_I, K_II, kink_angle, tip_x, tip_y: the most critical tip; empty
-/// without growth; history[0] is the unloaded origin) with every tip's state in tip_history_x,
+/// cmod, u0, traction, a, K_I, K_II, kink_angle, tip_x, tip_y, condition: the most critical tip;
+/// empty without growth; history[0] is the unloaded origin) with every tip's state in tip_history_x,
 /// tip_history_y, tip_history_K_I, tip_history_K_II, tip_history_kink_angle and
 /// tip_history_grows (1.0 if the tip grew after that state) as (s, t) float64 arrays.
 ///
@@ -489,6 +495,10 @@ fn solve_xfem_plate<'py>(
     d.set_item("history_kink_angle", arr1(py, col(|s| s.kink_angle)))?;
     d.set_item("history_tip_x", arr1(py, col(|s| s.tip[0])))?;
     d.set_item("history_tip_y", arr1(py, col(|s| s.tip[1])))?;
+    d.set_item("history_condition", arr1(py, col(|s| s.condition)))?;
+    d.set_item("condition", r.condition.value())?;
+    d.set_item("condition_pivot_ratio", r.condition.pivot_ratio)?;
+    d.set_item("warnings", r.warnings)?;
     d.set_item("K_I", r.k_i)?;
     d.set_item("K_II", r.k_ii)?;
     d.set_item("J", r.j_from_k)?;
@@ -806,6 +816,7 @@ fn solve_pd_plate<'py>(
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("PROGRESS_INTERVAL_S", PROGRESS_INTERVAL_S)?;
+    m.add("COND_WARN", rustfrac_core::solver::COND_WARN)?;
     m.add_function(wrap_pyfunction!(solve_fem_plate, m)?)?;
     m.add_function(wrap_pyfunction!(solve_fem_grid, m)?)?;
     m.add_function(wrap_pyfunction!(solve_xfem_plate, m)?)?;
