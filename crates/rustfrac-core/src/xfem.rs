@@ -11,7 +11,11 @@
 //! segment direction (from points[0] towards points[n]) by +90 degrees (the mean of the two
 //! normals at an interior vertex; beyond an end the end segment's line decides, i.e. the
 //! Heaviside function is that of the crack extended straight). H(x) = +1 if phi > 0, else -1
-//! (eq. 1 literally: a point exactly on the crack takes -1).
+//! (eq. 1 literally: a point exactly on the crack takes -1). "Exactly" is relative to the mesh: a
+//! point closer than 1e-10 x the smallest element spacing to the crack's line (the segment, vertex
+//! bisector or straight extension deciding its sign) is on the crack, phi = 0. Without this, a
+//! node lying on the crack (a crack along a grid line, or a mouth on a boundary node) took the
+//! side that the round-off of its coordinates happened to give, which changed with the units.
 //!
 //! # Enrichment (eqs. 3, 15-19)
 //! * Tip elements: the elements whose closed rectangle contains a tip. Their nodes (plus, with
@@ -45,7 +49,7 @@
 //!
 //! # SIFs
 //! Domain interaction integral with the q-function of eq. (29) (q_I = 1 for nodes closer to the tip
-//! than r_I); elements with mixed nodal q form the domain and are integrated with their own rule
+//! than r_I; a node on the circle, to 1e-10 relative, has q_I = 0); elements with mixed nodal q form the domain and are integrated with their own rule
 //! (`nsub x nsub` sub-quads for standard elements). r_I = `r_i_factor` x the tip element's size
 //! sqrt(dx dy). The domain must not reach the plate boundary (a traction-free edge crossing the
 //! domain adds a boundary term the domain form does not contain): such radii are refused.
@@ -95,6 +99,9 @@ pub struct Crack {
     pub mouth: bool,
     /// tips: the last point first (if it is a tip), then the first point (if it is a tip)
     pub tips: Vec<Tip>,
+    /// distance below which a point lies on the crack (phi = 0): 1e-10 x the mesh's smallest
+    /// spacing, so that the classification does not depend on the units
+    on_crack_tol: f64,
 }
 
 #[inline]
@@ -198,6 +205,7 @@ impl Crack {
             points,
             mouth: start_b,
             tips,
+            on_crack_tol: 1e-10 * mesh.min_spacing(),
         })
     }
 
@@ -236,16 +244,22 @@ impl Crack {
             let t = unit(sub(p[k + 1], p[k]));
             [-t[1], t[0]]
         };
+        // s: distance to the line that decides the sign (vertex bisector or segment line), signed
         let s = if bt >= 1.0 && bk + 1 < nseg {
             let (a, b) = (seg_n(bk), seg_n(bk + 1));
-            dot(sub(x, p[bk + 1]), [a[0] + b[0], a[1] + b[1]])
+            let nv = [a[0] + b[0], a[1] + b[1]];
+            dot(sub(x, p[bk + 1]), nv) / norm(nv)
         } else if bt <= 0.0 && bk > 0 {
             let (a, b) = (seg_n(bk - 1), seg_n(bk));
-            dot(sub(x, p[bk]), [a[0] + b[0], a[1] + b[1]])
+            let nv = [a[0] + b[0], a[1] + b[1]];
+            dot(sub(x, p[bk]), nv) / norm(nv)
         } else {
-            cross(sub(p[bk + 1], p[bk]), sub(x, p[bk]))
+            let d = sub(p[bk + 1], p[bk]);
+            cross(d, sub(x, p[bk])) / norm(d)
         };
-        if s > 0.0 {
+        if s.abs() <= self.on_crack_tol {
+            0.0
+        } else if s > 0.0 {
             best.sqrt()
         } else if s < 0.0 {
             -best.sqrt()
@@ -1080,8 +1094,10 @@ impl XfemModel {
             if (mesh.xs[i] - tp.pos[0]).abs() > span || (mesh.ys[j] - tp.pos[1]).abs() > span {
                 continue;
             }
+            // nodes on the circle (to 1e-10 relative: round-off of the scaled coordinates) are
+            // outside, so that the domain does not change with the units
             let q: [f64; 4] = conn.map(|n| {
-                if norm(sub(mesh.coords[n], tp.pos)) < radius {
+                if norm(sub(mesh.coords[n], tp.pos)) < radius * (1.0 - 1e-10) {
                     1.0
                 } else {
                     0.0
