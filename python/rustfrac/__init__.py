@@ -16,6 +16,7 @@ from __future__ import annotations
 from . import scenes
 from ._core import __version__
 from .errors import (
+    AccuracyWarning,
     InternalError,
     InvalidParameterError,
     InvalidTypeError,
@@ -31,6 +32,7 @@ from .scene import METHODS, Scene
 
 __all__ = [
     "METHODS",
+    "AccuracyWarning",
     "InternalError",
     "InvalidParameterError",
     "InvalidTypeError",

@@ -32,7 +32,8 @@ def solve_fem_plate(
     """The paper's plate with plain Q4 FEM (GIL released). Keys: coords (n,2), elements (m,4)
     int64, u (2n,), reactions (2n,), nodal_stress (n,3), gauss_points (g,2), gauss_stress (g,3)
     as float64 arrays; sigma22, cmod, energy, residual, wall_time_s: float; n_dofs, anchor_node:
-    int; seam_y: float | None; bc: str."""
+    int; seam_y: float | None; bc: str; warnings: list[str] (accuracy warnings, e.g. volumetric
+    locking near nu = 0.5)."""
 
 def solve_fem_grid(
     *,
@@ -85,7 +86,7 @@ def solve_xfem_plate(
 
     Keys: K_I, K_II, J (from K), J_domain, r_i (absolute), sigma22, cmod, wall_time_s: float;
     n_dofs, n_std, n_heaviside_nodes, n_tip_nodes, n_dropped_nodes, anchor_node: int;
-    status, bc: str; coords (n,2), elements (m,4) int64, u (n_dofs,) (u[:n_std] are the nodal
+    status, bc: str; warnings: list[str]; coords (n,2), elements (m,4) int64, u (n_dofs,) (u[:n_std] are the nodal
     displacements), heaviside_nodes, tip_nodes (int64), crack (k,2) final polyline,
     crack_initial (k0,2), radii (r,5) [radius, K_I, K_II, J_from_K, J_domain], radii_factor (r,),
     tips (t,6) [x1, x2, K_I, K_II, J_from_K, J_domain], deformed_cells, deformed_disp (c,4,2); snapshot_cells, snapshot_disp (C,4,2) and

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 import time
+import warnings
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any, Callable
@@ -11,7 +12,12 @@ from typing import Any, Callable
 import numpy as np
 
 from . import _core
-from .errors import InvalidParameterError, InvalidTypeError, MethodNotAvailableError
+from .errors import (
+    AccuracyWarning,
+    InvalidParameterError,
+    InvalidTypeError,
+    MethodNotAvailableError,
+)
 from .result import Result
 from .scene import Scene
 
@@ -36,6 +42,10 @@ def run(
             (holding the GIL only then) at most every ~0.1 s and once at the end. Raising from it
             (e.g. KeyboardInterrupt) stops the run and re-raises.
 
+    Warns:
+        AccuracyWarning: the run completed but a known discretisation limit makes it less
+            accurate (e.g. plane-strain nu >= 0.49: Q4 locking); also in ``meta["warnings"]``.
+
     Raises:
         InvalidParameterError: the scene is invalid (a ``ValueError``).
         SingularSystemError: the system is singular (a rigid mode left, a separated body).
@@ -51,6 +61,8 @@ def run(
     t0 = time.perf_counter()
     res = runner(scene, progress)
     res.meta.setdefault("timings", {})["total_s"] = time.perf_counter() - t0
+    for w in res.meta.setdefault("warnings", []):
+        warnings.warn(w, AccuracyWarning, stacklevel=2)
     return res
 
 
@@ -105,14 +117,17 @@ def _plate_kwargs(scene: Scene) -> dict[str, Any]:
 
 def _run_fem(scene: Scene, progress: ProgressCallback | None) -> Result:
     load, c, mesh = scene.load, scene.crack, scene.mesh
-    out = _core.solve_fem_plate(
-        **_plate_kwargs(scene),
-        nx=mesh.nx,
-        ny=mesh.ny,
-        seam=(c.a0, c.y) if c.kind == "seam" else None,
-        gauss=mesh.gauss,
-        progress=progress,
-    )
+    try:
+        out = _core.solve_fem_plate(
+            **_plate_kwargs(scene),
+            nx=mesh.nx,
+            ny=mesh.ny,
+            seam=(c.a0, c.y) if c.kind == "seam" else None,
+            gauss=mesh.gauss,
+            progress=progress,
+        )
+    except InvalidParameterError as e:
+        raise _scene_param(e) from e
     fields = {k: v for k, v in out.items() if isinstance(v, np.ndarray)}
     return Result(
         method="fem",
@@ -127,6 +142,7 @@ def _run_fem(scene: Scene, progress: ProgressCallback | None) -> Result:
             _BC_DESC[load.bc],
             None if load.bc == "clamped" else int(out["anchor_node"]),
             seam_y=out["seam_y"],
+            warnings=list(out["warnings"]),
             timings={"rust_s": float(out["wall_time_s"])},
         ),
     )
@@ -204,8 +220,27 @@ def _growth_progress(scene: Scene, progress: ProgressCallback | None) -> Progres
 
 
 #: core parameter names -> scene keys, for errors the core finds (e.g. an r_I domain that leaves
-#: the plate on a coarse mesh)
-_XFEM_PARAMS: dict[str, str] = {
+#: the plate on a coarse mesh, or a zero reference load)
+_CORE_PARAMS: dict[str, str] = {
+    "E": "material.E",
+    "nu": "material.nu",
+    "thickness": "material.thickness",
+    "plane": "material.plane",
+    "G0": "material.G0",
+    "width": "plate.width",
+    "height": "plate.height",
+    "u0": "load.u0",
+    "traction": "load.traction",
+    "bc": "load.bc",
+    "gauss": "mesh.gauss",
+    "a0": "crack.a0",
+    "crack_y": "crack.y",
+    "dx": "pd.dx",
+    "m": "pd.m",
+    "pd_regions": "pd.center",
+    "precrack": "crack.a0",
+    "tie_tol": "pd.tie_tol",
+    "stop_crack_length": "pd.stop_crack_length",
     "nx": "mesh.nx",
     "ny": "mesh.ny",
     "nx * ny": "mesh.nx",
@@ -226,7 +261,8 @@ def _scene_param(err: InvalidParameterError) -> InvalidParameterError:
     """The core's error naming the scene key (``invalid r_I: ...`` -> ``xfem.r_I``)."""
     msg = str(err)
     if err.param is None and msg.startswith("invalid ") and ":" in msg:
-        key = _XFEM_PARAMS.get(msg[len("invalid ") : msg.index(":")])
+        name = msg[len("invalid ") : msg.index(":")]
+        key = _CORE_PARAMS.get(name.split("[")[0])
         if key is not None:
             return InvalidParameterError(f"invalid {key} (core: {msg})", key)
     return err
@@ -287,6 +323,7 @@ def _run_xfem(scene: Scene, progress: ProgressCallback | None) -> Result:
             _BC_DESC[load.bc],
             None if load.bc == "clamped" else int(out["anchor_node"]),
             status=str(out["status"]),
+            warnings=list(out["warnings"]),
             enrichment={
                 "n_std": n_std,
                 "n_heaviside_nodes": int(out["n_heaviside_nodes"]),
@@ -323,22 +360,25 @@ def _run_pd(scene: Scene, progress: ProgressCallback | None) -> Result:
         (cx, cy), (sx, sy) = pd.center, pd.size
         regions = [(cx - sx / 2, cy - sy / 2, cx + sx / 2, cy + sy / 2)]
     precrack = [(0.0, c.y), (c.a0, c.y)] if c.kind == "edge" else []
-    out = _core.solve_pd_plate(
-        method=scene.method,
-        **_plate_kwargs(scene),
-        dx=pd.dx,
-        m=pd.m,
-        g0=mat.G0,
-        pd_regions=regions,
-        precrack=precrack,
-        sla_steps=pd.sla_steps,
-        stop_crack_length=pd.stop_crack_length or None,
-        tie_tol=pd.tie_tol,
-        refactor_every=pd.refactor_every,
-        fast=pd.fast,
-        damage_at_steps=list(pd.damage_at_steps),
-        progress=progress,
-    )
+    try:
+        out = _core.solve_pd_plate(
+            method=scene.method,
+            **_plate_kwargs(scene),
+            dx=pd.dx,
+            m=pd.m,
+            g0=mat.G0,
+            pd_regions=regions,
+            precrack=precrack,
+            sla_steps=pd.sla_steps,
+            stop_crack_length=pd.stop_crack_length or None,
+            tie_tol=pd.tie_tol,
+            refactor_every=pd.refactor_every,
+            fast=pd.fast,
+            damage_at_steps=list(pd.damage_at_steps),
+            progress=progress,
+        )
+    except InvalidParameterError as e:
+        raise _scene_param(e) from e
     prefix = "history_"
     a0 = c.a0 if c.kind == "edge" else 0.0
     origin = {"crack_length": a0, "bond": -1, "node_i": -1, "node_j": -1}

@@ -92,16 +92,30 @@ class _Spec:
     ok: Callable[[Any], bool] = lambda v: True
 
 
+#: magnitudes accepted for dimensional values (lengths, moduli, stresses, G0), as in the core
+#: (rustfrac_core::error::MAG_MIN/MAG_MAX): the physics is scale invariant
+#: (tests/test_scale_invariance.py), so the only limit is double precision, where products such as
+#: the PD micromodulus E / (h delta^3) or an energy E l^2 must neither overflow nor underflow. Any
+#: consistent unit system fits (SI steel: E = 2e11 Pa, lengths 1e-3 m).
+MAG_MIN = 1e-30
+MAG_MAX = 1e30
+#: largest FEM/XFEM mesh (elements) and PD grid (nodes): rustfrac_core::mesh::MAX_ELEMENTS (one FEM
+#: solve of 1000 x 1000 elements takes ~5 GB and ~25 s on 2 cores)
+MAX_ELEMENTS = 2_000_000
+#: largest SLA step count, re-condensation period and damage snapshot step (the core's limit)
+MAX_STEPS = 1_000_000
+
+
 def _finite(v: float) -> bool:
-    return math.isfinite(v)
+    return math.isfinite(v) and abs(v) <= MAG_MAX
 
 
 def _pos(v: float) -> bool:
-    return math.isfinite(v) and v > 0
+    return math.isfinite(v) and MAG_MIN <= v <= MAG_MAX
 
 
-_POS = _Spec("float", "a finite number > 0", _pos)
-_FINITE = _Spec("float", "a finite number", _finite)
+_POS = _Spec("float", "a finite number in [1e-30, 1e30]", _pos)
+_FINITE = _Spec("float", "a finite number with |value| <= 1e30", _finite)
 
 
 def _choice(*opts: str) -> _Spec:
@@ -179,7 +193,7 @@ class _Section:
                 f"[{cls._name}] must be a table/dict, got {type(d).__name__}", cls._name
             )
         allowed = [f.name for f in fields(cls)]  # type: ignore[arg-type]
-        unknown = sorted(set(d) - set(allowed))
+        unknown = sorted(set(d) - set(allowed), key=str)
         if unknown:
             raise UnknownParameterError(
                 f"unknown key(s) {', '.join(cls._name + '.' + str(k) for k in unknown)}; "
@@ -302,9 +316,18 @@ class MeshOptions(_Section):
         "gauss": _int_at_least(1, 5),
     }
 
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        if self.nx * self.ny > MAX_ELEMENTS:
+            raise InvalidParameterError(
+                f"invalid mesh.nx * mesh.ny: expected at most {MAX_ELEMENTS} elements "
+                f"(a documented memory guard), got {self.nx} x {self.ny}",
+                "mesh.nx",
+            )
+
 
 def _nonneg(v: float) -> bool:
-    return math.isfinite(v) and v >= 0
+    return v == 0 or _pos(v)
 
 
 @dataclass(frozen=True)
@@ -345,12 +368,16 @@ class XfemOptions(_Section):
             "0.5 <= r_I <= 20 element lengths",
             lambda v: math.isfinite(v) and 0.5 <= v <= 20.0,
         ),
-        "fixed_area_radius": _Spec("float", "0 (off) or a finite length > 0", _nonneg),
+        "fixed_area_radius": _Spec(
+            "float", "0 (off) or a length in [1e-30, 1e30]", _nonneg
+        ),
         "area_threshold": _Spec(
             "float", "0 < area_threshold < 0.5", lambda v: math.isfinite(v) and 0.0 < v < 0.5
         ),
         "growth_steps": _int_at_least(0, 100_000),
-        "da": _Spec("float", "0 (one element length) or a finite length > 0", _nonneg),
+        "da": _Spec(
+            "float", "0 (one element length) or a length in [1e-30, 1e30]", _nonneg
+        ),
         "a_stop": _Spec("float", "0 (0.7 plate.width) or 0 < a_stop < plate.width", _nonneg),
     }
 
@@ -388,18 +415,24 @@ class PdOptions(_Section):
     _name: ClassVar[str] = "pd"
     _specs: ClassVar[dict[str, _Spec]] = {
         "dx": _POS,
-        "m": _int_at_least(1),
-        "center": _Spec("pair", "two finite numbers", lambda v: all(map(math.isfinite, v))),
-        "size": _Spec("pair", "two finite numbers > 0", lambda v: all(map(_pos, v))),
-        "sla_steps": _int_at_least(1),
+        "m": _int_at_least(2, 12),
+        "center": _Spec(
+            "pair", "two finite numbers, |x| <= 1e30", lambda v: all(map(_finite, v))
+        ),
+        "size": _Spec(
+            "pair", "two finite numbers in [1e-30, 1e30]", lambda v: all(map(_pos, v))
+        ),
+        "sla_steps": _int_at_least(1, MAX_STEPS),
         "tie_tol": _Spec("float", "0 <= tie_tol < 1", lambda v: 0.0 <= v < 1.0),
-        "refactor_every": _int_at_least(0),
+        "refactor_every": _int_at_least(0, MAX_STEPS),
         "fast": _Spec("bool", "true or false"),
         "stop_crack_length": _Spec(
-            "float", "a finite number >= 0 (0 = no stop)", lambda v: math.isfinite(v) and v >= 0
+            "float", "0 (no stop) or a length in [1e-30, 1e30]", _nonneg
         ),
         "damage_at_steps": _Spec(
-            "intlist", "a list of integers >= 1", lambda v: all(x >= 1 for x in v)
+            "intlist",
+            f"a list of integers in 1..{MAX_STEPS}",
+            lambda v: all(1 <= x <= MAX_STEPS for x in v),
         ),
     }
 
@@ -429,6 +462,15 @@ _CRACK_KINDS: dict[str, tuple[str, ...]] = {
 }
 
 
+def _utf8(v: str) -> bool:
+    """Encodable as UTF-8 (TOML and JSON files): no lone surrogates."""
+    try:
+        v.encode("utf-8")
+    except UnicodeEncodeError:
+        return False
+    return True
+
+
 def _bad(param: str, msg: str) -> InvalidParameterError:
     return InvalidParameterError(f"invalid {param}: {msg}", param)
 
@@ -455,7 +497,7 @@ class Scene:
 
     def __post_init__(self) -> None:
         _coerce("method", _choice(*METHODS), self.method)
-        _coerce("name", _Spec("str", "a string"), self.name)
+        _coerce("name", _Spec("str", "a string of Unicode text", _utf8), self.name)
         if self.crack is None:
             object.__setattr__(
                 self, "crack", Crack(kind="seam" if self.method == "fem" else "edge")
@@ -510,6 +552,13 @@ class Scene:
             if self.material.plane != "strain":
                 raise _bad("material.plane", f"method {m!r} supports 'strain' only")
             d = self.pd
+            nodes = (p.width / d.dx + 1) * (p.height / d.dx + 1)
+            if nodes > MAX_ELEMENTS:
+                raise _bad(
+                    "pd.dx",
+                    f"the PD grid would have {nodes:.3g} nodes; at most {MAX_ELEMENTS} "
+                    "(a documented memory guard)",
+                )
             for i, (n, length) in enumerate((("x1", p.width), ("x2", p.height))):
                 cells = length / d.dx
                 if abs(cells - round(cells)) > 1e-9 * max(1.0, cells):
@@ -585,7 +634,7 @@ class Scene:
             )
         method = _coerce("method", _choice(*METHODS), d["method"])
         allowed = ["method", "name", *METHOD_SECTIONS[method]]
-        unknown = sorted(set(d) - set(allowed))
+        unknown = sorted(set(d) - set(allowed), key=str)
         if unknown:
             other = [k for k in unknown if k in _SECTIONS]
             hint = (

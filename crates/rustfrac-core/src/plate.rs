@@ -46,6 +46,8 @@ pub struct FemPlateResult {
     /// y of the seam actually used (grid line nearest to the requested one)
     pub seam_y: Option<f64>,
     pub wall_time_s: f64,
+    /// accuracy warnings (e.g. volumetric locking near nu = 0.5, [`Elastic::locking_warning`])
+    pub warnings: Vec<String>,
 }
 
 /// Builds and solves the FEM plate.
@@ -53,6 +55,7 @@ pub fn run(p: &FemPlateParams) -> Result<FemPlateResult> {
     let t0 = Instant::now();
     check_positive("width", p.width)?;
     check_positive("height", p.height)?;
+    p.material.validate()?;
     let mut mesh = Mesh::uniform(0.0, 0.0, p.width, p.height, p.nx, p.ny)?;
     let mut mouth = None;
     let mut seam_y = None;
@@ -102,5 +105,6 @@ pub fn run(p: &FemPlateParams) -> Result<FemPlateResult> {
         anchor_node: anchor,
         seam_y,
         wall_time_s: t0.elapsed().as_secs_f64(),
+        warnings: p.material.locking_warning().into_iter().collect(),
     })
 }

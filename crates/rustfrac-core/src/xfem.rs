@@ -1378,6 +1378,8 @@ pub struct XfemResult {
     /// growth runs: the deformed patch around the growing tip at every critical state
     /// (displacements at the critical load, i.e. scaled by lambda), for Fig. 8b
     pub snapshots: Vec<DeformedPatch>,
+    /// accuracy warnings (e.g. volumetric locking near nu = 0.5, [`Elastic::locking_warning`])
+    pub warnings: Vec<String>,
 }
 
 /// One solve of a plate model at the reference load.
@@ -1557,6 +1559,7 @@ pub fn run(params: &XfemParams, progress: &(dyn Fn(usize, usize) + Sync)) -> Res
         crack: model.crack.points.clone(),
         deformed,
         snapshots: Vec::new(),
+        warnings: params.material.locking_warning().into_iter().collect(),
     };
     let Some(g) = params.growth else {
         progress(1, 1);

@@ -213,7 +213,8 @@ fn material(e: f64, nu: f64, plane: &str, thickness: f64) -> Result<Elastic, Cor
 ///
 /// Returns a dict: coords (n,2), elements (m,4) int64, u (2n,), reactions (2n,),
 /// nodal_stress (n,3) [s11, s22, s12], gauss_points (g,2), gauss_stress (g,3); scalars sigma22,
-/// cmod, energy, residual, n_dofs, anchor_node, seam_y (or None), wall_time_s, bc.
+/// cmod, energy, residual, n_dofs, anchor_node, seam_y (or None), wall_time_s, bc; warnings
+/// (list of str: accuracy warnings, e.g. volumetric locking near nu = 0.5).
 #[pyfunction]
 #[pyo3(signature = (*, width, height, nx, ny, e, nu, plane = "strain", thickness = 1.0,
                     bc = "free", u0 = 0.0, traction = 0.0, seam = None, gauss = 2,
@@ -280,6 +281,7 @@ fn solve_fem_plate<'py>(
     d.set_item("anchor_node", r.anchor_node)?;
     d.set_item("seam_y", r.seam_y)?;
     d.set_item("wall_time_s", r.wall_time_s)?;
+    d.set_item("warnings", r.warnings)?;
     d.set_item("bc", params.load.grip.name())?;
     Ok(d)
 }
@@ -295,8 +297,8 @@ fn solve_fem_plate<'py>(
 ///
 /// Returns a dict: scalars K_I, K_II, J (from K, eq. 32), J_domain (eq. 33), r_i (absolute),
 /// sigma22, cmod, n_dofs, n_std, n_heaviside_nodes, n_tip_nodes, n_dropped_nodes, anchor_node,
-/// status, bc, wall_time_s; arrays coords (n,2), elements (m,4) int64, u (n_dofs,) (standard dofs
-/// first: u[:n_std] are the nodal displacements), heaviside_nodes, tip_nodes (int64),
+/// status, bc, wall_time_s, warnings (list of str); arrays coords (n,2), elements (m,4) int64,
+/// u (n_dofs,) (standard dofs first: u[:n_std] are the nodal displacements), heaviside_nodes, tip_nodes (int64),
 /// crack (k,2) (final polyline), crack_initial (k0,2), radii (r,5) [radius, K_I, K_II, J_from_K,
 /// J_domain] sorted by radius, radii_factor (r,), tips (t,6) [x1, x2, K_I, K_II, J_from_K,
 /// J_domain], deformed_cells and deformed_disp (c,4,2) (near the primary tip; plot
@@ -469,6 +471,7 @@ fn solve_xfem_plate<'py>(
     d.set_item("status", r.status)?;
     d.set_item("bc", r.grip)?;
     d.set_item("wall_time_s", wall)?;
+    d.set_item("warnings", r.warnings)?;
     Ok(d)
 }
 
