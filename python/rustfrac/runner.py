@@ -74,7 +74,8 @@ def _as_scene(scene: Scene | Mapping[str, Any] | str | Path) -> Scene:
     if isinstance(scene, (str, Path)):
         return Scene.from_toml(scene)
     raise InvalidTypeError(
-        f"run() takes a Scene, a dict or a TOML path, got {type(scene).__name__}", "scene"
+        f"invalid scene: run() takes a Scene, a dict or a TOML path, got {type(scene).__name__}",
+        "scene",
     )
 
 

@@ -127,23 +127,53 @@ def _int_at_least(lo: int, hi: int | None = None) -> _Spec:
     return _Spec("int", valid, lambda v: v >= lo and (hi is None or v <= hi))
 
 
+def _count(lo: int) -> _Spec:
+    """A step count or period: an integer >= lo, at most MAX_STEPS (the core's limit)."""
+    return _Spec("int", f"an integer >= {lo} (at most {MAX_STEPS})", lambda v: lo <= v <= MAX_STEPS)
+
+
+def _show(v: Any) -> str:
+    """A short repr for messages (huge ints and containers are cut, never raise)."""
+    if isinstance(v, int) and not isinstance(v, bool) and v.bit_length() > 200:
+        return f"an integer of {v.bit_length()} bits"
+    try:
+        r = repr(v)
+    except Exception:  # e.g. a recursive or broken __repr__
+        r = f"<{type(v).__name__}>"
+    return r if len(r) <= 120 else r[:117] + "..."
+
+
+def _key(k: Any) -> str:
+    """A dict key as text for messages (TOML keys are strings; dicts may hold anything)."""
+    return k if isinstance(k, str) and k else _show(k)
+
+
+def _float(name: str, spec: _Spec, v: int | float) -> float:
+    try:
+        return float(v)
+    except OverflowError:  # an int beyond the double range
+        raise InvalidParameterError(
+            f"invalid {name}: expected {spec.valid}, got an integer of {v.bit_length()} bits", name
+        ) from None
+
+
 def _coerce(name: str, spec: _Spec, v: Any) -> Any:
     """Checks the type of ``v`` (ints are accepted for floats) and its range."""
     if spec.kind == "float":
         if isinstance(v, bool) or not isinstance(v, (int, float)):
             raise InvalidTypeError(
-                f"{name} must be a number ({spec.valid}), got {type(v).__name__} {v!r}", name
+                f"{name} must be a number ({spec.valid}), got {type(v).__name__} {_show(v)}", name
             )
-        v = float(v)
+        v = _float(name, spec, v)
     elif spec.kind == "int":
         if isinstance(v, bool) or not isinstance(v, int):
             raise InvalidTypeError(
-                f"{name} must be an integer ({spec.valid}), got {type(v).__name__} {v!r}", name
+                f"{name} must be an integer ({spec.valid}), got {type(v).__name__} {_show(v)}", name
             )
     elif spec.kind == "str":
         if not isinstance(v, str):
             raise InvalidTypeError(
-                f"{name} must be a string ({spec.valid}), got {type(v).__name__} {v!r}", name
+                f"{name} must be a string ({spec.valid}), got {type(v).__name__} {_show(v)}", name
             )
     elif spec.kind == "pair":
         if (
@@ -152,24 +182,24 @@ def _coerce(name: str, spec: _Spec, v: Any) -> Any:
             or any(isinstance(x, bool) or not isinstance(x, (int, float)) for x in v)
         ):
             raise InvalidTypeError(
-                f"{name} must be a pair of numbers ({spec.valid}), got {v!r}", name
+                f"{name} must be a pair of numbers ({spec.valid}), got {_show(v)}", name
             )
-        v = (float(v[0]), float(v[1]))
+        v = (_float(name, spec, v[0]), _float(name, spec, v[1]))
     elif spec.kind == "bool":
         if not isinstance(v, bool):
             raise InvalidTypeError(
-                f"{name} must be true or false ({spec.valid}), got {type(v).__name__} {v!r}", name
+                f"{name} must be true or false ({spec.valid}), got {type(v).__name__} {_show(v)}", name
             )
     elif spec.kind == "intlist":
         if not isinstance(v, (list, tuple)) or any(
             isinstance(x, bool) or not isinstance(x, int) for x in v
         ):
             raise InvalidTypeError(
-                f"{name} must be a list of integers ({spec.valid}), got {v!r}", name
+                f"{name} must be a list of integers ({spec.valid}), got {_show(v)}", name
             )
         v = tuple(v)
     if not spec.ok(v):
-        raise InvalidParameterError(f"invalid {name}: expected {spec.valid}, got {v!r}", name)
+        raise InvalidParameterError(f"invalid {name}: expected {spec.valid}, got {_show(v)}", name)
     return v
 
 
@@ -196,9 +226,9 @@ class _Section:
         unknown = sorted(set(d) - set(allowed), key=str)
         if unknown:
             raise UnknownParameterError(
-                f"unknown key(s) {', '.join(cls._name + '.' + str(k) for k in unknown)}; "
+                f"unknown key(s) {', '.join(cls._name + '.' + _key(k) for k in unknown)}; "
                 f"allowed in [{cls._name}]: {', '.join(allowed)}",
-                f"{cls._name}.{unknown[0]}",
+                f"{cls._name}.{_key(unknown[0])}",
             )
         return cls(**d)
 
@@ -321,7 +351,7 @@ class MeshOptions(_Section):
         if self.nx * self.ny > MAX_ELEMENTS:
             raise InvalidParameterError(
                 f"invalid mesh.nx * mesh.ny: expected at most {MAX_ELEMENTS} elements "
-                f"(a documented memory guard), got {self.nx} x {self.ny}",
+                f"(a documented memory guard), got {_show(self.nx)} x {_show(self.ny)}",
                 "mesh.nx",
             )
 
@@ -422,16 +452,16 @@ class PdOptions(_Section):
         "size": _Spec(
             "pair", "two finite numbers in [1e-30, 1e30]", lambda v: all(map(_pos, v))
         ),
-        "sla_steps": _int_at_least(1, MAX_STEPS),
+        "sla_steps": _count(1),
         "tie_tol": _Spec("float", "0 <= tie_tol < 1", lambda v: 0.0 <= v < 1.0),
-        "refactor_every": _int_at_least(0, MAX_STEPS),
+        "refactor_every": _count(0),
         "fast": _Spec("bool", "true or false"),
         "stop_crack_length": _Spec(
-            "float", "0 (no stop) or a length in [1e-30, 1e30]", _nonneg
+            "float", "a finite number >= 0 (0 = no stop; else in [1e-30, 1e30])", _nonneg
         ),
         "damage_at_steps": _Spec(
             "intlist",
-            f"a list of integers in 1..{MAX_STEPS}",
+            f"a list of integers >= 1 (at most {MAX_STEPS})",
             lambda v: all(1 <= x <= MAX_STEPS for x in v),
         ),
     }
@@ -643,8 +673,8 @@ class Scene:
                 else ""
             )
             raise UnknownParameterError(
-                f"unknown key(s) {', '.join(map(str, unknown))}{hint}; allowed: {', '.join(allowed)}",
-                str(unknown[0]),
+                f"unknown key(s) {', '.join(map(_key, unknown))}{hint}; allowed: {', '.join(allowed)}",
+                _key(unknown[0]),
             )
         kwargs: dict[str, Any] = {"method": method}
         if "name" in d:
@@ -656,8 +686,17 @@ class Scene:
 
     @classmethod
     def from_toml(cls, path: PathLike) -> Scene:
-        """Reads a scene from a TOML file (see the module docstring for the layout)."""
-        text = Path(path).read_text(encoding="utf-8")
+        """Reads a scene from a TOML file (see the module docstring for the layout). A missing or
+        unreadable file raises the usual ``OSError``; a file that is not UTF-8 text, or a path
+        that cannot name a file (e.g. a NUL character), an :class:`InvalidParameterError`."""
+        try:
+            text = Path(path).read_text(encoding="utf-8")
+        except UnicodeDecodeError as e:
+            raise InvalidParameterError(
+                f"invalid scene file {_show(str(path))}: not UTF-8 text ({e.reason})", "scene"
+            ) from e
+        except ValueError as e:  # e.g. "embedded null byte"
+            raise InvalidParameterError(f"invalid scene path {_show(path)}: {e}", "scene") from e
         return cls.from_toml_str(text)
 
     @classmethod
@@ -666,7 +705,9 @@ class Scene:
         try:
             data = tomllib.loads(text)
         except tomllib.TOMLDecodeError as e:
-            raise InvalidParameterError(f"scene is not valid TOML: {e}", "toml") from e
+            raise InvalidParameterError(
+                f"invalid toml: the scene is not valid TOML: {e}", "toml"
+            ) from e
         return cls.from_dict(data)
 
     def replace(self, **changes: Any) -> Scene:
