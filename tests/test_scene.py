@@ -137,7 +137,9 @@ def test_unknown_key_lists_allowed() -> None:
 
 
 def test_range_in_message() -> None:
-    with pytest.raises(rf.InvalidParameterError, match=r"expected a finite number > 0, got -1.0"):
+    with pytest.raises(
+        rf.InvalidParameterError, match=r"expected a finite number in \[1e-30, 1e30\], got -1.0"
+    ):
         rf.scenes.edge_crack_plate(E=-1.0)
 
 

@@ -16,6 +16,7 @@ from __future__ import annotations
 from . import scenes
 from ._core import __version__
 from .errors import (
+    AccuracyWarning,
     IllConditionedWarning,
     InternalError,
     InvalidParameterError,
@@ -32,6 +33,7 @@ from .scene import METHODS, Scene
 
 __all__ = [
     "METHODS",
+    "AccuracyWarning",
     "IllConditionedWarning",
     "InternalError",
     "InvalidParameterError",

@@ -35,7 +35,8 @@ def solve_fem_plate(
     int64, u (2n,), reactions (2n,), nodal_stress (n,3), gauss_points (g,2), gauss_stress (g,3)
     as float64 arrays; sigma22, cmod, energy, residual, wall_time_s: float; n_dofs, anchor_node:
     int; seam_y: float | None; bc: str; condition (dimensionless condition estimate of the
-    equilibrated stiffness), condition_pivot_ratio: float; warnings: list[str]."""
+    equilibrated stiffness), condition_pivot_ratio: float; warnings: list[str] (ill
+    conditioning, volumetric locking near nu = 0.5)."""
 
 def solve_fem_grid(
     *,
@@ -92,7 +93,7 @@ def solve_xfem_plate(
     condition (dimensionless condition estimate of the initial solve), condition_pivot_ratio:
     float; warnings: list[str];
     n_dofs, n_std, n_heaviside_nodes, n_tip_nodes, n_dropped_nodes, anchor_node: int;
-    status, bc: str; coords (n,2), elements (m,4) int64, u (n_dofs,) (u[:n_std] are the nodal
+    status, bc: str; warnings: list[str]; coords (n,2), elements (m,4) int64, u (n_dofs,) (u[:n_std] are the nodal
     displacements), heaviside_nodes, tip_nodes (int64), crack (k,2) final polyline,
     crack_initial (k0,2), radii (r,5) [radius, K_I, K_II, J_from_K, J_domain], radii_factor (r,),
     tips (t,6) [x1, x2, K_I, K_II, J_from_K, J_domain] (every tip), tip_crack (t,) int64 (0 =

@@ -4,11 +4,16 @@ Every error rustfrac raises derives from :class:`RustfracError`. Bad input (a pa
 range, a wrong type, an unknown or missing key) is also a :class:`ValueError` (or
 :class:`TypeError` for wrong types), so generic handlers keep working. The native module
 ``rustfrac._core`` raises these same classes.
+
+Results that ran but may be inaccurate (e.g. volumetric locking of the Q4 elements in plane strain
+near nu = 0.5) are reported with :class:`AccuracyWarning` (a ``UserWarning``), and listed in
+``result.meta["warnings"]``.
 """
 
 from __future__ import annotations
 
 __all__ = [
+    "AccuracyWarning",
     "IllConditionedWarning",
     "InternalError",
     "InvalidParameterError",
@@ -64,3 +69,9 @@ class IllConditionedWarning(RuntimeWarning):
 
 class MethodNotAvailableError(RustfracError, NotImplementedError):
     """The scene is valid, but its method is not bound in this build yet."""
+
+
+class AccuracyWarning(UserWarning):
+    """The run completed, but a known discretisation limit makes its numbers less accurate than
+    usual (the message says which and by how much it was measured to matter); e.g. plane-strain
+    nu >= 0.49, where the fully integrated Q4 elements lock."""

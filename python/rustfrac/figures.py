@@ -135,16 +135,17 @@ def plot_discretisations(
     ``pd``: node_xy (N,2) of the structured grid, is_pd (N,) bool, elements (M,4) of the grid,
     removed (M,) bool, crack (k,2)."""
     x0, x1, y0, y1 = window
+    tol = 1e-9 * max(x1 - x0, y1 - y0)  # relative to the window: the plots are unit-agnostic
     fig = Figure(figsize=(11.0, 4.8))
 
     ax = fig.add_subplot(1, 2, 1)
     xy, el = xfem["coords"], xfem["elements"]
     cells = xy[el]
     inside = np.all(
-        (cells[:, :, 0] >= x0 - 1e-9)
-        & (cells[:, :, 0] <= x1 + 1e-9)
-        & (cells[:, :, 1] >= y0 - 1e-9)
-        & (cells[:, :, 1] <= y1 + 1e-9),
+        (cells[:, :, 0] >= x0 - tol)
+        & (cells[:, :, 0] <= x1 + tol)
+        & (cells[:, :, 1] >= y0 - tol)
+        & (cells[:, :, 1] <= y1 + tol),
         axis=1,
     )
     hv = np.zeros(len(xy), bool)
@@ -177,10 +178,10 @@ def plot_discretisations(
     removed = np.asarray(pd.get("removed", np.zeros(len(gel), bool)), bool)
     gcells = nxy[gel]
     ginside = np.all(
-        (gcells[:, :, 0] >= x0 - 1e-9)
-        & (gcells[:, :, 0] <= x1 + 1e-9)
-        & (gcells[:, :, 1] >= y0 - 1e-9)
-        & (gcells[:, :, 1] <= y1 + 1e-9),
+        (gcells[:, :, 0] >= x0 - tol)
+        & (gcells[:, :, 0] <= x1 + tol)
+        & (gcells[:, :, 1] >= y0 - tol)
+        & (gcells[:, :, 1] <= y1 + tol),
         axis=1,
     )
     npd = is_pd[gel].sum(axis=1)

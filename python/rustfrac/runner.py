@@ -13,6 +13,7 @@ import numpy as np
 
 from . import _core
 from .errors import (
+    AccuracyWarning,
     IllConditionedWarning,
     InvalidParameterError,
     InvalidTypeError,
@@ -42,6 +43,10 @@ def run(
             (holding the GIL only then) at most every ~0.1 s and once at the end. Raising from it
             (e.g. KeyboardInterrupt) stops the run and re-raises.
 
+    Warns:
+        AccuracyWarning: the run completed but a known discretisation limit makes it less
+            accurate (e.g. plane-strain nu >= 0.49: Q4 locking); also in ``meta["warnings"]``.
+
     Raises:
         InvalidParameterError: the scene is invalid (a ``ValueError``).
         SingularSystemError: the system is singular (a rigid mode left, a separated body).
@@ -61,8 +66,9 @@ def run(
     t0 = time.perf_counter()
     res = runner(scene, progress)
     res.meta.setdefault("timings", {})["total_s"] = time.perf_counter() - t0
-    for msg in res.warnings:
-        warnings.warn(f"{scene.method}: {msg}", IllConditionedWarning, stacklevel=2)
+    for msg in res.meta.setdefault("warnings", []):
+        category = IllConditionedWarning if "condition" in msg else AccuracyWarning
+        warnings.warn(f"{scene.method}: {msg}", category, stacklevel=2)
     return res
 
 
@@ -74,7 +80,8 @@ def _as_scene(scene: Scene | Mapping[str, Any] | str | Path) -> Scene:
     if isinstance(scene, (str, Path)):
         return Scene.from_toml(scene)
     raise InvalidTypeError(
-        f"run() takes a Scene, a dict or a TOML path, got {type(scene).__name__}", "scene"
+        f"invalid scene: run() takes a Scene, a dict or a TOML path, got {type(scene).__name__}",
+        "scene",
     )
 
 
@@ -125,14 +132,17 @@ def _condition_scalars(out: Mapping[str, Any]) -> dict[str, float]:
 
 def _run_fem(scene: Scene, progress: ProgressCallback | None) -> Result:
     load, c, mesh = scene.load, scene.crack, scene.mesh
-    out = _core.solve_fem_plate(
-        **_plate_kwargs(scene),
-        nx=mesh.nx,
-        ny=mesh.ny,
-        seam=(c.a0, c.y) if c.kind == "seam" else None,
-        gauss=mesh.gauss,
-        progress=progress,
-    )
+    try:
+        out = _core.solve_fem_plate(
+            **_plate_kwargs(scene),
+            nx=mesh.nx,
+            ny=mesh.ny,
+            seam=(c.a0, c.y) if c.kind == "seam" else None,
+            gauss=mesh.gauss,
+            progress=progress,
+        )
+    except InvalidParameterError as e:
+        raise _scene_param(e) from e
     fields = {k: v for k, v in out.items() if isinstance(v, np.ndarray)}
     return Result(
         method="fem",
@@ -242,8 +252,27 @@ def _growth_progress(scene: Scene, progress: ProgressCallback | None) -> Progres
 
 
 #: core parameter names -> scene keys, for errors the core finds (e.g. an r_I domain that leaves
-#: the plate on a coarse mesh)
-_XFEM_PARAMS: dict[str, str] = {
+#: the plate on a coarse mesh, or a zero reference load)
+_CORE_PARAMS: dict[str, str] = {
+    "E": "material.E",
+    "nu": "material.nu",
+    "thickness": "material.thickness",
+    "plane": "material.plane",
+    "G0": "material.G0",
+    "width": "plate.width",
+    "height": "plate.height",
+    "u0": "load.u0",
+    "traction": "load.traction",
+    "bc": "load.bc",
+    "gauss": "mesh.gauss",
+    "a0": "crack.a0",
+    "crack_y": "crack.y",
+    "dx": "pd.dx",
+    "m": "pd.m",
+    "pd_regions": "pd.center",
+    "precrack": "crack.a0",
+    "tie_tol": "pd.tie_tol",
+    "stop_crack_length": "pd.stop_crack_length",
     "nx": "mesh.nx",
     "ny": "mesh.ny",
     "nx * ny": "mesh.nx",
@@ -267,7 +296,7 @@ def _scene_param(err: InvalidParameterError) -> InvalidParameterError:
     msg = str(err)
     if err.param is None and msg.startswith("invalid ") and ":" in msg:
         core = msg[len("invalid ") : msg.index(":")]
-        key = _XFEM_PARAMS.get(core)
+        key = _CORE_PARAMS.get(core.split("[")[0])
         if core.startswith("cracks[") and core.endswith("]"):
             k = int(core[len("cracks[") : -1])
             key = "crack.a0" if k == 0 else f"crack[{k}]"
@@ -373,22 +402,25 @@ def _run_pd(scene: Scene, progress: ProgressCallback | None) -> Result:
         (cx, cy), (sx, sy) = pd.center, pd.size
         regions = [(cx - sx / 2, cy - sy / 2, cx + sx / 2, cy + sy / 2)]
     precrack = [(0.0, c.y), (c.a0, c.y)] if c.kind == "edge" else []
-    out = _core.solve_pd_plate(
-        method=scene.method,
-        **_plate_kwargs(scene),
-        dx=pd.dx,
-        m=pd.m,
-        g0=mat.G0,
-        pd_regions=regions,
-        precrack=precrack,
-        sla_steps=pd.sla_steps,
-        stop_crack_length=pd.stop_crack_length or None,
-        tie_tol=pd.tie_tol,
-        refactor_every=pd.refactor_every,
-        fast=pd.fast,
-        damage_at_steps=list(pd.damage_at_steps),
-        progress=progress,
-    )
+    try:
+        out = _core.solve_pd_plate(
+            method=scene.method,
+            **_plate_kwargs(scene),
+            dx=pd.dx,
+            m=pd.m,
+            g0=mat.G0,
+            pd_regions=regions,
+            precrack=precrack,
+            sla_steps=pd.sla_steps,
+            stop_crack_length=pd.stop_crack_length or None,
+            tie_tol=pd.tie_tol,
+            refactor_every=pd.refactor_every,
+            fast=pd.fast,
+            damage_at_steps=list(pd.damage_at_steps),
+            progress=progress,
+        )
+    except InvalidParameterError as e:
+        raise _scene_param(e) from e
     prefix = "history_"
     a0 = c.a0 if c.kind == "edge" else 0.0
     origin = {"crack_length": a0, "bond": -1, "node_i": -1, "node_j": -1}

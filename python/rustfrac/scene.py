@@ -99,16 +99,30 @@ class _Spec:
     ok: Callable[[Any], bool] = lambda v: True
 
 
+#: magnitudes accepted for dimensional values (lengths, moduli, stresses, G0), as in the core
+#: (rustfrac_core::error::MAG_MIN/MAG_MAX): the physics is scale invariant
+#: (tests/test_scale_invariance.py), so the only limit is double precision, where products such as
+#: the PD micromodulus E / (h delta^3) or an energy E l^2 must neither overflow nor underflow. Any
+#: consistent unit system fits (SI steel: E = 2e11 Pa, lengths 1e-3 m).
+MAG_MIN = 1e-30
+MAG_MAX = 1e30
+#: largest FEM/XFEM mesh (elements) and PD grid (nodes): rustfrac_core::mesh::MAX_ELEMENTS (one FEM
+#: solve of 1000 x 1000 elements takes ~5 GB and ~25 s on 2 cores)
+MAX_ELEMENTS = 2_000_000
+#: largest SLA step count, re-condensation period and damage snapshot step (the core's limit)
+MAX_STEPS = 1_000_000
+
+
 def _finite(v: float) -> bool:
-    return math.isfinite(v)
+    return math.isfinite(v) and abs(v) <= MAG_MAX
 
 
 def _pos(v: float) -> bool:
-    return math.isfinite(v) and v > 0
+    return math.isfinite(v) and MAG_MIN <= v <= MAG_MAX
 
 
-_POS = _Spec("float", "a finite number > 0", _pos)
-_FINITE = _Spec("float", "a finite number", _finite)
+_POS = _Spec("float", "a finite number in [1e-30, 1e30]", _pos)
+_FINITE = _Spec("float", "a finite number with |value| <= 1e30", _finite)
 
 
 def _choice(*opts: str) -> _Spec:
@@ -120,23 +134,53 @@ def _int_at_least(lo: int, hi: int | None = None) -> _Spec:
     return _Spec("int", valid, lambda v: v >= lo and (hi is None or v <= hi))
 
 
+def _count(lo: int) -> _Spec:
+    """A step count or period: an integer >= lo, at most MAX_STEPS (the core's limit)."""
+    return _Spec("int", f"an integer >= {lo} (at most {MAX_STEPS})", lambda v: lo <= v <= MAX_STEPS)
+
+
+def _show(v: Any) -> str:
+    """A short repr for messages (huge ints and containers are cut, never raise)."""
+    if isinstance(v, int) and not isinstance(v, bool) and v.bit_length() > 200:
+        return f"an integer of {v.bit_length()} bits"
+    try:
+        r = repr(v)
+    except Exception:  # e.g. a recursive or broken __repr__
+        r = f"<{type(v).__name__}>"
+    return r if len(r) <= 120 else r[:117] + "..."
+
+
+def _key(k: Any) -> str:
+    """A dict key as text for messages (TOML keys are strings; dicts may hold anything)."""
+    return k if isinstance(k, str) and k else _show(k)
+
+
+def _float(name: str, spec: _Spec, v: int | float) -> float:
+    try:
+        return float(v)
+    except OverflowError:  # an int beyond the double range
+        raise InvalidParameterError(
+            f"invalid {name}: expected {spec.valid}, got an integer of {v.bit_length()} bits", name
+        ) from None
+
+
 def _coerce(name: str, spec: _Spec, v: Any) -> Any:
     """Checks the type of ``v`` (ints are accepted for floats) and its range."""
     if spec.kind == "float":
         if isinstance(v, bool) or not isinstance(v, (int, float)):
             raise InvalidTypeError(
-                f"{name} must be a number ({spec.valid}), got {type(v).__name__} {v!r}", name
+                f"{name} must be a number ({spec.valid}), got {type(v).__name__} {_show(v)}", name
             )
-        v = float(v)
+        v = _float(name, spec, v)
     elif spec.kind == "int":
         if isinstance(v, bool) or not isinstance(v, int):
             raise InvalidTypeError(
-                f"{name} must be an integer ({spec.valid}), got {type(v).__name__} {v!r}", name
+                f"{name} must be an integer ({spec.valid}), got {type(v).__name__} {_show(v)}", name
             )
     elif spec.kind == "str":
         if not isinstance(v, str):
             raise InvalidTypeError(
-                f"{name} must be a string ({spec.valid}), got {type(v).__name__} {v!r}", name
+                f"{name} must be a string ({spec.valid}), got {type(v).__name__} {_show(v)}", name
             )
     elif spec.kind == "pair":
         if (
@@ -145,24 +189,24 @@ def _coerce(name: str, spec: _Spec, v: Any) -> Any:
             or any(isinstance(x, bool) or not isinstance(x, (int, float)) for x in v)
         ):
             raise InvalidTypeError(
-                f"{name} must be a pair of numbers ({spec.valid}), got {v!r}", name
+                f"{name} must be a pair of numbers ({spec.valid}), got {_show(v)}", name
             )
-        v = (float(v[0]), float(v[1]))
+        v = (_float(name, spec, v[0]), _float(name, spec, v[1]))
     elif spec.kind == "bool":
         if not isinstance(v, bool):
             raise InvalidTypeError(
-                f"{name} must be true or false ({spec.valid}), got {type(v).__name__} {v!r}", name
+                f"{name} must be true or false ({spec.valid}), got {type(v).__name__} {_show(v)}", name
             )
     elif spec.kind == "intlist":
         if not isinstance(v, (list, tuple)) or any(
             isinstance(x, bool) or not isinstance(x, int) for x in v
         ):
             raise InvalidTypeError(
-                f"{name} must be a list of integers ({spec.valid}), got {v!r}", name
+                f"{name} must be a list of integers ({spec.valid}), got {_show(v)}", name
             )
         v = tuple(v)
     if not spec.ok(v):
-        raise InvalidParameterError(f"invalid {name}: expected {spec.valid}, got {v!r}", name)
+        raise InvalidParameterError(f"invalid {name}: expected {spec.valid}, got {_show(v)}", name)
     return v
 
 
@@ -186,12 +230,12 @@ class _Section:
                 f"[{cls._name}] must be a table/dict, got {type(d).__name__}", cls._name
             )
         allowed = [f.name for f in fields(cls)]  # type: ignore[arg-type]
-        unknown = sorted(set(d) - set(allowed))
+        unknown = sorted(set(d) - set(allowed), key=str)
         if unknown:
             raise UnknownParameterError(
-                f"unknown key(s) {', '.join(cls._name + '.' + str(k) for k in unknown)}; "
+                f"unknown key(s) {', '.join(cls._name + '.' + _key(k) for k in unknown)}; "
                 f"allowed in [{cls._name}]: {', '.join(allowed)}",
-                f"{cls._name}.{unknown[0]}",
+                f"{cls._name}.{_key(unknown[0])}",
             )
         return cls(**d)
 
@@ -329,9 +373,18 @@ class MeshOptions(_Section):
         "gauss": _int_at_least(1, 5),
     }
 
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        if self.nx * self.ny > MAX_ELEMENTS:
+            raise InvalidParameterError(
+                f"invalid mesh.nx * mesh.ny: expected at most {MAX_ELEMENTS} elements "
+                f"(a documented memory guard), got {_show(self.nx)} x {_show(self.ny)}",
+                "mesh.nx",
+            )
+
 
 def _nonneg(v: float) -> bool:
-    return math.isfinite(v) and v >= 0
+    return v == 0 or _pos(v)
 
 
 @dataclass(frozen=True)
@@ -372,12 +425,16 @@ class XfemOptions(_Section):
             "0.5 <= r_I <= 20 element lengths",
             lambda v: math.isfinite(v) and 0.5 <= v <= 20.0,
         ),
-        "fixed_area_radius": _Spec("float", "0 (off) or a finite length > 0", _nonneg),
+        "fixed_area_radius": _Spec(
+            "float", "0 (off) or a length in [1e-30, 1e30]", _nonneg
+        ),
         "area_threshold": _Spec(
             "float", "0 < area_threshold < 0.5", lambda v: math.isfinite(v) and 0.0 < v < 0.5
         ),
         "growth_steps": _int_at_least(0, 100_000),
-        "da": _Spec("float", "0 (one element length) or a finite length > 0", _nonneg),
+        "da": _Spec(
+            "float", "0 (one element length) or a length in [1e-30, 1e30]", _nonneg
+        ),
         "a_stop": _Spec("float", "0 (0.7 plate.width) or 0 < a_stop < plate.width", _nonneg),
     }
 
@@ -415,18 +472,24 @@ class PdOptions(_Section):
     _name: ClassVar[str] = "pd"
     _specs: ClassVar[dict[str, _Spec]] = {
         "dx": _POS,
-        "m": _int_at_least(1),
-        "center": _Spec("pair", "two finite numbers", lambda v: all(map(math.isfinite, v))),
-        "size": _Spec("pair", "two finite numbers > 0", lambda v: all(map(_pos, v))),
-        "sla_steps": _int_at_least(1),
+        "m": _int_at_least(2, 12),
+        "center": _Spec(
+            "pair", "two finite numbers, |x| <= 1e30", lambda v: all(map(_finite, v))
+        ),
+        "size": _Spec(
+            "pair", "two finite numbers in [1e-30, 1e30]", lambda v: all(map(_pos, v))
+        ),
+        "sla_steps": _count(1),
         "tie_tol": _Spec("float", "0 <= tie_tol < 1", lambda v: 0.0 <= v < 1.0),
-        "refactor_every": _int_at_least(0),
+        "refactor_every": _count(0),
         "fast": _Spec("bool", "true or false"),
         "stop_crack_length": _Spec(
-            "float", "a finite number >= 0 (0 = no stop)", lambda v: math.isfinite(v) and v >= 0
+            "float", "a finite number >= 0 (0 = no stop; else in [1e-30, 1e30])", _nonneg
         ),
         "damage_at_steps": _Spec(
-            "intlist", "a list of integers >= 1", lambda v: all(x >= 1 for x in v)
+            "intlist",
+            f"a list of integers >= 1 (at most {MAX_STEPS})",
+            lambda v: all(1 <= x <= MAX_STEPS for x in v),
         ),
     }
 
@@ -454,6 +517,15 @@ _CRACK_KINDS: dict[str, tuple[str, ...]] = {
     "pd": ("none", "edge"),
     "ccm_pd": ("none", "edge"),
 }
+
+
+def _utf8(v: str) -> bool:
+    """Encodable as UTF-8 (TOML and JSON files): no lone surrogates."""
+    try:
+        v.encode("utf-8")
+    except UnicodeEncodeError:
+        return False
+    return True
 
 
 def _bad(param: str, msg: str) -> InvalidParameterError:
@@ -490,7 +562,7 @@ class Scene:
 
     def __post_init__(self) -> None:
         _coerce("method", _choice(*METHODS), self.method)
-        _coerce("name", _Spec("str", "a string"), self.name)
+        _coerce("name", _Spec("str", "a string of Unicode text", _utf8), self.name)
         extra = self.extra_cracks
         if isinstance(extra, (Crack, Mapping)) or not isinstance(extra, (list, tuple)):
             raise InvalidTypeError(
@@ -586,6 +658,13 @@ class Scene:
             if self.material.plane != "strain":
                 raise _bad("material.plane", f"method {m!r} supports 'strain' only")
             d = self.pd
+            nodes = (p.width / d.dx + 1) * (p.height / d.dx + 1)
+            if nodes > MAX_ELEMENTS:
+                raise _bad(
+                    "pd.dx",
+                    f"the PD grid would have {nodes:.3g} nodes; at most {MAX_ELEMENTS} "
+                    "(a documented memory guard)",
+                )
             for i, (n, length) in enumerate((("x1", p.width), ("x2", p.height))):
                 cells = length / d.dx
                 if abs(cells - round(cells)) > 1e-9 * max(1.0, cells):
@@ -679,7 +758,7 @@ class Scene:
             )
         method = _coerce("method", _choice(*METHODS), d["method"])
         allowed = ["method", "name", *METHOD_SECTIONS[method]]
-        unknown = sorted(set(d) - set(allowed))
+        unknown = sorted(set(d) - set(allowed), key=str)
         if unknown:
             other = [k for k in unknown if k in _SECTIONS]
             hint = (
@@ -688,8 +767,8 @@ class Scene:
                 else ""
             )
             raise UnknownParameterError(
-                f"unknown key(s) {', '.join(map(str, unknown))}{hint}; allowed: {', '.join(allowed)}",
-                str(unknown[0]),
+                f"unknown key(s) {', '.join(map(_key, unknown))}{hint}; allowed: {', '.join(allowed)}",
+                _key(unknown[0]),
             )
         kwargs: dict[str, Any] = {"method": method}
         if "name" in d:
@@ -714,8 +793,17 @@ class Scene:
 
     @classmethod
     def from_toml(cls, path: PathLike) -> Scene:
-        """Reads a scene from a TOML file (see the module docstring for the layout)."""
-        text = Path(path).read_text(encoding="utf-8")
+        """Reads a scene from a TOML file (see the module docstring for the layout). A missing or
+        unreadable file raises the usual ``OSError``; a file that is not UTF-8 text, or a path
+        that cannot name a file (e.g. a NUL character), an :class:`InvalidParameterError`."""
+        try:
+            text = Path(path).read_text(encoding="utf-8")
+        except UnicodeDecodeError as e:
+            raise InvalidParameterError(
+                f"invalid scene file {_show(str(path))}: not UTF-8 text ({e.reason})", "scene"
+            ) from e
+        except ValueError as e:  # e.g. "embedded null byte"
+            raise InvalidParameterError(f"invalid scene path {_show(path)}: {e}", "scene") from e
         return cls.from_toml_str(text)
 
     @classmethod
@@ -724,7 +812,9 @@ class Scene:
         try:
             data = tomllib.loads(text)
         except tomllib.TOMLDecodeError as e:
-            raise InvalidParameterError(f"scene is not valid TOML: {e}", "toml") from e
+            raise InvalidParameterError(
+                f"invalid toml: the scene is not valid TOML: {e}", "toml"
+            ) from e
         return cls.from_dict(data)
 
     def replace(self, **changes: Any) -> Scene:

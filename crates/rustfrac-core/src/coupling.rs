@@ -187,10 +187,11 @@ impl SpliceModel {
                 spec.dx,
             ));
         }
-        if (nx + 1) * (ny + 1) > 20_000_000 {
+        // the same memory guard as the FEM meshes (a finer PD grid also makes each SLA step slow)
+        if (nx + 1) * (ny + 1) > crate::mesh::MAX_ELEMENTS {
             return Err(Error::invalid(
                 "dx",
-                "at most 2e7 grid nodes",
+                &format!("at most {} grid nodes", crate::mesh::MAX_ELEMENTS),
                 (nx + 1) * (ny + 1),
             ));
         }

@@ -65,21 +65,36 @@ impl fmt::Display for Error {
 
 impl std::error::Error for Error {}
 
-/// Check that `v` is finite and strictly positive.
+/// Smallest magnitude accepted for a dimensional value (length, modulus, stress, G0).
+///
+/// The models are scale invariant (tests/scale_invariance.rs: lengths 1e-6..1e3 and E
+/// 1e-6..1e12 give the same dimensionless results to 1e-9), so the only limit is double
+/// precision: products such as the PD micromodulus E / (h delta^3) (eq. 47) or an energy E h L^2
+/// must neither overflow nor underflow, which holds while every input lies within
+/// [`MAG_MIN`, `MAG_MAX`]. Any consistent unit system fits (SI steel: E = 2e11 Pa, L = 1e-3 m).
+pub const MAG_MIN: f64 = 1e-30;
+/// Largest magnitude accepted for a dimensional value (see [`MAG_MIN`]).
+pub const MAG_MAX: f64 = 1e30;
+
+/// Check that the dimensional value `v` is finite and positive, within [`MAG_MIN`, `MAG_MAX`].
 pub fn check_positive(param: &str, v: f64) -> Result<()> {
-    if v.is_finite() && v > 0.0 {
+    if v.is_finite() && (MAG_MIN..=MAG_MAX).contains(&v) {
         Ok(())
     } else {
-        Err(Error::invalid(param, "a finite number > 0", v))
+        Err(Error::invalid(param, "a finite number in [1e-30, 1e30]", v))
     }
 }
 
-/// Check that `v` is finite.
+/// Check that `v` is finite, with |v| <= [`MAG_MAX`].
 pub fn check_finite(param: &str, v: f64) -> Result<()> {
-    if v.is_finite() {
+    if v.is_finite() && v.abs() <= MAG_MAX {
         Ok(())
     } else {
-        Err(Error::invalid(param, "a finite number", v))
+        Err(Error::invalid(
+            param,
+            "a finite number with |value| <= 1e30",
+            v,
+        ))
     }
 }
 

@@ -115,6 +115,7 @@ pub struct PdConstants {
 /// Checks that bond-based PD can represent the material: plane strain needs nu = 1/4 (plane stress
 /// would need 1/3, whose constants eqs. 47-48 do not cover: refused too).
 pub fn check_material(mat: &Elastic) -> Result<()> {
+    mat.validate()?;
     match mat.plane {
         Plane::Strain => {
             if (mat.nu - 0.25).abs() > 1e-12 {

@@ -49,7 +49,8 @@ pub struct FemPlateResult {
     pub wall_time_s: f64,
     /// condition estimate of the solve (see [`ConditionEstimate`])
     pub condition: ConditionEstimate,
-    /// numerical warnings (e.g. a condition estimate above [`crate::solver::COND_WARN`])
+    /// numerical and accuracy warnings (a condition estimate above [`crate::solver::COND_WARN`],
+    /// volumetric locking near nu = 0.5, [`Elastic::locking_warning`])
     pub warnings: Vec<String>,
 }
 
@@ -58,6 +59,7 @@ pub fn run(p: &FemPlateParams) -> Result<FemPlateResult> {
     let t0 = Instant::now();
     check_positive("width", p.width)?;
     check_positive("height", p.height)?;
+    p.material.validate()?;
     let mut mesh = Mesh::uniform(0.0, 0.0, p.width, p.height, p.nx, p.ny)?;
     let mut mouth = None;
     let mut seam_y = None;
@@ -109,6 +111,11 @@ pub fn run(p: &FemPlateParams) -> Result<FemPlateResult> {
         seam_y,
         wall_time_s: t0.elapsed().as_secs_f64(),
         condition,
-        warnings: condition_warning("solve", &condition).into_iter().collect(),
+        warnings: p
+            .material
+            .locking_warning()
+            .into_iter()
+            .chain(condition_warning("solve", &condition))
+            .collect(),
     })
 }

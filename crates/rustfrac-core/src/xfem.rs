@@ -141,6 +141,9 @@ pub struct Crack {
     pub mouth: bool,
     /// tips: the last point first (if it is a tip), then the first point (if it is a tip)
     pub tips: Vec<Tip>,
+    /// distance below which a point lies on the crack (phi = 0): 1e-10 x the mesh's smallest
+    /// spacing, so that the classification does not depend on the units
+    on_crack_tol: f64,
 }
 
 #[inline]
@@ -250,6 +253,7 @@ impl Crack {
             snap: SNAP_REL * mesh.min_spacing(),
             mouth: start_b,
             tips,
+            on_crack_tol: 1e-10 * mesh.min_spacing(),
         })
     }
 
@@ -288,16 +292,22 @@ impl Crack {
             let t = unit(sub(p[k + 1], p[k]));
             [-t[1], t[0]]
         };
+        // s: distance to the line that decides the sign (vertex bisector or segment line), signed
         let s = if bt >= 1.0 && bk + 1 < nseg {
             let (a, b) = (seg_n(bk), seg_n(bk + 1));
-            dot(sub(x, p[bk + 1]), [a[0] + b[0], a[1] + b[1]])
+            let nv = [a[0] + b[0], a[1] + b[1]];
+            dot(sub(x, p[bk + 1]), nv) / norm(nv)
         } else if bt <= 0.0 && bk > 0 {
             let (a, b) = (seg_n(bk - 1), seg_n(bk));
-            dot(sub(x, p[bk]), [a[0] + b[0], a[1] + b[1]])
+            let nv = [a[0] + b[0], a[1] + b[1]];
+            dot(sub(x, p[bk]), nv) / norm(nv)
         } else {
-            cross(sub(p[bk + 1], p[bk]), sub(x, p[bk]))
+            let d = sub(p[bk + 1], p[bk]);
+            cross(d, sub(x, p[bk])) / norm(d)
         };
-        if s > 0.0 {
+        if s.abs() <= self.on_crack_tol {
+            0.0
+        } else if s > 0.0 {
             best.sqrt()
         } else if s < 0.0 {
             -best.sqrt()
@@ -1769,7 +1779,8 @@ pub struct XfemResult {
     pub snapshots: Vec<DeformedPatch>,
     /// condition estimate of the initial crack's solve (see [`ConditionEstimate`])
     pub condition: ConditionEstimate,
-    /// numerical warnings (e.g. a condition estimate above [`crate::solver::COND_WARN`])
+    /// numerical and accuracy warnings (a condition estimate above
+    /// [`crate::solver::COND_WARN`], volumetric locking near nu = 0.5, [`Elastic::locking_warning`])
     pub warnings: Vec<String>,
 }
 
@@ -2006,8 +2017,11 @@ pub fn run(params: &XfemParams, progress: &(dyn Fn(usize, usize) + Sync)) -> Res
         deformed,
         snapshots: Vec::new(),
         condition: first.condition,
-        warnings: condition_warning("initial solve", &first.condition)
+        warnings: params
+            .material
+            .locking_warning()
             .into_iter()
+            .chain(condition_warning("initial solve", &first.condition))
             .collect(),
     };
     let Some(g) = params.growth else {

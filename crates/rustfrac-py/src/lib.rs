@@ -215,7 +215,8 @@ fn material(e: f64, nu: f64, plane: &str, thickness: f64) -> Result<Elastic, Cor
 /// nodal_stress (n,3) [s11, s22, s12], gauss_points (g,2), gauss_stress (g,3); scalars sigma22,
 /// cmod, energy, residual, n_dofs, anchor_node, seam_y (or None), wall_time_s, bc, condition
 /// (dimensionless condition estimate of the solve, `rustfrac_core::solver::ConditionEstimate`),
-/// condition_pivot_ratio, warnings (list of str).
+/// condition_pivot_ratio, warnings (list of str: ill conditioning, volumetric locking near
+/// nu = 0.5).
 #[pyfunction]
 #[pyo3(signature = (*, width, height, nx, ny, e, nu, plane = "strain", thickness = 1.0,
                     bc = "free", u0 = 0.0, traction = 0.0, seam = None, gauss = 2,
@@ -515,6 +516,7 @@ fn solve_xfem_plate<'py>(
     d.set_item("status", r.status)?;
     d.set_item("bc", r.grip)?;
     d.set_item("wall_time_s", wall)?;
+    d.set_item("warnings", r.warnings)?;
     Ok(d)
 }
 

@@ -1,0 +1,500 @@
+//! Scale invariance: the models hold no hidden absolute tolerance. The paper's plate is run with
+//! every length multiplied by `l` (plate, crack, mesh or PD grid, grip displacement u0 = 0.01 l,
+//! thickness), Young's modulus multiplied by `e`, and G0 by `e l` (so that K_Ic / K_ref and s0 do not
+//! change), for l from 1e-6 to 1e3 and e from 1e-6 to 1e12. Linear elasticity and LEFM then predict
+//! the same dimensionless results:
+//!
+//! - sigma22 / E, CMOD / l, u0 / l, K / (E sqrt(l)), the crack path / l and the kink angles;
+//! - the critical load factor lambda = K_Ic / K_eq(ref) = sqrt(G0 E') / K_eq (XFEM growth) and
+//!   lambda = s0 / s_max (SLA), with s0 = sqrt(5 pi G0 / (12 E delta)) (eq. 48);
+//! - the same bond breaking first and the same sequence of broken bonds in the SLA.
+//!
+//! Each is compared with the unit-scale run to 1e-9 relative (to the quantity's natural size:
+//! K_II against K_I, the crack path against the plate size). A separate test checks the G0 law:
+//! multiplying G0 alone by g multiplies every critical load factor by sqrt(g) and keeps the path.
+
+use rustfrac_core::fem::{FemModel, LinearSystem};
+use rustfrac_core::loading::{plate_conditions, sigma22, Grip, PlateEdges, PlateLoad};
+use rustfrac_core::material::{Elastic, Plane};
+use rustfrac_core::mesh::Mesh;
+use rustfrac_core::plate::{self, FemPlateParams};
+use rustfrac_core::sla::{self, CcmPdParams, Method, SlaParams};
+use rustfrac_core::xfem::{self, GrowthParams, XfemParams};
+
+fn quiet(_: usize, _: usize) {}
+
+const TOL: f64 = 1e-9;
+
+/// (length scale l, modulus scale e, thickness): the extremes of the requested ranges, mixed.
+const SCALES: [(f64, f64, f64); 6] = [
+    (1e-6, 1e-6, 1.0),
+    (1e-6, 1e12, 1e-6),
+    (1e3, 1e-6, 1e3),
+    (1e3, 1e12, 1.0),
+    (1e-3, 1e6, 1e-3),
+    (37.0, 3.3e-4, 0.01),
+];
+
+/// |got - want| <= TOL * size, with `size` the natural magnitude of the quantity.
+fn check(what: &str, got: f64, want: f64, size: f64, worst: &mut f64) {
+    let rel = (got - want).abs() / size.abs();
+    assert!(
+        got.is_finite() && rel <= TOL,
+        "{what}: {got:.17e} vs {want:.17e} (relative {rel:.2e} > {TOL:e})"
+    );
+    *worst = worst.max(rel);
+}
+
+fn material(e: f64, nu: f64, t: f64) -> Elastic {
+    Elastic::new(1e4 * e, nu, Plane::Strain, t).unwrap()
+}
+
+// ---------------------------------------------------------------------------------------------
+// FEM
+
+fn fem_case(l: f64, e: f64, t: f64, grip: Grip) -> plate::FemPlateResult {
+    plate::run(&FemPlateParams {
+        width: 11.0 * l,
+        height: 21.0 * l,
+        nx: 44,
+        ny: 84,
+        material: material(e, 0.25, t),
+        load: PlateLoad {
+            grip,
+            u0: 0.01 * l,
+            traction: 9.993 * e,
+        },
+        seam: Some((1.1 * l, 10.5 * l)),
+        gauss: 2,
+    })
+    .unwrap()
+}
+
+#[test]
+fn fem_seam_crack_is_scale_invariant() {
+    let mut worst = 0.0f64;
+    for grip in [Grip::Free, Grip::Clamped, Grip::Traction] {
+        let r0 = fem_case(1.0, 1.0, 1.0, grip);
+        for &(l, e, t) in &SCALES {
+            let r = fem_case(l, e, t, grip);
+            let tag = format!("FEM {grip:?} l={l:e} e={e:e} t={t:e}");
+            check(
+                &format!("{tag} sigma22/E"),
+                r.sigma22 / e,
+                r0.sigma22,
+                r0.sigma22,
+                &mut worst,
+            );
+            check(
+                &format!("{tag} CMOD/l"),
+                r.cmod / l,
+                r0.cmod,
+                r0.cmod,
+                &mut worst,
+            );
+            // the stress field sigma22 / E at every Gauss point, against the largest
+            let smax = r0
+                .gauss_stress
+                .iter()
+                .map(|s| s[1].abs())
+                .fold(0.0, f64::max);
+            for (a, b) in r.gauss_stress.iter().zip(&r0.gauss_stress) {
+                check(
+                    &format!("{tag} gauss sigma22"),
+                    a[1] / e,
+                    b[1],
+                    smax,
+                    &mut worst,
+                );
+            }
+            assert_eq!(
+                r.seam_y.map(|y| (y / l * 1e6).round()),
+                r0.seam_y.map(|y| (y * 1e6).round())
+            );
+        }
+    }
+    println!("FEM: worst relative deviation {worst:.2e}");
+}
+
+/// The uncracked plate's linear system solved directly (no plate driver): relative residual and
+/// the pivot test do not depend on the units.
+#[test]
+fn fem_linear_system_is_scale_invariant() {
+    let solve = |l: f64, e: f64| {
+        let mesh = Mesh::uniform(0.0, 0.0, 11.0 * l, 21.0 * l, 11, 21).unwrap();
+        let model = FemModel::new(mesh, material(e, 0.3, 1.0), 2).unwrap();
+        let edges = PlateEdges::of_mesh(&model.mesh);
+        let load = PlateLoad {
+            grip: Grip::Free,
+            u0: 0.01 * l,
+            traction: 0.0,
+        };
+        let (bc, f, _) = plate_conditions(&edges, &load, model.n_dofs(), 1.0).unwrap();
+        let sys = LinearSystem::new(model.stiffness(), &bc).unwrap();
+        let s = sys.solve(&f, 1.0).unwrap();
+        let s22 = sigma22(&edges, &s.reactions, &f, 11.0 * l, 1.0);
+        (s22 / e, s.residual)
+    };
+    let (s0, _) = solve(1.0, 1.0);
+    let exact = 1e4 / (1.0 - 0.09) * 2.0 * 0.01 / 21.0;
+    assert!((s0 - exact).abs() < 1e-10 * exact);
+    let mut worst = 0.0f64;
+    for &(l, e, _) in &SCALES {
+        let (s, res) = solve(l, e);
+        check(&format!("uncracked l={l:e} e={e:e}"), s, s0, s0, &mut worst);
+        assert!(res < 1e-12, "relative residual {res:e} at l={l:e} e={e:e}");
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// XFEM
+
+fn xfem_params(l: f64, e: f64, t: f64, grip: Grip, crack: &[[f64; 2]], growth: bool) -> XfemParams {
+    let mut p = XfemParams::paper(grip);
+    p.width *= l;
+    p.height *= l;
+    p.material = material(e, 0.25, t);
+    p.crack = crack.iter().map(|q| [q[0] * l, q[1] * l]).collect();
+    p.load.u0 *= l;
+    p.load.traction *= e;
+    p.extra_radius_factors = vec![2.0];
+    if growth {
+        p.growth = Some(GrowthParams {
+            g0: 0.367 * e * l,
+            da: None,
+            a_stop: 2.4 * l,
+            max_steps: 4,
+        });
+    }
+    p
+}
+
+fn compare_xfem(r: &xfem::XfemResult, r0: &xfem::XfemResult, l: f64, e: f64, tag: &str) -> f64 {
+    let mut worst = 0.0f64;
+    let ks = e * l.sqrt();
+    let kref = r0.k_i.hypot(r0.k_ii);
+    check(&format!("{tag} K_I"), r.k_i / ks, r0.k_i, kref, &mut worst);
+    check(
+        &format!("{tag} K_II"),
+        r.k_ii / ks,
+        r0.k_ii,
+        kref,
+        &mut worst,
+    );
+    check(
+        &format!("{tag} J"),
+        r.j_domain / (e * l),
+        r0.j_domain,
+        r0.j_from_k,
+        &mut worst,
+    );
+    check(
+        &format!("{tag} sigma22"),
+        r.sigma22 / e,
+        r0.sigma22,
+        r0.sigma22,
+        &mut worst,
+    );
+    check(
+        &format!("{tag} CMOD"),
+        r.cmod / l,
+        r0.cmod,
+        r0.cmod,
+        &mut worst,
+    );
+    assert_eq!(
+        (r.n_heaviside_nodes, r.n_tip_nodes, r.n_dropped_nodes),
+        (r0.n_heaviside_nodes, r0.n_tip_nodes, r0.n_dropped_nodes),
+        "{tag}: enrichment differs"
+    );
+    for (a, b) in r.radii.iter().zip(&r0.radii) {
+        check(
+            &format!("{tag} K_I(r)"),
+            a.sifs.k_i / ks,
+            b.sifs.k_i,
+            kref,
+            &mut worst,
+        );
+    }
+    assert_eq!(
+        r.history.len(),
+        r0.history.len(),
+        "{tag}: growth steps differ"
+    );
+    assert_eq!(r.status, r0.status);
+    for (k, (a, b)) in r.history.iter().zip(&r0.history).enumerate().skip(1) {
+        let tag = format!("{tag} growth step {k}");
+        let kb = b.k_i.hypot(b.k_ii);
+        check(
+            &format!("{tag} lambda"),
+            a.lambda,
+            b.lambda,
+            b.lambda,
+            &mut worst,
+        );
+        check(
+            &format!("{tag} sigma22"),
+            a.sigma22 / e,
+            b.sigma22,
+            b.sigma22,
+            &mut worst,
+        );
+        check(
+            &format!("{tag} CMOD"),
+            a.cmod / l,
+            b.cmod,
+            b.cmod,
+            &mut worst,
+        );
+        check(
+            &format!("{tag} u0"),
+            a.u0 / l,
+            b.u0,
+            b.u0.abs().max(1e-300),
+            &mut worst,
+        );
+        check(&format!("{tag} a"), a.a / l, b.a, b.a, &mut worst);
+        check(&format!("{tag} K_I"), a.k_i / ks, b.k_i, kb, &mut worst);
+        check(&format!("{tag} K_II"), a.k_ii / ks, b.k_ii, kb, &mut worst);
+        check(
+            &format!("{tag} kink"),
+            a.kink_angle,
+            b.kink_angle,
+            1.0,
+            &mut worst,
+        );
+        check(
+            &format!("{tag} tip x"),
+            a.tip[0] / l,
+            b.tip[0],
+            11.0,
+            &mut worst,
+        );
+        check(
+            &format!("{tag} tip y"),
+            a.tip[1] / l,
+            b.tip[1],
+            11.0,
+            &mut worst,
+        );
+    }
+    assert_eq!(r.crack.len(), r0.crack.len());
+    for (a, b) in r.crack.iter().zip(&r0.crack) {
+        check(&format!("{tag} path x"), a[0] / l, b[0], 11.0, &mut worst);
+        check(&format!("{tag} path y"), a[1] / l, b[1], 11.0, &mut worst);
+    }
+    worst
+}
+
+#[test]
+fn xfem_single_solve_is_scale_invariant() {
+    let mut worst = 0.0f64;
+    // the paper's crack, midway between node rows, an inclined one cutting elements obliquely, and
+    // an inclined interior crack (two tips; its CMOD is the opening at the middle)
+    // an inclined interior crack (two tips; its CMOD is the opening at the middle), and on a
+    // 44 x 84 mesh an inclined crack whose mouth is a node and a crack along a node row (nodes on
+    // the crack: their side must not depend on the round-off of the scaled coordinates)
+    let cracks: [(usize, &[[f64; 2]]); 5] = [
+        (83, &[[0.0, 10.5], [1.1, 10.5]]),
+        (83, &[[0.0, 10.3], [2.0, 10.9]]),
+        (83, &[[4.6, 10.1], [6.4, 10.7]]),
+        (84, &[[0.0, 10.5], [2.0, 11.0]]),
+        (84, &[[0.0, 10.5], [1.1, 10.5]]),
+    ];
+    for grip in [Grip::Free, Grip::Traction] {
+        for (ny, crack) in cracks {
+            let params = |l: f64, e: f64, t: f64| {
+                let mut p = xfem_params(l, e, t, grip, crack, false);
+                p.ny = ny;
+                p
+            };
+            let r0 = xfem::run(&params(1.0, 1.0, 1.0), &quiet).unwrap();
+            for &(l, e, t) in &SCALES {
+                let r = xfem::run(&params(l, e, t), &quiet).unwrap();
+                let tag = format!("XFEM {grip:?} {crack:?} l={l:e} e={e:e} t={t:e}");
+                worst = worst.max(compare_xfem(&r, &r0, l, e, &tag));
+            }
+        }
+    }
+    println!("XFEM single solve: worst relative deviation {worst:.2e}");
+}
+
+#[test]
+fn xfem_growth_is_scale_invariant() {
+    let mut worst = 0.0f64;
+    // mixed mode: the inclined crack kinks, so the path itself is compared
+    let crack: &[[f64; 2]] = &[[0.0, 10.5], [1.1, 10.9]];
+    let r0 = xfem::run(&xfem_params(1.0, 1.0, 1.0, Grip::Free, crack, true), &quiet).unwrap();
+    assert_eq!(r0.history.len(), 5, "status {}", r0.status);
+    for &(l, e, t) in &SCALES[..4] {
+        let r = xfem::run(&xfem_params(l, e, t, Grip::Free, crack, true), &quiet).unwrap();
+        let tag = format!("XFEM growth l={l:e} e={e:e} t={t:e}");
+        worst = worst.max(compare_xfem(&r, &r0, l, e, &tag));
+    }
+    println!("XFEM growth: worst relative deviation {worst:.2e}");
+}
+
+/// lambda = K_Ic / K_eq = sqrt(G0 E') / K_eq: G0 times g gives lambda times sqrt(g), and the same
+/// path (the kink angle depends on K_II / K_I only).
+#[test]
+fn xfem_critical_load_scales_with_sqrt_g0() {
+    let crack: &[[f64; 2]] = &[[0.0, 10.5], [1.1, 10.9]];
+    let base = xfem_params(1.0, 1.0, 1.0, Grip::Free, crack, true);
+    let r0 = xfem::run(&base, &quiet).unwrap();
+    let mut worst = 0.0f64;
+    for g in [1e-8, 1e6] {
+        let mut p = base.clone();
+        p.growth.as_mut().unwrap().g0 *= g;
+        let r = xfem::run(&p, &quiet).unwrap();
+        assert_eq!(r.history.len(), r0.history.len());
+        for (a, b) in r.history.iter().zip(&r0.history).skip(1) {
+            let sg = g.sqrt();
+            check("lambda", a.lambda / sg, b.lambda, b.lambda, &mut worst);
+            check("cmod", a.cmod / sg, b.cmod, b.cmod, &mut worst);
+            check("K_I", a.k_i / sg, b.k_i, b.k_i.hypot(b.k_ii), &mut worst);
+            check("tip x", a.tip[0], b.tip[0], 11.0, &mut worst);
+            check("tip y", a.tip[1], b.tip[1], 11.0, &mut worst);
+        }
+        // K_Ic = sqrt(G0 E') at every critical state: K_eq(lambda) = K_Ic
+        let gg = base.growth.unwrap().g0 * g;
+        let kic = (gg * base.material.e_prime()).sqrt();
+        for h in &r.history[1..] {
+            let keq = rustfrac_core::sif::k_equivalent(h.k_i, h.k_ii);
+            check("K_eq = K_Ic", keq, kic, kic, &mut worst);
+        }
+    }
+    println!("XFEM G0 scaling: worst relative deviation {worst:.2e}");
+}
+
+// ---------------------------------------------------------------------------------------------
+// CCM-PD
+
+fn pd_params(l: f64, e: f64, t: f64, steps: usize, method: Method, grip: Grip) -> CcmPdParams {
+    let mut p = CcmPdParams::paper();
+    p.method = method;
+    p.load.grip = grip;
+    p.load.traction = 9.993 * e;
+    p.width *= l;
+    p.height *= l;
+    p.dx = 0.2 * l;
+    p.material = material(e, 0.25, t);
+    p.g0 = 0.367 * e * l;
+    p.pd_regions = vec![[0.3 * l, 9.3 * l, 4.7 * l, 11.7 * l]];
+    p.precrack = vec![[0.0, 10.5 * l], [1.1 * l, 10.5 * l]];
+    p.load.u0 *= l;
+    if method == Method::Pd {
+        // PD everywhere: a smaller plate (22 x 21 cells) keeps the dense condensation cheap
+        p.width = 4.4 * l;
+        p.height = 4.2 * l;
+        p.precrack = vec![[0.0, 2.1 * l], [1.1 * l, 2.1 * l]];
+    }
+    p.sla = SlaParams {
+        max_steps: steps,
+        ..SlaParams::default()
+    };
+    p
+}
+
+#[test]
+fn ccm_pd_sla_is_scale_invariant() {
+    let mut worst = 0.0f64;
+    for (method, grip, scales) in [
+        (Method::CcmPd, Grip::Free, &SCALES[..]),
+        (Method::CcmPd, Grip::Traction, &SCALES[..3]),
+        (Method::Pd, Grip::Clamped, &SCALES[..2]),
+    ] {
+        let t0 = std::time::Instant::now();
+        worst = worst.max(pd_case(method, grip, scales));
+        println!("{method:?} {grip:?}: {:.2} s", t0.elapsed().as_secs_f64());
+    }
+    println!("CCM-PD / PD: worst relative deviation {worst:.2e}");
+}
+
+fn pd_case(method: Method, grip: Grip, scales: &[(f64, f64, f64)]) -> f64 {
+    let steps = 12;
+    let r0 = sla::run(&pd_params(1.0, 1.0, 1.0, steps, method, grip), &quiet).unwrap();
+    assert_eq!(r0.history.len(), steps);
+    let mut worst = 0.0f64;
+    for &(l, e, t) in scales {
+        let r = sla::run(&pd_params(l, e, t, steps, method, grip), &quiet).unwrap();
+        let tag = format!("{method:?} {grip:?} l={l:e} e={e:e} t={t:e}");
+        assert_eq!(r.status, r0.status, "{tag}");
+        assert_eq!(r.n_precrack_bonds, r0.n_precrack_bonds, "{tag}");
+        assert_eq!(r.n_removed_elements, r0.n_removed_elements, "{tag}");
+        check(
+            &format!("{tag} sigma22"),
+            r.sigma22 / e,
+            r0.sigma22,
+            r0.sigma22,
+            &mut worst,
+        );
+        check(
+            &format!("{tag} CMOD"),
+            r.cmod / l,
+            r0.cmod,
+            r0.cmod,
+            &mut worst,
+        );
+        check(&format!("{tag} s0"), r.s0, r0.s0, r0.s0, &mut worst);
+        check(
+            &format!("{tag} gamma"),
+            r.gamma,
+            r0.gamma,
+            r0.gamma,
+            &mut worst,
+        );
+        // c = 48 E gamma / (5 pi h delta^3) (eq. 47)
+        check(
+            &format!("{tag} c"),
+            r.c * t * l.powi(3) / e,
+            r0.c,
+            r0.c,
+            &mut worst,
+        );
+        assert_eq!(r.history.len(), r0.history.len(), "{tag}");
+        for (a, b) in r.history.iter().zip(&r0.history) {
+            let tag = format!("{tag} step {}", a.step);
+            assert_eq!(a.bonds, b.bonds, "{tag}: different bonds broke");
+            assert_eq!(a.nodes, b.nodes, "{tag}");
+            check(
+                &format!("{tag} lambda"),
+                a.lambda,
+                b.lambda,
+                b.lambda,
+                &mut worst,
+            );
+            check(
+                &format!("{tag} sigma22"),
+                a.sigma22 / e,
+                b.sigma22,
+                b.sigma22,
+                &mut worst,
+            );
+            check(
+                &format!("{tag} cmod"),
+                a.cmod / l,
+                b.cmod,
+                b.cmod,
+                &mut worst,
+            );
+            check(
+                &format!("{tag} u0"),
+                a.u0 / l,
+                b.u0,
+                b.u0.abs().max(1e-300),
+                &mut worst,
+            );
+            check(
+                &format!("{tag} crack length"),
+                a.crack_length / l,
+                b.crack_length,
+                b.crack_length,
+                &mut worst,
+            );
+        }
+        for (a, b) in r.damage.iter().zip(&r0.damage) {
+            assert_eq!(a, b, "{tag}: damage differs");
+        }
+    }
+    worst
+}
