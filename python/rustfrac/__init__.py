@@ -16,6 +16,8 @@ from __future__ import annotations
 from . import scenes
 from ._core import __version__
 from .errors import (
+    AccuracyWarning,
+    CheckpointIOError,
     InternalError,
     InvalidParameterError,
     InvalidTypeError,
@@ -31,6 +33,8 @@ from .scene import METHODS, Scene
 
 __all__ = [
     "METHODS",
+    "AccuracyWarning",
+    "CheckpointIOError",
     "InternalError",
     "InvalidParameterError",
     "InvalidTypeError",

@@ -9,6 +9,8 @@ range, a wrong type, an unknown or missing key) is also a :class:`ValueError` (o
 from __future__ import annotations
 
 __all__ = [
+    "AccuracyWarning",
+    "CheckpointIOError",
     "InternalError",
     "InvalidParameterError",
     "InvalidTypeError",
@@ -53,6 +55,16 @@ class SeparatedError(SingularSystemError):
 
 class InternalError(RustfracError, RuntimeError):
     """An internal failure of the numerical core (e.g. a caught Rust panic). Please report it."""
+
+
+class CheckpointIOError(RustfracError, OSError):
+    """A checkpoint file could not be read or written (the message names the path)."""
+
+
+class AccuracyWarning(UserWarning):
+    """The run went on, but a setting or an event limits its accuracy: a PD horizon factor m < 2
+    (too few bonds per node), or PD nodes detached (grounded) during the SLA. Issued with
+    :func:`warnings.warn` and recorded in ``Result.meta["warnings"]``."""
 
 
 class MethodNotAvailableError(RustfracError, NotImplementedError):

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 import time
+import warnings
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any, Callable
@@ -11,7 +12,12 @@ from typing import Any, Callable
 import numpy as np
 
 from . import _core
-from .errors import InvalidParameterError, InvalidTypeError, MethodNotAvailableError
+from .errors import (
+    AccuracyWarning,
+    InvalidParameterError,
+    InvalidTypeError,
+    MethodNotAvailableError,
+)
 from .result import Result
 from .scene import Scene
 
@@ -337,8 +343,14 @@ def _run_pd(scene: Scene, progress: ProgressCallback | None) -> Result:
         refactor_every=pd.refactor_every,
         fast=pd.fast,
         damage_at_steps=list(pd.damage_at_steps),
+        checkpoint_every=pd.checkpoint_every,
+        checkpoint_path=pd.checkpoint_path or None,
+        resume_from=pd.resume_from or None,
         progress=progress,
     )
+    run_warnings = [str(w) for w in out["warnings"]]
+    for w in run_warnings:
+        warnings.warn(w, AccuracyWarning, stacklevel=3)
     prefix = "history_"
     a0 = c.a0 if c.kind == "edge" else 0.0
     origin = {"crack_length": a0, "bond": -1, "node_i": -1, "node_j": -1}
@@ -378,6 +390,13 @@ def _run_pd(scene: Scene, progress: ProgressCallback | None) -> Result:
             precrack=[list(q) for q in precrack],
             out_of_balance=out["out_of_balance"].tolist(),
             n_refactorisations=int(out["n_refactorisations"]),
+            max_update_rank=int(out["max_update_rank"]),
+            refactor_interval=int(out["refactor_interval"]),
+            resumed_steps=int(out["resumed_steps"]),
+            n_checkpoints=int(out["n_checkpoints"]),
+            checkpoint_path=pd.checkpoint_path or None,
+            resumed_from=pd.resume_from or None,
+            warnings=run_warnings,
             peak_memory_bytes=out["peak_memory_bytes"],
             counts={
                 k: int(out[k])

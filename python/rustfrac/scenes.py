@@ -54,6 +54,9 @@ def edge_crack_plate(
     fast: bool = True,
     stop_crack_length: float = 0.0,
     damage_at_steps: tuple[int, ...] | list[int] = (),
+    checkpoint_every: int = 0,
+    checkpoint_path: str = "",
+    resume_from: str = "",
     name: str = "",
 ) -> Scene:
     """The paper's edge-cracked plate (section 3).
@@ -79,8 +82,8 @@ def edge_crack_plate(
             (0 = 0.7 width)). Growth uses ``G0``.
         dx, m, pd_center, pd_size, sla_steps: PD grid spacing, horizon factor (delta = m dx),
             PD rectangle of the CCM-PD model (pure PD covers the plate), and SLA steps.
-        tie_tol, refactor_every, fast, stop_crack_length, damage_at_steps: SLA options (see
-            :class:`~rustfrac.scene.PdOptions`).
+        tie_tol, refactor_every, fast, stop_crack_length, damage_at_steps, checkpoint_every,
+            checkpoint_path, resume_from: SLA options (see :class:`~rustfrac.scene.PdOptions`).
 
     Every value is validated; bad ones raise :class:`~rustfrac.errors.InvalidParameterError`.
     """
@@ -121,5 +124,8 @@ def edge_crack_plate(
             fast=fast,
             stop_crack_length=stop_crack_length,
             damage_at_steps=damage_at_steps,
+            checkpoint_every=checkpoint_every,
+            checkpoint_path=checkpoint_path,
+            resume_from=resume_from,
         ),
     )

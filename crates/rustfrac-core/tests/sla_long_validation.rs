@@ -61,7 +61,7 @@ fn long_run_keeps_the_solver_memory_bounded() {
     // the bound holds and is reached: the update vectors are recycled, not accumulated
     assert!(r.max_update_rank <= r.refactor_interval);
     assert_eq!(r.max_update_rank, r.refactor_interval);
-    assert!(r.n_refactorisations >= 1 + (n_updates - 1) / r.refactor_interval);
+    assert!(r.n_refactorisations > (n_updates - 1) / r.refactor_interval);
     // the final state is a regular solution
     assert!(r.u_final.iter().all(|v| v.is_finite()));
 
