@@ -33,6 +33,7 @@ HISTORY_KEYS = (
     "n_broken",
     "node_i",
     "node_j",
+    "n_detached",
 )
 
 
@@ -99,11 +100,12 @@ def test_binding_dict_keys_and_shapes() -> None:
         "sigma22", "cmod", "gamma", "c", "s0", "delta", "n_dofs", "n_nodes", "n_pd_nodes",
         "n_bonds", "n_precrack_bonds", "n_removed_elements", "bytes_per_bond", "anchor_node",
         "status", "solver", "n_refactorisations", "setup_seconds", "sla_seconds",
-        "peak_memory_bytes", "wall_time_s", "bc", "method",
+        "peak_memory_bytes", "wall_time_s", "bc", "method", "max_update_rank",
+        "refactor_interval", "resumed_steps", "n_checkpoints", "warnings",
     }  # fmt: skip
     arrays = {
         "node_xy", "u", "u_final", "pd_nodes", "pd_node_xy", "damage", "broken", "bond_nodes",
-        "out_of_balance", "anchor_xy", "damage_at_steps", "damage_at",
+        "out_of_balance", "anchor_xy", "damage_at_steps", "damage_at", "detached_nodes",
         *("history_" + k for k in HISTORY_KEYS if k != "step"), "history_step",
     }  # fmt: skip
     assert set(out) == scalars | arrays
@@ -311,7 +313,11 @@ def test_separated_strip_is_a_status_without_nan(tmp_path: Path) -> None:
     [
         ({"method": "pd", "nu": 0.3}, "material.nu", "bond-based peridynamics"),
         ({"method": "ccm_pd", "nu": 0.2}, "material.nu", "nu = 0.25"),
-        ({"method": "pd", "m": 1}, "pd.m", "integer in 2..12"),
+        ({"method": "pd", "m": 0}, "pd.m", "integer in 1..12"),
+        ({"method": "pd", "m": 13}, "pd.m", "integer in 1..12"),
+        ({"method": "ccm_pd", "pd_size": (2.73, 0.5)}, "pd.size", "two horizons"),
+        ({"method": "pd", "width": 0.4, "dx": 0.1, "a0": 0.2}, "plate.width", "two horizons"),
+        ({"method": "pd", "checkpoint_every": 5}, "pd.checkpoint_path", "needs a checkpoint"),
         ({"method": "pd", "dx": 0.07}, "pd.dx", "fit the plate"),
         ({"method": "ccm_pd", "pd_center": (12.0, 10.5)}, "pd.center", "inside the plate"),
         ({"method": "ccm_pd", "pd_center": (5.0, 10.5)}, "pd.center", "crack tip"),

@@ -17,6 +17,7 @@ from . import scenes
 from ._core import __version__
 from .errors import (
     AccuracyWarning,
+    CheckpointIOError,
     IllConditionedWarning,
     InternalError,
     InvalidParameterError,
@@ -34,6 +35,7 @@ from .scene import METHODS, Scene
 __all__ = [
     "METHODS",
     "AccuracyWarning",
+    "CheckpointIOError",
     "IllConditionedWarning",
     "InternalError",
     "InvalidParameterError",

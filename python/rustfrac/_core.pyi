@@ -1,6 +1,7 @@
 """Typed stubs of the native module ``rustfrac._core`` (PyO3). Prefer the Python API
 (:func:`rustfrac.run`); these functions take plain numbers and do only the core's checks."""
 
+import os
 from collections.abc import Sequence
 from typing import Any, Callable
 
@@ -132,18 +133,27 @@ def solve_pd_plate(
     refactor_every: int = 0,
     fast: bool = True,
     damage_at_steps: list[int] = ...,
+    checkpoint_every: int = 0,
+    checkpoint_path: str | os.PathLike[str] | None = None,
+    resume_from: str | os.PathLike[str] | None = None,
     progress: ProgressCallback | None = None,
 ) -> dict[str, Any]:
     """Pure PD (method "pd") or splice CCM-PD ("ccm_pd": PD in the rectangles (x0, y0, x1, y1),
     FEM elsewhere) plate, then the sequentially linear analysis (GIL released; progress after
-    each SLA step; raising from it stops the run). ``precrack``: polyline, first point at the
+    each SLA step; raising from it stops the run, writes a checkpoint when configured, and
+    re-raises). ``precrack``: polyline, first point at the
     mouth (empty: uncracked). Keys: scalars sigma22, cmod (reference load, before any break),
     gamma, c, s0, delta, setup_seconds, sla_seconds, wall_time_s: float; n_dofs, n_nodes,
     n_pd_nodes, n_bonds, n_precrack_bonds, n_removed_elements, bytes_per_bond, anchor_node,
-    n_refactorisations: int; peak_memory_bytes: int | None; status ("completed" |
-    "crack_length_reached" | "separated" | "no_bond_in_tension"), solver, bc, method: str.
+    n_refactorisations, max_update_rank, refactor_interval, resumed_steps, n_checkpoints: int;
+    peak_memory_bytes: int | None; status ("completed" | "crack_length_reached" | "separated" |
+    "no_bond_in_tension" | "cancelled"), solver, bc, method: str; warnings: list[str] (accuracy
+    warnings: m < 2, detached nodes). Checkpoints every ``checkpoint_every`` steps to
+    ``checkpoint_path`` (atomic); ``resume_from`` replays a checkpoint of the same model bit for
+    bit (another model's checkpoint: InvalidParameterError; unreadable: CheckpointIOError).
     Arrays: node_xy (n,2), u (2n,), u_final (2n,; empty when separated), pd_nodes (p,) int64,
     pd_node_xy (p,2), damage (p,), broken (b,) bool, bond_nodes (b,2) int64, out_of_balance (2,),
     anchor_xy (2,); one entry per SLA step: history_step, history_bond, history_n_broken,
-    history_node_i, history_node_j (int64), history_load_factor, history_sigma22, history_cmod,
+    history_node_i, history_node_j, history_n_detached (int64), detached_nodes (d,2) int64
+    (step, node; step 0 = detached by the pre-crack), history_load_factor, history_sigma22, history_cmod,
     history_u0, history_crack_length (float64); damage_at_steps (k,) int64, damage_at (k,p)."""

@@ -12,12 +12,13 @@ import argparse
 import sys
 import time
 from pathlib import Path
-from typing import TYPE_CHECKING, Callable, TextIO
+from typing import TYPE_CHECKING, Any, Callable, TextIO
 
 from .errors import InvalidParameterError, MethodNotAvailableError, RustfracError
 
 if TYPE_CHECKING:
     from .result import Result as _Result
+    from .scene import Scene as _Scene
 
 __all__ = ["ProgressBar", "main"]
 
@@ -77,6 +78,21 @@ def _parser() -> argparse.ArgumentParser:
         action="store_true",
         help="also save PNGs: the s22 field (u2 for XFEM), the tip deformation x50 (XFEM) and "
         "the load path (growth runs)",
+    )
+    r.add_argument(
+        "--checkpoint", type=Path, default=None, metavar="FILE",
+        help="pd / ccm_pd: write SLA checkpoints to FILE (sets [pd] checkpoint_path; every "
+        "--checkpoint-every steps and when interrupted)",
+    )
+    r.add_argument(
+        "--checkpoint-every", type=int, default=None, metavar="N",
+        help="pd / ccm_pd: checkpoint every N SLA steps (sets [pd] checkpoint_every; default "
+        "100 with --checkpoint)",
+    )
+    r.add_argument(
+        "--resume", type=Path, default=None, metavar="FILE",
+        help="pd / ccm_pd: continue the SLA from this checkpoint of the same scene (sets [pd] "
+        "resume_from); the history equals an uninterrupted run's bit for bit",
     )
     f = sub.add_parser(
         "fig7", help="reproduce the paper's Fig. 7 (and Figs. 6, 8): XFEM and CCM-PD side by side"
@@ -209,11 +225,21 @@ def _cmd_run(args: argparse.Namespace) -> int:
     except InvalidParameterError as e:
         print(f"rustfrac: error: invalid scene {args.scene}: {e}", file=sys.stderr)
         return 2
+    scene = _checkpoint_options(scene, args)
     log(f"scene   {args.scene}: {scene.describe()}")
     growth = scene.method == "xfem" and scene.xfem.growth_steps > 0
     bar = None if args.quiet else ProgressBar(delay=0.0 if growth else 0.5)
     try:
         res: Result = run(scene, progress=bar)
+    except KeyboardInterrupt:
+        if scene.method in ("pd", "ccm_pd") and scene.pd.checkpoint_path:
+            print(
+                f"rustfrac: interrupted; checkpoint written to {scene.pd.checkpoint_path} "
+                f"(continue with: rustfrac run {args.scene} --out {args.out} --resume "
+                f"{scene.pd.checkpoint_path})",
+                file=sys.stderr,
+            )
+        raise
     finally:
         if bar is not None:
             bar.close()
@@ -285,6 +311,28 @@ def _cmd_run(args: argparse.Namespace) -> int:
     return 0
 
 
+def _checkpoint_options(scene: _Scene, args: argparse.Namespace) -> _Scene:
+    """Applies ``--checkpoint``, ``--checkpoint-every`` and ``--resume`` to a PD scene."""
+    if args.checkpoint is None and args.checkpoint_every is None and args.resume is None:
+        return scene
+    if scene.method not in ("pd", "ccm_pd"):
+        raise InvalidParameterError(
+            "invalid --checkpoint/--resume: checkpoints are for the SLA of methods 'pd' and "
+            f"'ccm_pd', the scene runs {scene.method!r}",
+            "resume_from",
+        )
+    changes: dict[str, Any] = {}
+    if args.checkpoint is not None:
+        changes["pd__checkpoint_path"] = str(args.checkpoint)
+        if args.checkpoint_every is None and scene.pd.checkpoint_every == 0:
+            changes["pd__checkpoint_every"] = 100
+    if args.checkpoint_every is not None:
+        changes["pd__checkpoint_every"] = args.checkpoint_every
+    if args.resume is not None:
+        changes["pd__resume_from"] = str(args.resume)
+    return scene.replace(**changes)
+
+
 def _log_pd(log: Callable[..., None], res: _Result) -> None:
     """The PD / CCM-PD lines of ``rustfrac run``: model size, gamma, SLA outcome."""
     m, n = res.meta, res.meta.get("counts", {})
@@ -307,6 +355,13 @@ def _log_pd(log: Callable[..., None], res: _Result) -> None:
         f"sla     status {m.get('status')} after {steps} steps{last}; solver {m.get('solver')}; "
         f"setup {t.get('setup_s', 0.0):.3f} s, SLA {t.get('sla_s', 0.0):.3f} s"
     )
+    if m.get("resumed_steps") or m.get("n_checkpoints"):
+        log(
+            f"ckpt    {m.get('resumed_steps', 0)} steps replayed from {m.get('resumed_from')}; "
+            f"{m.get('n_checkpoints', 0)} checkpoints written to {m.get('checkpoint_path')}"
+        )
+    for w in m.get("warnings", []):
+        log(f"warning {w}")
 
 
 def main(argv: list[str] | None = None) -> int:

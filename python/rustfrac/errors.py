@@ -14,6 +14,7 @@ from __future__ import annotations
 
 __all__ = [
     "AccuracyWarning",
+    "CheckpointIOError",
     "IllConditionedWarning",
     "InternalError",
     "InvalidParameterError",
@@ -61,6 +62,10 @@ class InternalError(RustfracError, RuntimeError):
     """An internal failure of the numerical core (e.g. a caught Rust panic). Please report it."""
 
 
+class CheckpointIOError(RustfracError, OSError):
+    """A checkpoint file could not be read or written (the message names the path)."""
+
+
 class IllConditionedWarning(RuntimeWarning):
     """A solve's condition estimate exceeded ``rustfrac._core.COND_WARN`` (1e12): round-off may
     reach ``condition * 2.2e-16`` relative in the solution. The result is still returned; its
@@ -74,4 +79,6 @@ class MethodNotAvailableError(RustfracError, NotImplementedError):
 class AccuracyWarning(UserWarning):
     """The run completed, but a known discretisation limit makes its numbers less accurate than
     usual (the message says which and by how much it was measured to matter); e.g. plane-strain
-    nu >= 0.49, where the fully integrated Q4 elements lock."""
+    nu >= 0.49, where the fully integrated Q4 elements lock, a PD horizon factor m < 2 (too few
+    bonds per node), or PD nodes detached (grounded) during the SLA. Issued with
+    :func:`warnings.warn` and recorded in ``Result.meta["warnings"]``."""

@@ -417,10 +417,14 @@ def _run_pd(scene: Scene, progress: ProgressCallback | None) -> Result:
             refactor_every=pd.refactor_every,
             fast=pd.fast,
             damage_at_steps=list(pd.damage_at_steps),
+            checkpoint_every=pd.checkpoint_every,
+            checkpoint_path=pd.checkpoint_path or None,
+            resume_from=pd.resume_from or None,
             progress=progress,
         )
     except InvalidParameterError as e:
         raise _scene_param(e) from e
+    run_warnings = [str(w) for w in out["warnings"]]
     prefix = "history_"
     a0 = c.a0 if c.kind == "edge" else 0.0
     origin = {"crack_length": a0, "bond": -1, "node_i": -1, "node_j": -1}
@@ -460,6 +464,13 @@ def _run_pd(scene: Scene, progress: ProgressCallback | None) -> Result:
             precrack=[list(q) for q in precrack],
             out_of_balance=out["out_of_balance"].tolist(),
             n_refactorisations=int(out["n_refactorisations"]),
+            max_update_rank=int(out["max_update_rank"]),
+            refactor_interval=int(out["refactor_interval"]),
+            resumed_steps=int(out["resumed_steps"]),
+            n_checkpoints=int(out["n_checkpoints"]),
+            checkpoint_path=pd.checkpoint_path or None,
+            resumed_from=pd.resume_from or None,
+            warnings=run_warnings,
             peak_memory_bytes=out["peak_memory_bytes"],
             counts={
                 k: int(out[k])

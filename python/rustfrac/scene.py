@@ -457,7 +457,16 @@ class PdOptions(_Section):
     ``refactor_every`` (fast solver: re-condense after this many breaks; 0 = never), ``fast``
     (condensation + Sherman-Morrison-Woodbury; ``False`` runs the refactorise-every-step oracle),
     ``stop_crack_length`` (stop once the crack is this long; 0 = no such stop) and
-    ``damage_at_steps`` (steps after which the damage field is stored too)."""
+    ``damage_at_steps`` (steps after which the damage field is stored too).
+
+    ``m`` = 1 runs but warns (:class:`~rustfrac.errors.AccuracyWarning`: 8 bonds per node); the
+    PD rectangle (or, for pure PD, the plate) must span two horizons 2 m dx in each direction.
+    ``refactor_every = 0`` lets the fast solver choose its re-condensation interval (n_P / 2,
+    which bounds its memory). Long runs: ``checkpoint_every`` steps (0 = never) a checkpoint is
+    written atomically to ``checkpoint_path`` (also when the run is interrupted);
+    ``resume_from`` names a checkpoint of the same model and solver options to continue from
+    (the resumed history equals an uninterrupted run's bit for bit; another model's checkpoint
+    is refused). Empty paths mean none."""
 
     dx: float = 1.0 / 15.0
     m: int = 4
@@ -469,10 +478,13 @@ class PdOptions(_Section):
     fast: bool = True
     stop_crack_length: float = 0.0
     damage_at_steps: tuple[int, ...] = ()
+    checkpoint_every: int = 0
+    checkpoint_path: str = ""
+    resume_from: str = ""
     _name: ClassVar[str] = "pd"
     _specs: ClassVar[dict[str, _Spec]] = {
         "dx": _POS,
-        "m": _int_at_least(2, 12),
+        "m": _int_at_least(1, 12),
         "center": _Spec(
             "pair", "two finite numbers, |x| <= 1e30", lambda v: all(map(_finite, v))
         ),
@@ -491,6 +503,9 @@ class PdOptions(_Section):
             f"a list of integers >= 1 (at most {MAX_STEPS})",
             lambda v: all(1 <= x <= MAX_STEPS for x in v),
         ),
+        "checkpoint_every": _int_at_least(0),
+        "checkpoint_path": _Spec("str", "a file path (empty: none)"),
+        "resume_from": _Spec("str", "a checkpoint file path (empty: none)"),
     }
 
 
@@ -665,7 +680,21 @@ class Scene:
                     f"the PD grid would have {nodes:.3g} nodes; at most {MAX_ELEMENTS} "
                     "(a documented memory guard)",
                 )
+            if d.checkpoint_every > 0 and not d.checkpoint_path:
+                raise _bad(
+                    "pd.checkpoint_path",
+                    f"checkpoint_every = {d.checkpoint_every} needs a checkpoint file path",
+                )
+            two_h = 2 * d.m * d.dx
             for i, (n, length) in enumerate((("x1", p.width), ("x2", p.height))):
+                # a PD region thinner than two horizons has no node with a full family
+                span = d.size[i] if m == "ccm_pd" else length
+                if span < two_h * (1 - 1e-9):
+                    raise _bad(
+                        "pd.size" if m == "ccm_pd" else ("plate.width", "plate.height")[i],
+                        f"the PD region must span at least two horizons 2 m dx = {two_h:.6g} "
+                        f"(m = {d.m}, dx = {d.dx:.6g}) along {n}, got {span:.6g}",
+                    )
                 cells = length / d.dx
                 if abs(cells - round(cells)) > 1e-9 * max(1.0, cells):
                     raise _bad(

@@ -57,6 +57,9 @@ def edge_crack_plate(
     fast: bool = True,
     stop_crack_length: float = 0.0,
     damage_at_steps: tuple[int, ...] | list[int] = (),
+    checkpoint_every: int = 0,
+    checkpoint_path: str = "",
+    resume_from: str = "",
     name: str = "",
     cracks: Sequence[Crack | Mapping[str, Any]] | None = None,
 ) -> Scene:
@@ -83,8 +86,8 @@ def edge_crack_plate(
             (0 = 0.7 width)). Growth uses ``G0``.
         dx, m, pd_center, pd_size, sla_steps: PD grid spacing, horizon factor (delta = m dx),
             PD rectangle of the CCM-PD model (pure PD covers the plate), and SLA steps.
-        tie_tol, refactor_every, fast, stop_crack_length, damage_at_steps: SLA options (see
-            :class:`~rustfrac.scene.PdOptions`).
+        tie_tol, refactor_every, fast, stop_crack_length, damage_at_steps, checkpoint_every,
+            checkpoint_path, resume_from: SLA options (see :class:`~rustfrac.scene.PdOptions`).
         cracks: XFEM only: several cracks, each a :class:`~rustfrac.scene.Crack` or a dict of
             its keys (e.g. ``{"kind": "edge", "side": "right", "a0": 1.1, "y": 10.5}``), in place
             of the single crack that ``crack``, ``a0``, ``crack_y``, ``crack_angle`` and
@@ -133,5 +136,8 @@ def edge_crack_plate(
             fast=fast,
             stop_crack_length=stop_crack_length,
             damage_at_steps=damage_at_steps,
+            checkpoint_every=checkpoint_every,
+            checkpoint_path=checkpoint_path,
+            resume_from=resume_from,
         ),
     )

@@ -21,7 +21,7 @@ fn main() {
     let mut p = CcmPdParams::paper();
     p.sla.max_steps = steps;
     let t = Instant::now();
-    let fast = run(&p, &|_, _| {}).expect("fast run");
+    let fast = run(&p, &|_, _| true).expect("fast run");
     let fast_total = t.elapsed().as_secs_f64();
     let mem_fast = peak_memory_bytes();
     println!(
@@ -47,7 +47,7 @@ fn main() {
     p.sla.max_steps = oracle_steps;
     p.sla.fast = false;
     let t = Instant::now();
-    let oracle = run(&p, &|_, _| {}).expect("oracle run");
+    let oracle = run(&p, &|_, _| true).expect("oracle run");
     let oracle_total = t.elapsed().as_secs_f64();
     let per_step = oracle.sla_seconds / oracle_steps.max(1) as f64;
     let oracle_500 = oracle.setup_seconds + per_step * steps as f64;

@@ -90,6 +90,20 @@ pub struct SpliceModel {
     pub prescribed: Vec<f64>,
     /// (node below, node above, unit normal) at the crack mouth, for the CMOD
     pub cmod_nodes: Option<(usize, usize, [f64; 2])>,
+    /// bonds of each node (CSR over nodes: `node_bonds[node_bond_ptr[n]..node_bond_ptr[n + 1]]`)
+    node_bond_ptr: Vec<usize>,
+    node_bonds: Vec<u32>,
+    /// accuracy warnings about the discretisation (e.g. m < 2: too few bonds per node)
+    pub warnings: Vec<String>,
+}
+
+/// A grounding spring k p p^T on the free dofs of one PD node, along the unit direction `p`: it
+/// removes a direction in which the node's intact bonds give no stiffness (all bonds broken, or
+/// all remaining bonds parallel), see [`SpliceModel::null_directions`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Spring {
+    pub node: usize,
+    pub p: [f64; 2],
 }
 
 /// A static solution of the coupled model.
@@ -206,6 +220,32 @@ impl SpliceModel {
         let nn = grid.n_nodes();
         // node classes
         let mut is_pd = vec![spec.all_pd; nn];
+        if spec.all_pd {
+            let two_h = 2.0 * pd.delta;
+            for (name, len) in [("width", spec.width), ("height", spec.height)] {
+                if len < two_h - 1e-9 * dx {
+                    return Err(Error::invalid(
+                        name,
+                        &format!(
+                            "at least two horizons (2 m dx = {two_h:.6}) for the pure PD model"
+                        ),
+                        len,
+                    ));
+                }
+            }
+        }
+        let mut warnings = Vec::new();
+        if spec.m < 2 {
+            warnings.push(format!(
+                "horizon factor m = {}: a bulk node has only {} bonds (m = 2: {}, the paper's m = \
+                 4: {}); too few bonds for a peridynamic continuum, expect errors of several \
+                 percent in stiffness and fracture (use m >= 2, preferably 3-4)",
+                spec.m,
+                crate::pd::family_stencil(spec.m).len(),
+                crate::pd::family_stencil(2).len(),
+                crate::pd::family_stencil(4).len()
+            ));
+        }
         if !spec.all_pd {
             if spec.pd_regions.is_empty() {
                 return Err(Error::invalid(
@@ -228,6 +268,21 @@ impl SpliceModel {
                         &format!("pd_regions[{k}]"),
                         "finite [x0, y0, x1, y1] with x0 < x1, y0 < y1 inside the plate",
                         format!("{r:?}"),
+                    ));
+                }
+                // a region thinner than two horizons has no node with a full family: every node
+                // is a boundary node of the PD region and the coupling dominates the solution
+                let two_h = 2.0 * pd.delta;
+                if r[2] - r[0] < two_h - tol || r[3] - r[1] < two_h - tol {
+                    return Err(Error::invalid(
+                        &format!("pd_regions[{k}]"),
+                        &format!(
+                            "a rectangle at least two horizons wide and high (2 m dx = {two_h:.6} \
+                             with m = {}, dx = {dx:.6}): x1 - x0 >= {two_h:.6} and \
+                             y1 - y0 >= {two_h:.6}",
+                            spec.m
+                        ),
+                        format!("{:.6} x {:.6}", r[2] - r[0], r[3] - r[1]),
                     ));
                 }
                 for (n, flag) in is_pd.iter_mut().enumerate() {
@@ -424,7 +479,27 @@ impl SpliceModel {
         } else {
             None
         };
+        // node -> bonds incidence (both ends)
+        let mut node_bond_ptr = vec![0usize; nn + 1];
+        for b in &bonds {
+            node_bond_ptr[b.i as usize + 1] += 1;
+            node_bond_ptr[b.j as usize + 1] += 1;
+        }
+        for n in 0..nn {
+            node_bond_ptr[n + 1] += node_bond_ptr[n];
+        }
+        let mut fill = node_bond_ptr.clone();
+        let mut node_bonds = vec![0u32; node_bond_ptr[nn]];
+        for (k, b) in bonds.iter().enumerate() {
+            for n in [b.i as usize, b.j as usize] {
+                node_bonds[fill[n]] = k as u32;
+                fill[n] += 1;
+            }
+        }
         Ok(Self {
+            node_bond_ptr,
+            node_bonds,
+            warnings,
             spec: spec.clone(),
             grid,
             pd,
@@ -458,6 +533,115 @@ impl SpliceModel {
         let bond = &self.bonds[b];
         let l = bond.length();
         (self.pd.bond_alpha(bond), [bond.xi[0] / l, bond.xi[1] / l])
+    }
+
+    /// Bonds of node `n` (indices into `bonds`).
+    pub fn bonds_of(&self, n: usize) -> &[u32] {
+        &self.node_bonds[self.node_bond_ptr[n]..self.node_bond_ptr[n + 1]]
+    }
+
+    /// Stiffness of the grounding springs: the force constant c V^2 / dx of a full
+    /// nearest-neighbour bond (eq. 46 with beta = 1), so the spring is of the size of the node's
+    /// other matrix entries. Its value never changes a result: it acts only along directions in
+    /// which the node has no other stiffness, where the node carries no force.
+    pub fn spring_stiffness(&self) -> f64 {
+        self.pd.c * self.pd.volume * self.pd.volume / self.pd.dx
+    }
+
+    /// The unit directions (0, 1 or 2, orthonormal) of the free dofs of PD node `n` in which its
+    /// intact bonds give no stiffness (the null space of sum n n^T over its intact bonds, restricted
+    /// to its free dofs), decided exactly on integer grid offsets. Empty for FEM nodes (their
+    /// element rows never change) and for fully prescribed nodes. A PD node's rows hold only its
+    /// bonds, so such a direction makes the system singular: the SLA grounds it with a
+    /// [`Spring`] (the node is *detached* along it; with no external force it carries none).
+    pub fn null_directions(&self, n: usize, broken: &[bool]) -> Vec<[f64; 2]> {
+        if !self.is_pd[n] {
+            return Vec::new();
+        }
+        let (fx, fy) = (!self.mask[2 * n], !self.mask[2 * n + 1]);
+        if !fx && !fy {
+            return Vec::new();
+        }
+        // first intact offset, and whether another one is not parallel to it
+        let mut first: Option<(i64, i64)> = None;
+        let mut rank2 = false;
+        let (mut any_x, mut any_y) = (false, false);
+        for &b in self.bonds_of(n) {
+            if broken[b as usize] {
+                continue;
+            }
+            let xi = self.bonds[b as usize].xi;
+            let o = (
+                (xi[0] / self.grid.dx).round() as i64,
+                (xi[1] / self.grid.dx).round() as i64,
+            );
+            any_x |= o.0 != 0;
+            any_y |= o.1 != 0;
+            match first {
+                None => first = Some(o),
+                Some(f) => rank2 |= f.0 * o.1 - f.1 * o.0 != 0,
+            }
+        }
+        match (fx, fy) {
+            (true, true) => match first {
+                None => vec![[1.0, 0.0], [0.0, 1.0]],
+                Some(_) if rank2 => Vec::new(),
+                Some((a, b)) => {
+                    let l = ((a * a + b * b) as f64).sqrt();
+                    vec![[-(b as f64) / l, a as f64 / l]]
+                }
+            },
+            (true, false) if !any_x => vec![[1.0, 0.0]],
+            (false, true) if !any_y => vec![[0.0, 1.0]],
+            _ => Vec::new(),
+        }
+    }
+
+    /// Is node `n` *held*: a FEM node (its element rows tie it to the mesh), or a node with a
+    /// prescribed dof or an applied force? A fragment of PD nodes connected to no held node floats
+    /// freely and carries no load (debris, see [`crate::sla`]).
+    pub fn is_held(&self, n: usize) -> bool {
+        !self.is_pd[n]
+            || self.mask[2 * n]
+            || self.mask[2 * n + 1]
+            || self.f[2 * n] != 0.0
+            || self.f[2 * n + 1] != 0.0
+    }
+
+    /// The grounding springs a state needs from scratch: for every PD node, its null directions
+    /// under `broken` (see [`SpliceModel::null_directions`]).
+    pub fn springs_for(&self, broken: &[bool]) -> Vec<Spring> {
+        self.pd_nodes
+            .iter()
+            .flat_map(|&n| {
+                self.null_directions(n, broken)
+                    .into_iter()
+                    .map(move |p| Spring { node: n, p })
+            })
+            .collect()
+    }
+
+    /// [`SpliceModel::assemble`] plus the grounding `springs` (k p p^T on each node's 2 x 2 block,
+    /// which the bond blocks always put in the pattern).
+    pub fn assemble_with(&self, broken: &[bool], springs: &[Spring]) -> CscMatrix {
+        let mut k = self.assemble(broken);
+        let ks = self.spring_stiffness();
+        for s in springs {
+            for (a, &pa) in s.p.iter().enumerate() {
+                for (b, &pb) in s.p.iter().enumerate() {
+                    let (r, c) = (2 * s.node + a, 2 * s.node + b);
+                    let v = ks * pa * pb;
+                    if v == 0.0 || self.mask[r] || self.mask[c] {
+                        continue;
+                    }
+                    let rows = &k.row_idx[k.col_ptr[c]..k.col_ptr[c + 1]];
+                    if let Some(pos) = rows.iter().position(|&x| x == r) {
+                        k.val[k.col_ptr[c] + pos] += v;
+                    }
+                }
+            }
+        }
+        k
     }
 
     /// Assembles the splice matrix (PD rows scaled by node volume) with `broken` bonds removed.
@@ -532,8 +716,10 @@ impl SpliceModel {
     }
 
     /// Direct solve (general sparse LU) with `broken` bonds removed, at the reference load.
+    /// Nodes left without stiffness in some direction by `broken` are grounded there
+    /// ([`SpliceModel::springs_for`]).
     pub fn solve(&self, broken: &[bool]) -> Result<StaticSolution> {
-        let k = self.assemble(broken);
+        let k = self.assemble_with(broken, &self.springs_for(broken));
         let red = Reduction::new(&k, &self.mask)?;
         let kff = red.reduce(&k);
         let lu = Lu::new(&kff)?;

@@ -25,6 +25,8 @@ pub enum Error {
     Separated { detail: String },
     /// An internal failure (a caught panic of a dependency, an allocation failure).
     Internal { detail: String },
+    /// A file could not be read or written (checkpoints).
+    Io { path: String, detail: String },
 }
 
 pub type Result<T> = std::result::Result<T, Error>;
@@ -59,6 +61,7 @@ impl fmt::Display for Error {
             }
             Error::Separated { detail } => write!(f, "body separated: {detail}"),
             Error::Internal { detail } => write!(f, "internal error: {detail}"),
+            Error::Io { path, detail } => write!(f, "{path}: {detail}"),
         }
     }
 }

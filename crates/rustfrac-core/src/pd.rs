@@ -143,8 +143,8 @@ impl PdConstants {
         check_material(mat)?;
         check_positive("G0", g0)?;
         check_positive("dx", dx)?;
-        if !(2..=12).contains(&m) {
-            return Err(Error::invalid("m", "an integer horizon ratio 2..=12", m));
+        if !(1..=12).contains(&m) {
+            return Err(Error::invalid("m", "an integer horizon ratio 1..=12", m));
         }
         let delta = m as f64 * dx;
         let gamma = gamma(m)?;

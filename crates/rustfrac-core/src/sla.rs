@@ -18,16 +18,32 @@
 //!   is a rank-1 change of S and g (a on the PD rows of its ends), handled by Sherman-Morrison-
 //!   Woodbury with the capacitance inverse grown by bordering (O(k^2) per break). The Schur pivot
 //!   of the bordering is the ratio det(S_k+1)/det(S_k): when it vanishes the body has separated
-//!   (status "separated", never NaN). Optional periodic re-condensation (`refactor_every`).
-
+//!   (status "separated", never NaN). Periodic re-condensation (`refactor_every`; by default
+//!   [`auto_refactor_every`]) bounds the stored update vectors, so a run of any length keeps its
+//!   memory at O(bonds + n_P^2): per step only the history row (about 100 bytes) is kept.
+//!
+//! **Detached nodes.** A PD node's rows hold only its bonds. When its intact bonds give no
+//! stiffness along some direction of its free dofs (all broken, or the remaining ones parallel),
+//! the system would be singular although the body has not separated. Such a node is *grounded*
+//! along that direction by a spring ([`crate::coupling::Spring`], applied before the bond break
+//! that needs it, so every intermediate matrix stays regular): with no external force it carries
+//! none there, so no other result changes. Every grounding is reported (`detached_nodes`, a
+//! warning); the pre-crack can detach nodes too (step 0). Only a true separation (a part of the
+//! body no longer held: the Schur pivot vanishes, or the load path is cut) ends the run.
+//!
+//! **Checkpoints** ([`crate::checkpoint`]): every `checkpoint_every` steps (and when cancelled) the
+//! broken-bond sequence and the history are written; `resume_from` replays them and continues, bit
+//! for bit the same as an uninterrupted run.
 //!
 //! Entry point for the bindings: build [`CcmPdParams`] (start from [`CcmPdParams::paper`] and
 //! override fields; `method` = [`Method::CcmPd`] or [`Method::Pd`]), call
-//! [`run`]`(&params, &|step, max_steps| ...)`, read [`CcmPdResult`]. Every parameter is validated
-//! ([`Error::InvalidInput`] names it and its range); a separated body ends the run with status
-//! "separated" (never NaN); faer panics are caught inside the solver wrappers.
+//! [`run`]`(&params, &|step, max_steps| true)` (return `false` to stop: status "cancelled"), read
+//! [`CcmPdResult`]. Every parameter is validated ([`Error::InvalidInput`] names it and its range);
+//! a separated body ends the run with status "separated" (never NaN); faer panics are caught
+//! inside the solver wrappers.
 
-use crate::coupling::{ModelSpec, SpliceModel};
+use crate::checkpoint;
+use crate::coupling::{ModelSpec, SpliceModel, Spring};
 use crate::error::{check_finite, check_positive, Error, Result};
 use crate::loading::{Grip, PlateLoad};
 use crate::material::Elastic;
@@ -37,6 +53,7 @@ use crate::sparse::{CscMatrix, Reduction};
 use faer::linalg::solvers::DenseSolveCore;
 use faer::Mat;
 use rayon::prelude::*;
+use std::path::PathBuf;
 use std::time::Instant;
 
 /// Options of the sequentially linear analysis.
@@ -48,12 +65,23 @@ pub struct SlaParams {
     pub stop_crack_length: Option<f64>,
     /// break together every bond with load factor <= lambda (1 + tie_tol); 0 = one bond per step
     pub tie_tol: f64,
-    /// fast solver: re-condense after this many breaks (0 = never)
+    /// fast solver: re-condense after this many low-rank updates (0 = automatic: when the stored
+    /// update vectors reach [`auto_refactor_every`] of the condensed size, which bounds their
+    /// memory by about 3/4 of the condensed inverse; see the module docs)
     pub refactor_every: usize,
     /// condensation + Sherman-Morrison-Woodbury (true) or refactorise every step (false, oracle)
     pub fast: bool,
     /// steps after which the damage field is stored (besides the final one)
     pub damage_at_steps: Vec<usize>,
+    /// write a checkpoint to `checkpoint_path` after every this many steps (0 = never); a
+    /// cancelled run writes one too
+    pub checkpoint_every: usize,
+    /// checkpoint file (written atomically: a temporary file in the same directory, then renamed)
+    pub checkpoint_path: Option<PathBuf>,
+    /// resume from this checkpoint: the model is rebuilt, the checkpoint's steps are replayed
+    /// exactly (same low-rank updates in the same order) and the run continues; the history is the
+    /// same bit for bit as an uninterrupted run's
+    pub resume_from: Option<PathBuf>,
 }
 
 impl Default for SlaParams {
@@ -65,8 +93,21 @@ impl Default for SlaParams {
             refactor_every: 0,
             fast: true,
             damage_at_steps: Vec::new(),
+            checkpoint_every: 0,
+            checkpoint_path: None,
+            resume_from: None,
         }
     }
+}
+
+/// The automatic re-condensation interval of the fast solver for `n_p` condensed unknowns:
+/// max(64, n_p / 2), at most 4096. Re-condensing costs O(n_p^3), a step with k stored updates
+/// O(k n_p), so intervals of order n_p balance the two; n_p / 2 keeps the update vectors (k n_p)
+/// and the capacitance inverse (k^2) below 3/4 of the condensed inverse (n_p^2), so the solver's
+/// memory does not grow with the number of steps. The paper's case (n_p = 2080) never reaches it
+/// in 500 steps.
+pub fn auto_refactor_every(n_p: usize) -> usize {
+    (n_p / 2).clamp(64, 4096)
 }
 
 /// Model choice: splice coupling with PD rectangles, or PD everywhere.
@@ -179,6 +220,9 @@ pub struct SlaStep {
     pub bonds: Vec<usize>,
     /// end nodes of the critical bond
     pub nodes: [usize; 2],
+    /// PD nodes that lost all stiffness along some direction in this step (every bond broken, or
+    /// the remaining ones parallel) and were grounded along it (they carry no force there)
+    pub detached: Vec<usize>,
     /// crack length after the step
     pub crack_length: f64,
 }
@@ -226,9 +270,22 @@ pub struct CcmPdResult {
     pub broken: Vec<bool>,
     /// bond end nodes
     pub bond_nodes: Vec<[usize; 2]>,
-    /// "completed" | "crack_length_reached" | "separated" | "no_bond_in_tension"
+    /// "completed" | "crack_length_reached" | "separated" | "no_bond_in_tension" | "cancelled"
     pub status: String,
     pub n_refactorisations: usize,
+    /// largest number of low-rank update vectors the fast solver held at once (0 for the oracle);
+    /// bounded by the re-condensation interval
+    pub max_update_rank: usize,
+    /// the re-condensation interval in use (fast solver; 0 for the oracle)
+    pub refactor_interval: usize,
+    /// (step, node) of every grounding of a detached node; step 0 = detached by the pre-crack
+    pub detached_nodes: Vec<(usize, usize)>,
+    /// accuracy warnings (e.g. m < 2, detached nodes); the run went on
+    pub warnings: Vec<String>,
+    /// steps replayed from `resume_from` (0 without resume)
+    pub resumed_steps: usize,
+    /// checkpoints written by this run
+    pub n_checkpoints: usize,
     pub setup_seconds: f64,
     pub sla_seconds: f64,
     /// peak resident memory of the process (VmHWM), if the OS reports it
@@ -254,6 +311,13 @@ fn validate_sla(p: &SlaParams) -> Result<()> {
     if !(0.0..1.0).contains(&p.tie_tol) {
         return Err(Error::invalid("tie_tol", "0 <= tie_tol < 1", p.tie_tol));
     }
+    if p.checkpoint_every > 0 && p.checkpoint_path.is_none() {
+        return Err(Error::invalid(
+            "checkpoint_path",
+            "a file path when checkpoint_every > 0",
+            "none",
+        ));
+    }
     Ok(())
 }
 
@@ -263,14 +327,23 @@ struct State {
     cmod: f64,
 }
 
+/// One change of the model between two solves: a bond removed, or a grounding spring added.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Update {
+    Break(usize),
+    Ground(Spring),
+}
+
 trait Engine {
     fn state(&mut self) -> Result<State>;
     /// displacements of the last `state`, valid at least at every bond end dof
     fn u(&self) -> &[f64];
-    /// Removes bond `b`; Err(Separated) when the body separates.
-    fn break_bond(&mut self, b: usize, broken_now: &[bool]) -> Result<()>;
-    fn full_u(&mut self, broken_now: &[bool]) -> Result<Vec<f64>>;
+    /// Applies one change; Err(Separated) when the body separates.
+    fn apply(&mut self, upd: Update) -> Result<()>;
+    fn full_u(&mut self) -> Result<Vec<f64>>;
     fn n_refactorisations(&self) -> usize;
+    /// largest number of stored low-rank update vectors so far (0: none kept)
+    fn max_update_rank(&self) -> usize;
 }
 
 /// Refactorise-every-step oracle.
@@ -281,6 +354,7 @@ struct Oracle<'a> {
     k: CscMatrix,
     dirty: bool,
     broken: Vec<bool>,
+    springs: Vec<Spring>,
     n_fact: usize,
     /// max |u| of the first solve, the scale for the separation test
     u_scale: f64,
@@ -288,7 +362,12 @@ struct Oracle<'a> {
 }
 
 impl<'a> Oracle<'a> {
-    fn new(model: &'a SpliceModel, broken: &[bool], k: &CscMatrix) -> Result<Self> {
+    fn new(
+        model: &'a SpliceModel,
+        broken: &[bool],
+        springs: &[Spring],
+        k: &CscMatrix,
+    ) -> Result<Self> {
         let k = k.clone();
         let red = Reduction::new(&k, &model.mask)?;
         let kff = red.reduce(&k);
@@ -300,6 +379,7 @@ impl<'a> Oracle<'a> {
             k,
             dirty: false,
             broken: broken.to_vec(),
+            springs: springs.to_vec(),
             n_fact: 1,
             u_scale: 0.0,
             u: Vec::new(),
@@ -307,7 +387,7 @@ impl<'a> Oracle<'a> {
     }
     fn refresh(&mut self) -> Result<()> {
         if self.dirty {
-            self.k = self.model.assemble(&self.broken);
+            self.k = self.model.assemble_with(&self.broken, &self.springs);
             let kff = self.red.reduce(&self.k);
             self.lu.factorize(&kff)?;
             self.n_fact += 1;
@@ -348,12 +428,15 @@ impl Engine for Oracle<'_> {
             cmod: s.cmod,
         })
     }
-    fn break_bond(&mut self, b: usize, _: &[bool]) -> Result<()> {
-        self.broken[b] = true;
+    fn apply(&mut self, upd: Update) -> Result<()> {
+        match upd {
+            Update::Break(b) => self.broken[b] = true,
+            Update::Ground(s) => self.springs.push(s),
+        }
         self.dirty = true;
         Ok(())
     }
-    fn full_u(&mut self, _: &[bool]) -> Result<Vec<f64>> {
+    fn full_u(&mut self) -> Result<Vec<f64>> {
         self.state()?;
         Ok(self.u.clone())
     }
@@ -363,11 +446,19 @@ impl Engine for Oracle<'_> {
     fn n_refactorisations(&self) -> usize {
         self.n_fact
     }
+    fn max_update_rank(&self) -> usize {
+        0
+    }
 }
 
 /// One column block of Z: (first column, width, ring rows (row-major |ring| x width), sigma22
 /// and CMOD functionals of its columns).
 type ZBlock = (usize, usize, Vec<f64>, Vec<f64>, Vec<f64>);
+
+/// A Schur pivot of the SMW bordering below this (but above 1e-10) is checked by a fresh
+/// condensation: legitimate breaks give pivots of order 1e-2..1 (the paper's 500 steps: none
+/// below 1e-3), a mechanism gives round-off (1e-6 after a few hundred updates).
+const SUSPICIOUS_PIVOT: f64 = 1e-4;
 
 /// Dof classes of the condensation.
 const CLS_FIXED: u8 = 0;
@@ -404,20 +495,33 @@ struct Fast<'a> {
     // SMW state
     w: Vec<Vec<f64>>,
     bt: Vec<Vec<(usize, f64)>>,
+    /// capacitance inverse, k x k in row-major storage of row stride `cs` (updated in place, the
+    /// storage grows by doubling: no allocation per step)
     cinv: Vec<f64>,
+    cs: usize,
     refactor_every: usize,
+    max_rank: usize,
+    /// the model state the engine represents (for re-condensation)
+    broken: Vec<bool>,
+    springs: Vec<Spring>,
     n_fact: usize,
     u_full: Vec<f64>,
     /// the matrix at the start (its FEM rows never change)
     k0: CscMatrix,
     is_top_y: Vec<bool>,
     wh: f64,
-    /// broken bonds that wrote PD rows of top-edge nodes: sigma22 loses c (b . u) for each
+    /// updates that changed rows of top-edge y dofs: sigma22 loses c (b . u) for each
     sig_bonds: Vec<(f64, [usize; 4], [f64; 4])>,
 }
 
 impl<'a> Fast<'a> {
-    fn new(model: &'a SpliceModel, k: &CscMatrix, refactor_every: usize) -> Result<Self> {
+    fn new(
+        model: &'a SpliceModel,
+        k: &CscMatrix,
+        broken: &[bool],
+        springs: &[Spring],
+        refactor_every: usize,
+    ) -> Result<Self> {
         let n = model.n_dofs();
         let mut cls = vec![CLS_FIXED; n];
         let mut idx = vec![usize::MAX; n];
@@ -603,7 +707,15 @@ impl<'a> Fast<'a> {
             w: Vec::new(),
             bt: Vec::new(),
             cinv: Vec::new(),
-            refactor_every,
+            cs: 0,
+            refactor_every: if refactor_every > 0 {
+                refactor_every
+            } else {
+                auto_refactor_every(np)
+            },
+            max_rank: 0,
+            broken: broken.to_vec(),
+            springs: springs.to_vec(),
             n_fact: 0,
             u_full: model.prescribed.clone(),
             is_top_y,
@@ -697,7 +809,6 @@ impl<'a> Fast<'a> {
         self.x0 = x0;
         self.w.clear();
         self.bt.clear();
-        self.cinv.clear();
         self.n_fact += 1;
         Ok(())
     }
@@ -711,7 +822,7 @@ impl<'a> Fast<'a> {
             .collect();
         let mut y = vec![0.0; k];
         for (i, yi) in y.iter_mut().enumerate() {
-            let row = &self.cinv[i * k..(i + 1) * k];
+            let row = &self.cinv[i * self.cs..i * self.cs + k];
             *yi = row.iter().zip(&z).map(|(a, b)| a * b).sum();
         }
         let mut x = self.v.clone();
@@ -755,14 +866,59 @@ impl Engine for Fast<'_> {
         Ok(State { sigma22, cmod })
     }
 
-    fn break_bond(&mut self, b: usize, broken_now: &[bool]) -> Result<()> {
-        if self.refactor_every > 0 && self.w.len() >= self.refactor_every {
-            // re-condense with every bond broken so far except b, then apply b by SMW
-            let mut before = broken_now.to_vec();
-            before[b] = false;
-            let k = self.model.assemble(&before);
+    fn apply(&mut self, upd: Update) -> Result<()> {
+        if self.w.len() >= self.refactor_every {
+            // re-condense with the state so far, then apply this update by SMW
+            let k = self.model.assemble_with(&self.broken, &self.springs);
             self.condense(&k)?;
         }
+        let (a, bt, beta0) = match upd {
+            Update::Break(b) => self.bond_update(b)?,
+            Update::Ground(sp) => self.spring_update(sp),
+        };
+        self.smw_append(a, bt, beta0, upd)?;
+        match upd {
+            Update::Break(b) => self.broken[b] = true,
+            Update::Ground(sp) => self.springs.push(sp),
+        }
+        Ok(())
+    }
+
+    fn n_refactorisations(&self) -> usize {
+        self.n_fact
+    }
+    fn max_update_rank(&self) -> usize {
+        self.max_rank
+    }
+    fn u(&self) -> &[f64] {
+        &self.u_full
+    }
+
+    fn full_u(&mut self) -> Result<Vec<f64>> {
+        self.state()?;
+        let mut u = self.u_full.clone();
+        if let Some(ch) = &self.chol {
+            // y = y0 - K_FF^{-1} K_FP x
+            let k = &self.k0;
+            let mut xv = vec![0.0; u.len()];
+            for &d in &self.p_dofs {
+                xv[d] = u[d];
+            }
+            let kx = k.matvec(&xv);
+            let mut rhs: Vec<f64> = self.f_red.free.iter().map(|&d| kx[d]).collect();
+            ch.solve_in_place(&mut rhs)?;
+            for (fi, &d) in self.f_red.free.iter().enumerate() {
+                u[d] = self.y0[fi] - rhs[fi];
+            }
+        }
+        Ok(u)
+    }
+}
+
+impl Fast<'_> {
+    /// Rank-1 data of removing bond `b`: S changes by -a bt^T on the free PD rows, g by a beta0.
+    #[allow(clippy::type_complexity)]
+    fn bond_update(&mut self, b: usize) -> Result<(Vec<(usize, f64)>, Vec<(usize, f64)>, f64)> {
         let model = self.model;
         let bond = &model.bonds[b];
         let (alpha, nv) = model.bond_alpha_n(b);
@@ -819,6 +975,47 @@ impl Engine for Fast<'_> {
             .filter(|(_, v)| **v != 0.0)
             .map(|(p, &v)| (p, v))
             .collect();
+        Ok((a, bt, beta0))
+    }
+
+    /// Rank-1 data of a grounding spring k p p^T at a PD node: S changes by +k p p^T on its free
+    /// dofs (a = -k p, bt = p), g does not change (its dofs carry no prescribed value).
+    #[allow(clippy::type_complexity)]
+    fn spring_update(&mut self, sp: Spring) -> (Vec<(usize, f64)>, Vec<(usize, f64)>, f64) {
+        let ks = self.model.spring_stiffness();
+        let n = sp.node;
+        let mut a = Vec::new();
+        let mut bt = Vec::new();
+        let mut c_top = 0.0;
+        for t in 0..2 {
+            let d = 2 * n + t;
+            if self.cls[d] == CLS_P && sp.p[t] != 0.0 {
+                a.push((self.idx[d], -ks * sp.p[t]));
+                bt.push((self.idx[d], sp.p[t]));
+                if self.is_top_y[d] {
+                    c_top -= ks * sp.p[t] / self.wh;
+                }
+            }
+        }
+        if c_top != 0.0 {
+            let dofs = [2 * n, 2 * n + 1, 2 * n, 2 * n + 1];
+            self.sig_bonds
+                .push((c_top, dofs, [sp.p[0], sp.p[1], 0.0, 0.0]));
+        }
+        (a, bt, 0.0)
+    }
+
+    /// Sherman-Morrison-Woodbury with S_k = S_0 - A B^T: appends the column a (as w = S_0^{-1} a)
+    /// and the row bt, and grows the capacitance inverse by bordering (O(k^2)). The Schur pivot of
+    /// the bordering is det(S_k+1) / det(S_k): when it vanishes the body has separated.
+    fn smw_append(
+        &mut self,
+        a: Vec<(usize, f64)>,
+        bt: Vec<(usize, f64)>,
+        beta0: f64,
+        upd: Update,
+    ) -> Result<()> {
+        let np = self.p_dofs.len();
         // w = S0^{-1} a
         let mut w = vec![0.0; np];
         for &(p, val) in &a {
@@ -839,65 +1036,65 @@ impl Engine for Fast<'_> {
             .map(|wm| -bt.iter().map(|&(p, v)| v * wm[p]).sum::<f64>())
             .collect();
         let d = 1.0 - bt.iter().map(|&(p, v)| v * w[p]).sum::<f64>();
-        let e = &self.cinv;
+        let (e, cs) = (&self.cinv, self.cs);
         let ec: Vec<f64> = (0..k)
-            .map(|r| (0..k).map(|c| e[r * k + c] * col[c]).sum())
+            .map(|r| (0..k).map(|c| e[r * cs + c] * col[c]).sum())
             .collect();
         let re: Vec<f64> = (0..k)
-            .map(|c| (0..k).map(|r| row[r] * e[r * k + c]).sum())
+            .map(|c| (0..k).map(|r| row[r] * e[r * cs + c]).sum())
             .collect();
         let s = d - row.iter().zip(&ec).map(|(a, b)| a * b).sum::<f64>();
         if s.is_nan() || s.abs() <= 1e-10 {
             return Err(separated(format!(
-                "breaking bond {b} ({i}-{j}) makes the system singular (Schur pivot {s:.3e})"
+                "{upd:?} makes the system singular (Schur pivot {s:.3e})"
             )));
         }
-        let k1 = k + 1;
-        let mut ne = vec![0.0; k1 * k1];
+        if s.abs() < SUSPICIOUS_PIVOT {
+            // nearly singular: a mechanism (a part held by a hinge) shows up here with a pivot of
+            // the size of the accumulated round-off, not zero. Decide on a fresh condensation of
+            // the new state, which also discards the round-off of the updates so far.
+            let mut broken = self.broken.clone();
+            let mut springs = self.springs.clone();
+            match upd {
+                Update::Break(b) => broken[b] = true,
+                Update::Ground(sp) => springs.push(sp),
+            }
+            let k = self.model.assemble_with(&broken, &springs);
+            self.condense(&k).map_err(|e| {
+                separated(format!(
+                    "{upd:?}: Schur pivot {s:.3e}, and the re-condensed system is singular \
+                     (a part of the body came loose or hangs on a hinge): {e}"
+                ))
+            })?;
+            return Ok(());
+        }
+        if k + 1 > self.cs {
+            let ncs = (2 * self.cs).max(64).max(k + 1);
+            let mut grown = vec![0.0; ncs * ncs];
+            for r in 0..k {
+                grown[r * ncs..r * ncs + k].copy_from_slice(&self.cinv[r * cs..r * cs + k]);
+            }
+            self.cinv = grown;
+            self.cs = ncs;
+        }
+        let (e, cs) = (&mut self.cinv, self.cs);
         for r in 0..k {
             for c in 0..k {
-                ne[r * k1 + c] = e[r * k + c] + ec[r] * re[c] / s;
+                e[r * cs + c] += ec[r] * re[c] / s;
             }
-            ne[r * k1 + k] = -ec[r] / s;
+            e[r * cs + k] = -ec[r] / s;
         }
         for c in 0..k {
-            ne[k * k1 + c] = -re[c] / s;
+            e[k * cs + c] = -re[c] / s;
         }
-        ne[k * k1 + k] = 1.0 / s;
-        self.cinv = ne;
+        e[k * cs + k] = 1.0 / s;
         for (vi, &wi) in self.v.iter_mut().zip(&w) {
             *vi += wi * beta0;
         }
         self.w.push(w);
         self.bt.push(bt);
+        self.max_rank = self.max_rank.max(self.w.len());
         Ok(())
-    }
-
-    fn full_u(&mut self, _: &[bool]) -> Result<Vec<f64>> {
-        self.state()?;
-        let mut u = self.u_full.clone();
-        if let Some(ch) = &self.chol {
-            // y = y0 - K_FF^{-1} K_FP x
-            let k = &self.k0;
-            let mut xv = vec![0.0; u.len()];
-            for &d in &self.p_dofs {
-                xv[d] = u[d];
-            }
-            let kx = k.matvec(&xv);
-            let mut rhs: Vec<f64> = self.f_red.free.iter().map(|&d| kx[d]).collect();
-            ch.solve_in_place(&mut rhs)?;
-            for (fi, &d) in self.f_red.free.iter().enumerate() {
-                u[d] = self.y0[fi] - rhs[fi];
-            }
-        }
-        Ok(u)
-    }
-
-    fn n_refactorisations(&self) -> usize {
-        self.n_fact
-    }
-    fn u(&self) -> &[f64] {
-        &self.u_full
     }
 }
 
@@ -938,25 +1135,237 @@ fn crack_length(model: &SpliceModel, broken: &[bool]) -> f64 {
     len
 }
 
+/// Grounding springs already applied, per node (at most two orthonormal directions each), and the
+/// work arrays of the bounded fragment search.
+struct Grounding {
+    dirs: std::collections::HashMap<usize, Vec<[f64; 2]>>,
+    /// visit stamps per node (`stamp[n] == epoch`: seen in the current search)
+    stamp: Vec<u32>,
+    epoch: u32,
+}
+
+impl Grounding {
+    fn new(n_nodes: usize) -> Self {
+        Self {
+            dirs: Default::default(),
+            stamp: vec![0; n_nodes],
+            epoch: 0,
+        }
+    }
+
+    /// The debris fragment containing node `n` under `broken`: its component over intact bonds
+    /// when that holds at most `limit` nodes, none of them held ([`SpliceModel::is_held`]).
+    /// Breadth-first, stopping at the first held node or when the limit is passed: O(limit x
+    /// family). Sorted node ids.
+    fn debris_fragment(
+        &mut self,
+        model: &SpliceModel,
+        n: usize,
+        broken: &[bool],
+        limit: usize,
+    ) -> Option<Vec<usize>> {
+        if model.is_held(n) {
+            return None;
+        }
+        self.epoch = self.epoch.wrapping_add(1);
+        if self.epoch == 0 {
+            self.stamp.iter_mut().for_each(|s| *s = 0);
+            self.epoch = 1;
+        }
+        let e = self.epoch;
+        self.stamp[n] = e;
+        let mut seen = vec![n];
+        let mut k = 0;
+        while k < seen.len() {
+            let a = seen[k];
+            k += 1;
+            for &b in model.bonds_of(a) {
+                if broken[b as usize] {
+                    continue;
+                }
+                let bond = &model.bonds[b as usize];
+                let o = if bond.i as usize == a { bond.j } else { bond.i } as usize;
+                if self.stamp[o] == e {
+                    continue;
+                }
+                if model.is_held(o) || seen.len() >= limit {
+                    return None;
+                }
+                self.stamp[o] = e;
+                seen.push(o);
+            }
+        }
+        seen.sort_unstable();
+        Some(seen)
+    }
+
+    /// The new springs node `n` needs under `broken`: its null directions not yet grounded (the
+    /// null space only grows as bonds break, so the missing part is orthogonal to the grounded
+    /// one).
+    fn needed(&mut self, model: &SpliceModel, n: usize, broken: &[bool]) -> Vec<Spring> {
+        let null = model.null_directions(n, broken);
+        let have = self.dirs.entry(n).or_default();
+        if null.len() <= have.len() {
+            return Vec::new();
+        }
+        let new: Vec<[f64; 2]> = if have.is_empty() {
+            null
+        } else {
+            vec![[-have[0][1], have[0][0]]]
+        };
+        have.extend(&new);
+        new.into_iter().map(|p| Spring { node: n, p }).collect()
+    }
+
+    /// The springs that ground node `n` in every direction of its free dofs (debris fragments).
+    fn full(&mut self, model: &SpliceModel, n: usize) -> Vec<Spring> {
+        let have = self.dirs.entry(n).or_default();
+        let free = [!model.mask[2 * n], !model.mask[2 * n + 1]];
+        let new: Vec<[f64; 2]> = match have.len() {
+            0 => [[1.0, 0.0], [0.0, 1.0]]
+                .into_iter()
+                .zip(free)
+                .filter(|(_, f)| *f)
+                .map(|(p, _)| p)
+                .collect(),
+            1 if free[0] && free[1] => vec![[-have[0][1], have[0][0]]],
+            _ => Vec::new(),
+        };
+        have.extend(&new);
+        new.into_iter().map(|p| Spring { node: n, p }).collect()
+    }
+
+    /// Springs for node `n` under `broken`: its null directions, then, when it belongs to a debris
+    /// fragment of 2..=[`DEBRIS_LIMIT`] nodes, every direction of every node of the fragment.
+    fn springs(&mut self, model: &SpliceModel, n: usize, broken: &[bool]) -> Vec<(usize, Spring)> {
+        let mut out: Vec<(usize, Spring)> = self
+            .needed(model, n, broken)
+            .into_iter()
+            .map(|s| (n, s))
+            .collect();
+        if let Some(frag) = self.debris_fragment(model, n, broken, DEBRIS_LIMIT) {
+            if frag.len() > 1 {
+                for m in frag {
+                    out.extend(self.full(model, m).into_iter().map(|s| (m, s)));
+                }
+            }
+        }
+        out
+    }
+}
+
+/// Largest fragment of free PD nodes grounded as debris; a larger part that comes loose ends the
+/// run with status "separated".
+pub const DEBRIS_LIMIT: usize = 256;
+
+/// Breaks the bonds `sel` of one step: for each bond in order, the grounding springs its end
+/// nodes need once it is gone, then the bond. Returns the detached nodes and whether the body
+/// separated (the remaining updates are then skipped). Used by the live run and by the replay of
+/// a checkpoint, so both apply exactly the same updates in the same order.
+fn advance(
+    model: &SpliceModel,
+    engine: &mut dyn Engine,
+    broken: &mut [bool],
+    grounding: &mut Grounding,
+    sel: &[usize],
+) -> Result<(Vec<usize>, bool)> {
+    let mut detached = Vec::new();
+    for &b in sel {
+        broken[b] = true;
+        let bond = &model.bonds[b];
+        let mut ups = Vec::new();
+        for n in [bond.i as usize, bond.j as usize] {
+            for (m, sp) in grounding.springs(model, n, broken) {
+                if !detached.contains(&m) {
+                    detached.push(m);
+                }
+                ups.push(Update::Ground(sp));
+            }
+        }
+        ups.push(Update::Break(b));
+        for u in ups {
+            match engine.apply(u) {
+                Ok(()) => {}
+                Err(Error::Separated { detail }) => {
+                    timing(&detail, Instant::now());
+                    return Ok((detached, true));
+                }
+                Err(e) => return Err(e),
+            }
+        }
+    }
+    Ok((detached, false))
+}
+
+/// Large temporaries of the re-condensation (three n_P x n_P matrices) alternate with the small
+/// long-lived allocations of the history. glibc's allocator raises its mmap threshold
+/// dynamically after the first large free, after which such matrices come from the heap and the
+/// history's small blocks split the holes they leave: the resident memory then grew by about one
+/// condensation's matrices per re-condensation (85 kB per step in a 1e5-step run). Fixing the
+/// threshold at 4 MiB (once per process; glibc only) keeps every large block mmapped and returned
+/// to the system when freed, so the memory stays flat.
+fn keep_large_blocks_mmapped() {
+    #[cfg(all(target_os = "linux", target_env = "gnu"))]
+    {
+        static ONCE: std::sync::Once = std::sync::Once::new();
+        extern "C" {
+            fn mallopt(param: i32, value: i32) -> i32;
+        }
+        const M_MMAP_THRESHOLD: i32 = -3;
+        // SAFETY: mallopt only changes an allocator tuning parameter; it is thread safe in glibc.
+        ONCE.call_once(|| unsafe {
+            mallopt(M_MMAP_THRESHOLD, 4 << 20);
+        });
+    }
+}
+
 /// Runs a CCM-PD (or pure PD) model: linear solution at the reference load, then the SLA.
-/// `progress(step, max_steps)` is called after every step.
-pub fn run(params: &CcmPdParams, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<CcmPdResult> {
+/// `progress(step, max_steps)` is called after every step; returning `false` stops the run
+/// (status "cancelled", a checkpoint is written first when `checkpoint_path` is set).
+pub fn run(
+    params: &CcmPdParams,
+    progress: &(dyn Fn(usize, usize) -> bool + Sync),
+) -> Result<CcmPdResult> {
     validate_sla(&params.sla)?;
+    keep_large_blocks_mmapped();
     let t0 = Instant::now();
     let model = SpliceModel::new(&params.spec())?;
     timing("model built", t0);
+    let mut warnings = model.warnings.clone();
     let mut broken = model.precrack_broken.clone();
+    // nodes the pre-crack already detaches
+    let mut grounding = Grounding::new(model.grid.n_nodes());
+    let mut springs0 = Vec::new();
+    let mut detached_nodes = Vec::new();
+    // only nodes with a broken bond can be loose (a fragment's nodes all lost a bond)
+    let touched: Vec<usize> = model
+        .pd_nodes
+        .iter()
+        .copied()
+        .filter(|&n| model.bonds_of(n).iter().any(|&b| broken[b as usize]))
+        .collect();
+    for n in touched {
+        for (m, sp) in grounding.springs(&model, n, &broken) {
+            if !detached_nodes.contains(&(0, m)) {
+                detached_nodes.push((0, m));
+            }
+            springs0.push(sp);
+        }
+    }
     const DENSE_LIMIT: usize = 6000;
     let n_pd_free = (0..model.n_dofs())
         .filter(|&d| !model.mask[d] && model.is_pd[d / 2])
         .count();
-    let k0 = model.assemble(&broken);
+    let k0 = model.assemble_with(&broken, &springs0);
     let mut solver = String::new();
+    let mut refactor_interval = 0;
     let mut engine: Box<dyn Engine + '_> = if params.sla.fast && n_pd_free <= DENSE_LIMIT {
         solver.push_str(
             "fast (FEM condensed by Cholesky, dense PD system + Sherman-Morrison-Woodbury)",
         );
-        Box::new(Fast::new(&model, &k0, params.sla.refactor_every)?)
+        let f = Fast::new(&model, &k0, &broken, &springs0, params.sla.refactor_every)?;
+        refactor_interval = f.refactor_every;
+        Box::new(f)
     } else {
         solver.push_str("oracle (sparse LU refactorised every step)");
         if params.sla.fast {
@@ -964,24 +1373,71 @@ pub fn run(params: &CcmPdParams, progress: &(dyn Fn(usize, usize) + Sync)) -> Re
                 "; fast path not applicable ({n_pd_free} free PD dofs > dense limit {DENSE_LIMIT})"
             ));
         }
-        Box::new(Oracle::new(&model, &broken, &k0)?)
+        Box::new(Oracle::new(&model, &broken, &springs0, &k0)?)
     };
     timing("engine ready", t0);
     // reference solution before breaking (u from the engine, reactions from the full matrix)
-    let u0_full = engine.full_u(&broken)?;
+    let u0_full = engine.full_u()?;
     let sol0 = model.postprocess(&k0, u0_full, 0.0);
     drop(k0);
+    let fp = checkpoint::fingerprint(params, model.n_dofs(), model.bonds.len());
+    let max_steps = params.sla.max_steps;
+    let mut history: Vec<SlaStep> = Vec::new();
+    let mut damage_at = Vec::new();
+    let mut status = "completed".to_string();
+    // resume: replay the checkpoint's steps exactly
+    let mut resumed_steps = 0;
+    if let Some(path) = &params.sla.resume_from {
+        let steps = checkpoint::read(path, fp, model.bonds.len(), model.grid.n_nodes())?;
+        for st in steps.into_iter().take(max_steps) {
+            if st.bonds.iter().any(|&b| broken[b]) {
+                return Err(Error::invalid(
+                    "resume_from",
+                    "a checkpoint breaking every bond once",
+                    format!("step {} breaks a bond twice", st.step),
+                ));
+            }
+            let (det, sep) = advance(
+                &model,
+                engine.as_mut(),
+                &mut broken,
+                &mut grounding,
+                &st.bonds,
+            )?;
+            detached_nodes.extend(det.iter().map(|&n| (st.step, n)));
+            if params.sla.damage_at_steps.contains(&st.step) {
+                damage_at.push((
+                    st.step,
+                    damage(model.grid.n_nodes(), &model.bonds, &broken, &model.pd_nodes),
+                ));
+            }
+            history.push(st);
+            if sep {
+                status = "separated".into();
+                break;
+            }
+        }
+        resumed_steps = history.len();
+    }
     let setup_seconds = t0.elapsed().as_secs_f64();
     timing("setup done", t0);
 
     let t1 = Instant::now();
     let s0 = model.pd.s0;
-    let max_steps = params.sla.max_steps;
-    let mut history = Vec::new();
-    let mut damage_at = Vec::new();
-    let mut status = "completed".to_string();
+    let mut n_checkpoints = 0;
+    let write_checkpoint = |history: &[SlaStep], n: &mut usize| -> Result<()> {
+        if let Some(path) = &params.sla.checkpoint_path {
+            checkpoint::write(path, fp, history)?;
+            *n += 1;
+        }
+        Ok(())
+    };
     let mut lam = vec![f64::INFINITY; model.bonds.len()];
-    for step in 1..=max_steps {
+    let first_step = history.len() + 1;
+    for step in first_step..=max_steps {
+        if status != "completed" {
+            break;
+        }
         let st = match engine.state() {
             Ok(s) => s,
             Err(Error::Separated { .. }) => {
@@ -1020,19 +1476,8 @@ pub fn run(params: &CcmPdParams, progress: &(dyn Fn(usize, usize) + Sync)) -> Re
             sel.truncate(1);
         }
         let first = sel[0];
-        let mut sep = false;
-        for &b in &sel {
-            broken[b] = true;
-            match engine.break_bond(b, &broken) {
-                Ok(()) => {}
-                Err(Error::Separated { detail }) => {
-                    timing(&detail, t1);
-                    sep = true;
-                    break;
-                }
-                Err(e) => return Err(e),
-            }
-        }
+        let (detached, sep) = advance(&model, engine.as_mut(), &mut broken, &mut grounding, &sel)?;
+        detached_nodes.extend(detached.iter().map(|&n| (step, n)));
         let cl = crack_length(&model, &broken);
         let bf = &model.bonds[first];
         history.push(SlaStep {
@@ -1043,6 +1488,7 @@ pub fn run(params: &CcmPdParams, progress: &(dyn Fn(usize, usize) + Sync)) -> Re
             u0: lmin * params.load.u0,
             bonds: sel,
             nodes: [bf.i as usize, bf.j as usize],
+            detached,
             crack_length: cl,
         });
         if params.sla.damage_at_steps.contains(&step) {
@@ -1051,9 +1497,18 @@ pub fn run(params: &CcmPdParams, progress: &(dyn Fn(usize, usize) + Sync)) -> Re
                 damage(model.grid.n_nodes(), &model.bonds, &broken, &model.pd_nodes),
             ));
         }
-        progress(step, max_steps);
+        let every = params.sla.checkpoint_every;
+        if every > 0 && step % every == 0 {
+            write_checkpoint(&history, &mut n_checkpoints)?;
+        }
+        let go_on = progress(step, max_steps);
         if sep {
             status = "separated".into();
+            break;
+        }
+        if !go_on {
+            status = "cancelled".into();
+            write_checkpoint(&history, &mut n_checkpoints)?;
             break;
         }
         if let Some(l) = params.sla.stop_crack_length {
@@ -1066,8 +1521,18 @@ pub fn run(params: &CcmPdParams, progress: &(dyn Fn(usize, usize) + Sync)) -> Re
     let u_final = if status == "separated" {
         Vec::new()
     } else {
-        engine.full_u(&broken)?
+        engine.full_u()?
     };
+    if !detached_nodes.is_empty() {
+        let n_pre = detached_nodes.iter().filter(|d| d.0 == 0).count();
+        warnings.push(format!(
+            "{} PD node(s) lost all stiffness along some direction (every bond broken, the \
+             remaining ones parallel, or a loose fragment of at most {DEBRIS_LIMIT} nodes) and \
+             were grounded there ({n_pre} by the pre-crack, the others during the SLA); they \
+             carry no force along it (see detached_nodes)",
+            detached_nodes.len()
+        ));
+    }
     let sla_seconds = t1.elapsed().as_secs_f64();
     let nn = model.grid.n_nodes();
     Ok(CcmPdResult {
@@ -1106,6 +1571,12 @@ pub fn run(params: &CcmPdParams, progress: &(dyn Fn(usize, usize) + Sync)) -> Re
         broken,
         status,
         n_refactorisations: engine.n_refactorisations(),
+        max_update_rank: engine.max_update_rank(),
+        refactor_interval,
+        detached_nodes,
+        warnings,
+        resumed_steps,
+        n_checkpoints,
         setup_seconds,
         sla_seconds,
         peak_memory_bytes: peak_memory_bytes(),

@@ -135,7 +135,8 @@ fn bad_inputs_are_refused_with_reasons() {
     for (g0, dx, m, name) in [
         (0.0, 0.1, 4, "G0"),
         (0.3, -1.0, 4, "dx"),
-        (0.3, 0.1, 1, "m"),
+        (0.3, 0.1, 0, "m"),
+        (0.3, 0.1, 13, "m"),
         (f64::NAN, 0.1, 4, "G0"),
     ] {
         match PdConstants::new(&ok, g0, dx, m) {
@@ -144,7 +145,7 @@ fn bad_inputs_are_refused_with_reasons() {
         }
     }
     let base = CcmPdParams::paper();
-    let check = |p: CcmPdParams, name: &str| match run(&p, &|_, _| {}) {
+    let check = |p: CcmPdParams, name: &str| match run(&p, &|_, _| true) {
         Err(Error::InvalidInput { param, .. }) => {
             assert!(param.starts_with(name), "{param} vs {name}")
         }

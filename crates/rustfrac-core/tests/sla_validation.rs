@@ -3,7 +3,9 @@
 
 use rustfrac_core::sla::{run, CcmPdParams, Method, SlaParams};
 
-fn quiet(_: usize, _: usize) {}
+fn quiet(_: usize, _: usize) -> bool {
+    true
+}
 
 /// A coarse version of the paper's plate (dx = 1/5 keeps x2 = 10.5 and x1 = 1.1 between nodes),
 /// with a larger PD rectangle so that 100 steps stay inside it.
@@ -259,6 +261,7 @@ fn damage_snapshots_and_crack_length_stop() {
     let mut calls = std::sync::atomic::AtomicUsize::new(0);
     let counter = |_: usize, _: usize| {
         calls.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        true
     };
     let r = run(&p, &counter).unwrap();
     assert_eq!(r.status, "crack_length_reached");

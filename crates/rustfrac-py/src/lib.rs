@@ -64,6 +64,7 @@ fn core_err(py: Python<'_>, e: CoreError) -> PyErr {
         CoreError::Singular { .. } | CoreError::NotPositiveDefinite { .. } => "SingularSystemError",
         CoreError::Separated { .. } => "SeparatedError",
         CoreError::Internal { .. } => "InternalError",
+        CoreError::Io { .. } => "CheckpointIOError",
     };
     py_error(py, name, msg)
 }
@@ -623,10 +624,6 @@ fn _panic_demo(py: Python<'_>) -> PyResult<()> {
     })
 }
 
-/// Unwind payload that stops a PD run when the progress callback raised (no panic message: it is
-/// raised with `resume_unwind`, which skips the panic hook, and caught by `detached`).
-struct Cancelled;
-
 fn hist_i64<'py>(py: Python<'py>, v: impl Iterator<Item = usize>) -> Bound<'py, PyAny> {
     PyArray1::from_vec(py, v.map(|i| i as i64).collect()).into_any()
 }
@@ -638,19 +635,24 @@ fn hist_i64<'py>(py: Python<'py>, v: impl Iterator<Item = usize>) -> Bound<'py, 
 ///
 /// Returns a dict. Scalars: sigma22, cmod (reference load, before any break), gamma, c, s0,
 /// delta, n_dofs, n_nodes, n_pd_nodes, n_bonds, n_precrack_bonds, n_removed_elements,
-/// bytes_per_bond, anchor_node, status, solver, n_refactorisations, setup_seconds, sla_seconds,
-/// peak_memory_bytes (or None), wall_time_s, bc, method. Arrays: node_xy (n,2), u (2n,),
+/// bytes_per_bond, anchor_node, status, solver, n_refactorisations, max_update_rank,
+/// refactor_interval, resumed_steps, n_checkpoints, setup_seconds, sla_seconds,
+/// peak_memory_bytes (or None), wall_time_s, bc, method; warnings (list of str: accuracy
+/// warnings, e.g. m < 2 or detached nodes). Checkpoints: `checkpoint_every` steps to
+/// `checkpoint_path` (atomic), `resume_from` a checkpoint of the same model (replayed bit for
+/// bit). Arrays: detached_nodes (d,2) int64 (step, node; step 0 = by the pre-crack), node_xy (n,2), u (2n,),
 /// u_final (2n,; empty when the body separated), pd_nodes (p,) int64, pd_node_xy (p,2),
 /// damage (p,), broken (b,) bool, bond_nodes (b,2) int64, out_of_balance (2,), anchor_xy (2,),
 /// history_step, history_load_factor, history_sigma22, history_cmod, history_u0,
 /// history_crack_length, history_bond (the critical bond of the step), history_n_broken,
-/// history_node_i, history_node_j (one entry per SLA step), damage_at_steps (k,) int64 and
+/// history_node_i, history_node_j, history_n_detached (one entry per SLA step), damage_at_steps (k,) int64 and
 /// damage_at (k,p).
 #[pyfunction]
 #[pyo3(signature = (*, method, width, height, dx, m, e, nu, plane = "strain", thickness = 1.0,
                     g0, bc = "free", u0 = 0.0, traction = 0.0, pd_regions = Vec::new(),
                     precrack = Vec::new(), sla_steps = 500, stop_crack_length = None,
                     tie_tol = 0.0, refactor_every = 0, fast = true, damage_at_steps = Vec::new(),
+                    checkpoint_every = 0, checkpoint_path = None, resume_from = None,
                     progress = None))]
 #[allow(clippy::too_many_arguments)]
 fn solve_pd_plate<'py>(
@@ -676,6 +678,9 @@ fn solve_pd_plate<'py>(
     refactor_every: usize,
     fast: bool,
     damage_at_steps: Vec<usize>,
+    checkpoint_every: usize,
+    checkpoint_path: Option<std::path::PathBuf>,
+    resume_from: Option<std::path::PathBuf>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     use rustfrac_core::sla::{self, CcmPdParams, Method, SlaParams};
@@ -706,6 +711,9 @@ fn solve_pd_plate<'py>(
                 refactor_every,
                 fast,
                 damage_at_steps,
+                checkpoint_every,
+                checkpoint_path,
+                resume_from,
             },
         })
     })()
@@ -719,10 +727,10 @@ fn solve_pd_plate<'py>(
                 detail: "cancelled".into(),
             });
         }
+        // a raising callback stops the run (status "cancelled", a checkpoint is written when
+        // configured); its exception is re-raised below
         let report = |step: usize, steps: usize| {
-            if !prog.report(step, steps, &format!("sla: step {step}/{steps}"), false) {
-                std::panic::resume_unwind(Box::new(Cancelled));
-            }
+            prog.report(step, steps, &format!("sla: step {step}/{steps}"), false)
         };
         let r = sla::run(&params, &report)?;
         let msg = format!("sla: {} after {} steps", r.status, r.history.len());
@@ -758,6 +766,10 @@ fn solve_pd_plate<'py>(
     )?;
     d.set_item("history_node_i", hist_i64(py, h.iter().map(|s| s.nodes[0])))?;
     d.set_item("history_node_j", hist_i64(py, h.iter().map(|s| s.nodes[1])))?;
+    d.set_item(
+        "history_n_detached",
+        hist_i64(py, h.iter().map(|s| s.detached.len())),
+    )?;
     let p = r.damage.len();
     d.set_item(
         "damage_at_steps",
@@ -805,6 +817,23 @@ fn solve_pd_plate<'py>(
     d.set_item("status", r.status)?;
     d.set_item("solver", r.solver)?;
     d.set_item("n_refactorisations", r.n_refactorisations)?;
+    d.set_item("max_update_rank", r.max_update_rank)?;
+    d.set_item("refactor_interval", r.refactor_interval)?;
+    d.set_item("resumed_steps", r.resumed_steps)?;
+    d.set_item("n_checkpoints", r.n_checkpoints)?;
+    d.set_item("warnings", r.warnings)?;
+    let nd = r.detached_nodes.len();
+    let flat: Vec<i64> = r
+        .detached_nodes
+        .iter()
+        .flat_map(|&(s, n)| [s as i64, n as i64])
+        .collect();
+    d.set_item(
+        "detached_nodes",
+        Array2::from_shape_vec((nd, 2), flat)
+            .map_err(|err| py_error(py, "InternalError", format!("detached_nodes: {err}")))?
+            .into_pyarray(py),
+    )?;
     d.set_item("setup_seconds", r.setup_seconds)?;
     d.set_item("sla_seconds", r.sla_seconds)?;
     d.set_item("peak_memory_bytes", r.peak_memory_bytes)?;

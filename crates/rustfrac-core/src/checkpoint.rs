@@ -1,0 +1,248 @@
+//! Checkpoints of the sequentially linear analysis ([`crate::sla`]).
+//!
+//! The state of an SLA run is the sequence of bonds it broke (everything else follows from the
+//! model), so a checkpoint holds the history: per step its recorded numbers (lambda, sigma22,
+//! CMOD, u0, crack length), the bonds broken and the nodes grounded. Resuming rebuilds the model
+//! and *replays* the steps: the same low-rank updates in the same order, re-condensations at the
+//! same points, so the solver's floating-point state and therefore every later step are the same
+//! bit for bit as in an uninterrupted run (the recorded numbers themselves are restored from their
+//! stored bits, not recomputed).
+//!
+//! Format (little endian, no external serialiser): magic `RFSLACK\0`, version (u32), model
+//! fingerprint (u64), step count (u64), then per step: step, lambda, sigma22, cmod, u0,
+//! crack_length, node_i, node_j (u64 / f64 bits), the broken bonds and the detached nodes (each a
+//! u64 count and u64 values); finally an FNV-1a checksum (u64) of everything before it. Files are
+//! written to a temporary name in the same directory and renamed, so a reader never sees a
+//! partial file. A checkpoint is refused with a clear error when its version, fingerprint,
+//! checksum or contents do not fit the model.
+
+use crate::error::{Error, Result};
+use crate::sla::{CcmPdParams, SlaStep};
+use std::path::Path;
+
+const MAGIC: &[u8; 8] = b"RFSLACK\0";
+/// Format version of the checkpoint files.
+pub const VERSION: u32 = 1;
+
+/// FNV-1a, 64 bit: the checksum and the model fingerprint (stable across platforms and runs).
+#[derive(Debug, Clone, Copy)]
+pub struct Fnv(u64);
+
+impl Default for Fnv {
+    fn default() -> Self {
+        Fnv(0xcbf2_9ce4_8422_2325)
+    }
+}
+
+impl Fnv {
+    pub fn bytes(&mut self, b: &[u8]) {
+        for &x in b {
+            self.0 ^= x as u64;
+            self.0 = self.0.wrapping_mul(0x0100_0000_01b3);
+        }
+    }
+    pub fn u64(&mut self, v: u64) {
+        self.bytes(&v.to_le_bytes());
+    }
+    pub fn f64(&mut self, v: f64) {
+        self.u64(v.to_bits());
+    }
+    pub fn str(&mut self, s: &str) {
+        self.u64(s.len() as u64);
+        self.bytes(s.as_bytes());
+    }
+    pub fn finish(&self) -> u64 {
+        self.0
+    }
+}
+
+/// Fingerprint of everything that determines an SLA's sequence of floating-point operations: the
+/// model (method, plate, grid, horizon, material, G0, PD rectangles, pre-crack, load) and the
+/// solver options (fast, refactor_every, tie_tol), plus the built model's counts. The step limit,
+/// stop length, damage snapshots and checkpoint options may change between the runs.
+pub fn fingerprint(p: &CcmPdParams, n_dofs: usize, n_bonds: usize) -> u64 {
+    let mut h = Fnv::default();
+    h.u64(VERSION as u64);
+    h.str(p.method.name());
+    for v in [p.width, p.height, p.dx, p.g0, p.material.e, p.material.nu] {
+        h.f64(v);
+    }
+    h.f64(p.material.thickness);
+    h.str(&format!("{:?}", p.material.plane));
+    h.u64(p.m as u64);
+    h.u64(p.pd_regions.len() as u64);
+    for r in &p.pd_regions {
+        r.iter().for_each(|&v| h.f64(v));
+    }
+    h.u64(p.precrack.len() as u64);
+    for q in &p.precrack {
+        q.iter().for_each(|&v| h.f64(v));
+    }
+    h.str(p.load.grip.name());
+    h.f64(p.load.u0);
+    h.f64(p.load.traction);
+    h.u64(p.sla.fast as u64);
+    h.u64(p.sla.refactor_every as u64);
+    h.f64(p.sla.tie_tol);
+    h.u64(n_dofs as u64);
+    h.u64(n_bonds as u64);
+    h.finish()
+}
+
+fn io_err(path: &Path, what: &str, e: std::io::Error) -> Error {
+    Error::Io {
+        path: path.display().to_string(),
+        detail: format!("{what}: {e}"),
+    }
+}
+
+/// Writes a checkpoint of `steps` atomically (temporary file + rename).
+pub fn write(path: &Path, fingerprint: u64, steps: &[SlaStep]) -> Result<()> {
+    let mut buf = Vec::with_capacity(64 + steps.len() * 96);
+    buf.extend_from_slice(MAGIC);
+    buf.extend_from_slice(&VERSION.to_le_bytes());
+    let put = |buf: &mut Vec<u8>, v: u64| buf.extend_from_slice(&v.to_le_bytes());
+    put(&mut buf, fingerprint);
+    put(&mut buf, steps.len() as u64);
+    for s in steps {
+        put(&mut buf, s.step as u64);
+        for v in [s.lambda, s.sigma22, s.cmod, s.u0, s.crack_length] {
+            put(&mut buf, v.to_bits());
+        }
+        put(&mut buf, s.nodes[0] as u64);
+        put(&mut buf, s.nodes[1] as u64);
+        for list in [&s.bonds, &s.detached] {
+            put(&mut buf, list.len() as u64);
+            for &b in list {
+                put(&mut buf, b as u64);
+            }
+        }
+    }
+    let mut h = Fnv::default();
+    h.bytes(&buf);
+    put(&mut buf, h.finish());
+    let name = path
+        .file_name()
+        .ok_or_else(|| Error::invalid("checkpoint_path", "a file path", path.display()))?;
+    let mut tmp_name = std::ffi::OsString::from(".");
+    tmp_name.push(name);
+    tmp_name.push(format!(".tmp{}", std::process::id()));
+    let tmp = path.with_file_name(tmp_name);
+    std::fs::write(&tmp, &buf).map_err(|e| io_err(&tmp, "writing the checkpoint", e))?;
+    std::fs::rename(&tmp, path).map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        io_err(path, "renaming the checkpoint into place", e)
+    })
+}
+
+struct Reader<'a> {
+    b: &'a [u8],
+    pos: usize,
+}
+
+impl Reader<'_> {
+    fn u64(&mut self) -> Result<u64> {
+        let s = self.b.get(self.pos..self.pos + 8).ok_or_else(|| {
+            Error::invalid(
+                "resume_from",
+                "a complete checkpoint file",
+                "a truncated file",
+            )
+        })?;
+        self.pos += 8;
+        Ok(u64::from_le_bytes(s.try_into().expect("8 bytes")))
+    }
+    fn index(&mut self, limit: usize, what: &str) -> Result<usize> {
+        let v = self.u64()?;
+        if v >= limit as u64 {
+            return Err(Error::invalid(
+                "resume_from",
+                &format!("a checkpoint of this model ({what} < {limit})"),
+                format!("{what} {v}"),
+            ));
+        }
+        Ok(v as usize)
+    }
+}
+
+/// Reads and validates a checkpoint written by [`write`] for the model with this `fingerprint`.
+pub fn read(path: &Path, fingerprint: u64, n_bonds: usize, n_nodes: usize) -> Result<Vec<SlaStep>> {
+    let b = std::fs::read(path).map_err(|e| io_err(path, "reading the checkpoint", e))?;
+    let bad = |what: &str, got: String| Error::invalid("resume_from", what, got);
+    if b.len() < 36 || &b[..8] != MAGIC {
+        return Err(bad(
+            "a rustfrac SLA checkpoint file",
+            format!("{} (no checkpoint header)", path.display()),
+        ));
+    }
+    let version = u32::from_le_bytes(b[8..12].try_into().expect("4 bytes"));
+    if version != VERSION {
+        return Err(bad(
+            &format!("a checkpoint of format version {VERSION}"),
+            format!("version {version}"),
+        ));
+    }
+    let (body, tail) = b.split_at(b.len() - 8);
+    let mut h = Fnv::default();
+    h.bytes(body);
+    if h.finish() != u64::from_le_bytes(tail.try_into().expect("8 bytes")) {
+        return Err(bad(
+            "an intact checkpoint file",
+            "a checksum mismatch (corrupt or truncated file)".into(),
+        ));
+    }
+    let mut r = Reader { b: body, pos: 12 };
+    let fp = r.u64()?;
+    if fp != fingerprint {
+        return Err(bad(
+            &format!(
+                "a checkpoint made for this model and solver (fingerprint {fingerprint:016x}); it \
+                 was made for a different plate, grid, horizon, material, load, pre-crack, PD \
+                 region or solver option"
+            ),
+            format!("fingerprint {fp:016x}"),
+        ));
+    }
+    let n = r.u64()? as usize;
+    let mut steps = Vec::with_capacity(n.min(body.len() / 96));
+    for k in 0..n {
+        let step = r.u64()? as usize;
+        if step != k + 1 {
+            return Err(bad("consecutive steps 1, 2, ...", format!("step {step}")));
+        }
+        let mut v = [0.0; 5];
+        for x in v.iter_mut() {
+            *x = f64::from_bits(r.u64()?);
+        }
+        let nodes = [r.index(n_nodes, "node")?, r.index(n_nodes, "node")?];
+        let nb = r.u64()? as usize;
+        let bonds = (0..nb)
+            .map(|_| r.index(n_bonds, "bond"))
+            .collect::<Result<Vec<_>>>()?;
+        if bonds.is_empty() {
+            return Err(bad("at least one bond per step", format!("step {step}")));
+        }
+        let nd = r.u64()? as usize;
+        let detached = (0..nd)
+            .map(|_| r.index(n_nodes, "node"))
+            .collect::<Result<Vec<_>>>()?;
+        steps.push(SlaStep {
+            step,
+            lambda: v[0],
+            sigma22: v[1],
+            cmod: v[2],
+            u0: v[3],
+            crack_length: v[4],
+            bonds,
+            nodes,
+            detached,
+        });
+    }
+    if r.pos != body.len() {
+        return Err(bad(
+            "no data after the last step",
+            format!("{} extra bytes", body.len() - r.pos),
+        ));
+    }
+    Ok(steps)
+}

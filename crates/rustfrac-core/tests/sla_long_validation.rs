@@ -1,0 +1,253 @@
+//! Long SLA runs (issue 6, item 7): bounded solver memory over thousands of steps, nodes detached
+//! during the run, checkpoints and bit-for-bit resume, refusal of foreign or corrupt checkpoints.
+
+use rustfrac_core::sla::{auto_refactor_every, run, CcmPdParams, CcmPdResult, SlaParams};
+use rustfrac_core::Error;
+use std::path::PathBuf;
+
+fn quiet(_: usize, _: usize) -> bool {
+    true
+}
+
+/// The coarse plate of `sla_validation` (dx = 1/5, PD rectangle 4.4 x 2.4, ~600 PD dofs).
+fn coarse(fast: bool, steps: usize) -> CcmPdParams {
+    let mut p = CcmPdParams::paper();
+    p.dx = 0.2;
+    p.pd_regions = vec![[0.3, 9.3, 4.7, 11.7]];
+    p.sla = SlaParams {
+        max_steps: steps,
+        fast,
+        ..SlaParams::default()
+    };
+    p
+}
+
+fn tmpdir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("rustfrac-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// Thousands of steps on the coarse plate: the fast solver never holds more update vectors than
+/// its re-condensation interval (automatic: n_P / 2), so its memory does not grow with the steps;
+/// the history holds one small row per step and no displacement field. The first steps agree with
+/// an unbounded run (no re-condensation) and the oracle.
+#[test]
+fn long_run_keeps_the_solver_memory_bounded() {
+    let n = 3000;
+    let r = run(&coarse(true, n), &quiet).unwrap();
+    let n_updates: usize = r.history.iter().map(|s| s.bonds.len()).sum::<usize>()
+        + r.detached_nodes.iter().filter(|d| d.0 > 0).count();
+    let np = 2 * r.n_pd_nodes; // upper bound of the free PD dofs
+    println!(
+        "{} steps ({}), {} PD nodes, {} bonds; re-condensation every {} updates (auto), {} condensations, at most {} update vectors held; {} updates ({} groundings of detached nodes); SLA {:.2} s; peak RSS {:.0} MB; history row {} B + bonds",
+        r.history.len(),
+        r.status,
+        r.n_pd_nodes,
+        r.n_bonds,
+        r.refactor_interval,
+        r.n_refactorisations,
+        r.max_update_rank,
+        n_updates,
+        r.detached_nodes.len(),
+        r.sla_seconds,
+        r.peak_memory_bytes.unwrap_or(0) as f64 / 1e6,
+        std::mem::size_of::<rustfrac_core::sla::SlaStep>()
+    );
+    assert_eq!(r.history.len(), n, "{}", r.status);
+    assert!(r.refactor_interval <= auto_refactor_every(np));
+    assert!(r.refactor_interval >= 64);
+    // the bound holds and is reached: the update vectors are recycled, not accumulated
+    assert!(r.max_update_rank <= r.refactor_interval);
+    assert_eq!(r.max_update_rank, r.refactor_interval);
+    assert!(r.n_refactorisations > (n_updates - 1) / r.refactor_interval);
+    // the final state is a regular solution
+    assert!(r.u_final.iter().all(|v| v.is_finite()));
+
+    // first 400 steps: automatic re-condensation = no re-condensation = oracle (to 1e-8)
+    let m = 400;
+    let mut p = coarse(true, m);
+    p.sla.refactor_every = 1_000_000;
+    let unbounded = run(&p, &quiet).unwrap();
+    let oracle = run(&coarse(false, m), &quiet).unwrap();
+    assert_eq!(unbounded.max_update_rank, m);
+    let mut worst = 0.0f64;
+    for k in 0..m {
+        let (a, b, c) = (&r.history[k], &unbounded.history[k], &oracle.history[k]);
+        assert_eq!(a.bonds, c.bonds, "step {}", k + 1);
+        assert_eq!(b.bonds, c.bonds, "step {}", k + 1);
+        for (x, y) in [
+            (a.lambda, c.lambda),
+            (b.lambda, c.lambda),
+            (a.sigma22, c.sigma22),
+        ] {
+            worst = worst.max((x - y).abs() / y.abs());
+        }
+    }
+    println!("first {m} steps: worst relative difference to the oracle {worst:.2e}");
+    assert!(worst < 1e-8);
+}
+
+/// With m = 2 the rectangle is shredded after ~1300 steps: nodes lose their last bonds (or keep
+/// only parallel ones) during the SLA; they are grounded, reported, and the run goes on with a
+/// regular system and finite numbers (before this, the first such node ended the run as
+/// "separated").
+#[test]
+fn nodes_detached_during_the_sla_are_grounded() {
+    let mut p = coarse(true, 1500);
+    p.m = 2;
+    let r = run(&p, &quiet).unwrap();
+    let during: Vec<_> = r.detached_nodes.iter().filter(|d| d.0 > 0).collect();
+    println!(
+        "m = 2: {} after {} steps; detached during the SLA (step, node): {:?}; warnings {:?}",
+        r.status,
+        r.history.len(),
+        during,
+        r.warnings
+    );
+    assert!(!during.is_empty());
+    let first = during[0].0;
+    assert!(
+        r.history.len() > first,
+        "the run went on after step {first}"
+    );
+    for &&(step, node) in &during {
+        assert!(r.history[step - 1].detached.contains(&node));
+    }
+    assert!(r
+        .history
+        .iter()
+        .all(|s| s.lambda.is_finite() && s.sigma22.is_finite() && s.cmod.is_finite()));
+    assert!(r.warnings.iter().any(|w| w.contains("grounded")));
+}
+
+fn same(a: &CcmPdResult, b: &CcmPdResult) {
+    assert_eq!(a.history.len(), b.history.len());
+    for (x, y) in a.history.iter().zip(&b.history) {
+        // exact equality, bit for bit
+        assert_eq!(x, y);
+        assert_eq!(x.lambda.to_bits(), y.lambda.to_bits());
+        assert_eq!(x.sigma22.to_bits(), y.sigma22.to_bits());
+        assert_eq!(x.cmod.to_bits(), y.cmod.to_bits());
+    }
+    assert_eq!(a.status, b.status);
+    assert_eq!(a.broken, b.broken);
+    assert_eq!(a.damage, b.damage);
+    assert_eq!(a.detached_nodes, b.detached_nodes);
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(&a.u_final), bits(&b.u_final));
+}
+
+/// 2N + k steps straight against N steps with checkpoints every N, stopped (step limit, and a
+/// cancel from the progress callback), then resumed: the same history bit for bit, for the fast
+/// solver (re-condensing every 25 updates, so the replay crosses re-condensations) and the oracle.
+#[test]
+fn checkpoint_and_resume_are_bit_for_bit() {
+    let dir = tmpdir("ckpt");
+    for (fast, n, k) in [(true, 40usize, 7usize), (false, 6, 3)] {
+        let total = 2 * n + k;
+        let mut base = coarse(fast, total);
+        base.sla.refactor_every = 25;
+        base.sla.damage_at_steps = vec![n / 2, n + 1, total];
+        let straight = run(&base, &quiet).unwrap();
+        assert_eq!(straight.history.len(), total);
+        let path = dir.join(format!("run-{fast}.ckpt"));
+
+        // (a) stopped by the step limit at N + 5: the last checkpoint is the one after step N
+        let mut p = base.clone();
+        p.sla.max_steps = n + 5;
+        p.sla.checkpoint_every = n;
+        p.sla.checkpoint_path = Some(path.clone());
+        let first = run(&p, &quiet).unwrap();
+        assert_eq!(first.n_checkpoints, 1);
+        let mut q = base.clone();
+        q.sla.resume_from = Some(path.clone());
+        let resumed = run(&q, &quiet).unwrap();
+        assert_eq!(resumed.resumed_steps, n);
+        same(&straight, &resumed);
+        assert_eq!(straight.damage_at, resumed.damage_at);
+
+        // (b) cancelled from the progress callback after step N + 2: a checkpoint is written then
+        let stop = n + 2;
+        let cancel = move |s: usize, _: usize| s < stop;
+        let c = run(&p, &cancel).unwrap();
+        assert_eq!(c.status, "cancelled");
+        assert_eq!(c.history.len(), stop);
+        assert_eq!(c.n_checkpoints, 2);
+        let resumed = run(&q, &quiet).unwrap();
+        assert_eq!(resumed.resumed_steps, stop);
+        same(&straight, &resumed);
+        println!(
+            "fast = {fast}: {total} steps straight = checkpoint at {n} / cancel at {stop} + resume, bit for bit ({} condensations straight)",
+            straight.n_refactorisations
+        );
+        // written atomically: no temporary file is left next to the checkpoint
+        let names: Vec<_> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().into_string().unwrap())
+            .collect();
+        assert!(names.iter().all(|f| !f.contains(".tmp")), "{names:?}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn foreign_or_corrupt_checkpoints_are_refused() {
+    let dir = tmpdir("ckpt-bad");
+    let path = dir.join("a.ckpt");
+    let mut p = coarse(true, 12);
+    p.sla.checkpoint_every = 10;
+    p.sla.checkpoint_path = Some(path.clone());
+    run(&p, &quiet).unwrap();
+    let expect_refusal = |q: CcmPdParams, what: &str| match run(&q, &quiet) {
+        Err(Error::InvalidInput {
+            param, expected, ..
+        }) => {
+            assert_eq!(param, "resume_from");
+            assert!(expected.contains(what), "{expected}");
+            println!("refused ({what}): {expected}");
+        }
+        other => panic!("{what}: {:?}", other.map(|r| r.status)),
+    };
+    // a different model (horizon) and a different solver option: refused
+    let mut q = coarse(true, 20);
+    q.sla.resume_from = Some(path.clone());
+    q.m = 3;
+    expect_refusal(q, "different");
+    let mut q = coarse(true, 20);
+    q.sla.resume_from = Some(path.clone());
+    q.sla.refactor_every = 7;
+    expect_refusal(q, "different");
+    // the same model resumes (and may change the step limit)
+    let mut q = coarse(true, 20);
+    q.sla.resume_from = Some(path.clone());
+    assert_eq!(run(&q, &quiet).unwrap().resumed_steps, 10);
+    // a flipped byte: checksum
+    let mut bytes = std::fs::read(&path).unwrap();
+    let mid = bytes.len() / 2;
+    bytes[mid] ^= 0x40;
+    let bad = dir.join("bad.ckpt");
+    std::fs::write(&bad, &bytes).unwrap();
+    let mut q = coarse(true, 20);
+    q.sla.resume_from = Some(bad.clone());
+    expect_refusal(q, "intact");
+    // not a checkpoint at all
+    std::fs::write(&bad, b"hello, this is not a checkpoint at all, really not").unwrap();
+    let mut q = coarse(true, 20);
+    q.sla.resume_from = Some(bad);
+    expect_refusal(q, "checkpoint file");
+    // missing file: an I/O error naming the path
+    let mut q = coarse(true, 20);
+    q.sla.resume_from = Some(dir.join("missing.ckpt"));
+    assert!(
+        matches!(run(&q, &quiet), Err(Error::Io { path, .. }) if path.contains("missing.ckpt"))
+    );
+    // checkpoint_every without a path
+    let mut q = coarse(true, 20);
+    q.sla.checkpoint_every = 5;
+    assert!(
+        matches!(run(&q, &quiet), Err(Error::InvalidInput { param, .. }) if param == "checkpoint_path")
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
