@@ -105,7 +105,7 @@ def _small(method: str) -> dict[str, Any]:
             dx=0.25,
             sla_steps=3,
             pd_center=(1.5, 1.125),
-            pd_size=(2.5, 1.5),
+            pd_size=(2.5, 2.0),
         )
     return rf.scenes.edge_crack_plate(method, **kw).to_dict()
 

@@ -19,6 +19,9 @@ use rustfrac_core::xfem::{self, GrowthParams, XfemOptions, XfemParams};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 fn quiet(_: usize, _: usize) {}
+fn go_on(_: usize, _: usize) -> bool {
+    true
+}
 
 /// Successful runs per driver test: each must also exercise its valid path, not only refusals.
 static XFEM_OK: AtomicUsize = AtomicUsize::new(0);
@@ -177,7 +180,9 @@ proptest! {
                 prop_assert!(valid_material(e, nu, t));
                 prop_assert!(r.sigma22.is_finite() && r.cmod.is_finite(), "{} {}", r.sigma22, r.cmod);
                 prop_assert!(all_finite(&r.u) && all_finite(&r.reactions));
-                prop_assert_eq!(r.warnings.is_empty(), !(p == Plane::Strain && nu >= 0.49));
+                // the locking warning exactly when it applies (a condition warning may come too)
+                let locking = r.warnings.iter().any(|w| w.contains("nearly incompressible"));
+                prop_assert_eq!(locking, p == Plane::Strain && nu >= 0.49, "{:?}", r.warnings);
                 FEM_OK.fetch_add(1, Ordering::Relaxed);
             }
             Err(err) => prop_assert!(
@@ -264,7 +269,7 @@ proptest! {
         p.precrack = crack.iter().map(|&(x, y)| [x, y]).collect();
         p.pd_regions = vec![[region[0], region[1], region[2], region[3]]];
         p.sla = SlaParams { max_steps: steps, tie_tol: tie, stop_crack_length: stop, ..SlaParams::default() };
-        match sla::run(&p, &quiet) {
+        match sla::run(&p, &go_on) {
             Ok(r) => {
                 prop_assert!(valid_material(e, nu, 1.0) && nu == 0.25);
                 prop_assert!(r.sigma22.is_finite() && r.cmod.is_finite());

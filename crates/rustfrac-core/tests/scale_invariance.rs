@@ -22,6 +22,9 @@ use rustfrac_core::sla::{self, CcmPdParams, Method, SlaParams};
 use rustfrac_core::xfem::{self, GrowthParams, XfemParams};
 
 fn quiet(_: usize, _: usize) {}
+fn go_on(_: usize, _: usize) -> bool {
+    true
+}
 
 const TOL: f64 = 1e-9;
 
@@ -412,11 +415,11 @@ fn ccm_pd_sla_is_scale_invariant() {
 
 fn pd_case(method: Method, grip: Grip, scales: &[(f64, f64, f64)]) -> f64 {
     let steps = 12;
-    let r0 = sla::run(&pd_params(1.0, 1.0, 1.0, steps, method, grip), &quiet).unwrap();
+    let r0 = sla::run(&pd_params(1.0, 1.0, 1.0, steps, method, grip), &go_on).unwrap();
     assert_eq!(r0.history.len(), steps);
     let mut worst = 0.0f64;
     for &(l, e, t) in scales {
-        let r = sla::run(&pd_params(l, e, t, steps, method, grip), &quiet).unwrap();
+        let r = sla::run(&pd_params(l, e, t, steps, method, grip), &go_on).unwrap();
         let tag = format!("{method:?} {grip:?} l={l:e} e={e:e} t={t:e}");
         assert_eq!(r.status, r0.status, "{tag}");
         assert_eq!(r.n_precrack_bonds, r0.n_precrack_bonds, "{tag}");

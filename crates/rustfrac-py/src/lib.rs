@@ -500,7 +500,6 @@ fn solve_xfem_plate<'py>(
     d.set_item("history_condition", arr1(py, col(|s| s.condition)))?;
     d.set_item("condition", r.condition.value())?;
     d.set_item("condition_pivot_ratio", r.condition.pivot_ratio)?;
-    d.set_item("warnings", r.warnings)?;
     d.set_item("K_I", r.k_i)?;
     d.set_item("K_II", r.k_ii)?;
     d.set_item("J", r.j_from_k)?;
