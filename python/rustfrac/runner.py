@@ -67,7 +67,7 @@ def run(
     res = runner(scene, progress)
     res.meta.setdefault("timings", {})["total_s"] = time.perf_counter() - t0
     for msg in res.meta.setdefault("warnings", []):
-        category = IllConditionedWarning if "condition" in msg else AccuracyWarning
+        category = IllConditionedWarning if "condition estimate" in msg else AccuracyWarning
         warnings.warn(f"{scene.method}: {msg}", category, stacklevel=2)
     return res
 

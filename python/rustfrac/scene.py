@@ -953,7 +953,7 @@ def _renamed(e: InvalidParameterError | InvalidTypeError, k: int) -> Any:
     if k == 0:
         return e
     param = (e.param or "crack").replace("crack", _crack_name(k), 1)
-    msg = str(e).replace("crack.", f"{_crack_name(k)}.").replace("[crack]", f"[[crack]] {k}")
+    msg = str(e).replace("crack.", f"{_crack_name(k)}.").replace("[crack]", f"{_crack_name(k)} ([[crack]] table {k})")
     return type(e)(msg, param)
 
 

@@ -135,15 +135,14 @@ pub const SNAP_REL: f64 = 1e-10;
 #[derive(Debug, Clone, PartialEq)]
 pub struct Crack {
     pub points: Vec<[f64; 2]>,
-    /// level-set values |phi| <= snap count as on the crack (`SNAP_REL` x smallest spacing)
+    /// distance below which a point lies on the crack (`level_set` returns phi = 0 and `heaviside`
+    /// -1): `SNAP_REL` x the mesh's smallest spacing, so the classification does not depend on
+    /// the units
     pub snap: f64,
     /// `points[0]` lies on the plate boundary (edge crack mouth)
     pub mouth: bool,
     /// tips: the last point first (if it is a tip), then the first point (if it is a tip)
     pub tips: Vec<Tip>,
-    /// distance below which a point lies on the crack (phi = 0): 1e-10 x the mesh's smallest
-    /// spacing, so that the classification does not depend on the units
-    on_crack_tol: f64,
 }
 
 #[inline]
@@ -253,7 +252,6 @@ impl Crack {
             snap: SNAP_REL * mesh.min_spacing(),
             mouth: start_b,
             tips,
-            on_crack_tol: 1e-10 * mesh.min_spacing(),
         })
     }
 
@@ -305,7 +303,7 @@ impl Crack {
             let d = sub(p[bk + 1], p[bk]);
             cross(d, sub(x, p[bk])) / norm(d)
         };
-        if s.abs() <= self.on_crack_tol {
+        if s.abs() <= self.snap {
             0.0
         } else if s > 0.0 {
             best.sqrt()
