@@ -200,14 +200,14 @@ XFEM_EXTRA_RADII: tuple[float, ...] = (1.5, 2.0, 3.0, 3.5)
 
 
 def _extra_radii(scene: Scene) -> list[float]:
-    """The radii of :data:`XFEM_EXTRA_RADII` whose q-domain around the primary tip stays inside
-    the plate and clear of the other tip and of the other cracks, as the core requires."""
+    """The radii of :data:`XFEM_EXTRA_RADII` whose q-domain around the primary tip stays clear of
+    the other tip and of the other cracks, as the core requires (the plate boundary may clip it)."""
     p, m, c = scene.plate, scene.mesh, scene.crack
     dx, dy = p.width / m.nx, p.height / m.ny
     h = math.sqrt(dx * dy)
     pts = c.polyline(p)
     tx, ty = pts[-1]
-    room = min(tx, p.width - tx, ty, p.height - ty)
+    room = math.inf
     if c.kind == "center":
         room = min(room, 2 * c.a0 - 1.5 * h)
     for other in scene.extra_cracks:

@@ -102,34 +102,64 @@ impl DomainIntegral {
         }
     }
 
-    /// Adds one quadrature point: tip-frame position `x`, tip-frame displacement gradient
-    /// `g[i][j] = du_i/dx_j`, tip-frame gradient of q, and weight `w` (Gauss weight x det J).
-    pub fn add(&mut self, x: [f64; 2], g: &[[f64; 2]; 2], gq: [f64; 2], w: f64) {
-        if gq[0] == 0.0 && gq[1] == 0.0 {
-            return;
-        }
+    /// The integrands of J and of the two interaction integrals at a point, as the vectors
+    /// F_j = W delta_1j - sigma_ij u_i,1 (J, eq. 33) and
+    /// F_j = W^int delta_1j - sigma_ij u^a_i,1 - sigma^a_ij u_i,1 (I with K^a = (1, 0) and
+    /// (0, 1), eqs. 27-28), W^int = sigma^a_mn eps_mn, all in the tip frame.
+    fn fluxes(&self, x: [f64; 2], g: &[[f64; 2]; 2]) -> [[f64; 2]; 3] {
         let s = stress_tensor(&self.d, g);
         let w_real = 0.5 * (s[0][0] * g[0][0] + s[1][1] * g[1][1] + s[0][1] * (g[0][1] + g[1][0]));
+        let mut f = [[0.0; 2]; 3];
         for j in 0..2 {
-            self.j += w * gq[j] * (s[0][j] * g[0][0] + s[1][j] * g[1][0]);
+            f[0][j] = -(s[0][j] * g[0][0] + s[1][j] * g[1][0]);
         }
-        self.j -= w * gq[0] * w_real;
-        for (mode, acc) in [(0, &mut self.i1), (1, &mut self.i2)] {
+        f[0][0] += w_real;
+        for (mode, fm) in f[1..].iter_mut().enumerate() {
             let (k1, k2) = if mode == 0 { (1.0, 0.0) } else { (0.0, 1.0) };
             let ga = williams_gradient(&self.mat, k1, k2, x);
             let sa = stress_tensor(&self.d, &ga);
             // mixed energy sigma^a : eps (= sigma : eps^a)
             let w_int = sa[0][0] * g[0][0] + sa[1][1] * g[1][1] + sa[0][1] * (g[0][1] + g[1][0]);
-            let mut v = -gq[0] * w_int;
             for j in 0..2 {
-                v += gq[j]
-                    * (s[0][j] * ga[0][0]
-                        + s[1][j] * ga[1][0]
-                        + sa[0][j] * g[0][0]
-                        + sa[1][j] * g[1][0]);
+                fm[j] = -(s[0][j] * ga[0][0]
+                    + s[1][j] * ga[1][0]
+                    + sa[0][j] * g[0][0]
+                    + sa[1][j] * g[1][0]);
             }
-            *acc += w * v;
+            fm[0] += w_int;
         }
+        f
+    }
+
+    fn accumulate(&mut self, f: &[[f64; 2]; 3], v: [f64; 2], w: f64) {
+        for (acc, fm) in [&mut self.j, &mut self.i1, &mut self.i2].into_iter().zip(f) {
+            *acc += w * (fm[0] * v[0] + fm[1] * v[1]);
+        }
+    }
+
+    /// Adds one area quadrature point: tip-frame position `x`, tip-frame displacement gradient
+    /// `g[i][j] = du_i/dx_j`, tip-frame gradient of q, and weight `w` (Gauss weight x det J):
+    /// the domain term -F_j q,j of eq. (36).
+    pub fn add(&mut self, x: [f64; 2], g: &[[f64; 2]; 2], gq: [f64; 2], w: f64) {
+        if gq[0] == 0.0 && gq[1] == 0.0 {
+            return;
+        }
+        let f = self.fluxes(x, g);
+        self.accumulate(&f, gq, -w);
+    }
+
+    /// Adds one point of the plate boundary inside the q-domain (the domain clipped by the
+    /// boundary): the boundary term + F_j m_j q of the divergence theorem, with `m` the outward
+    /// unit normal of the plate in the tip frame, `q` the weight function there and `w` the line
+    /// quadrature weight. The domain form of eq. (36) assumes q = 0 on the plate boundary; where
+    /// the domain reaches it, J = -int_A F_j q,j dA + int_B F_j m_j q ds (the crack faces add
+    /// nothing: both fields are traction-free there and m_1 = 0).
+    pub fn add_boundary(&mut self, x: [f64; 2], g: &[[f64; 2]; 2], m: [f64; 2], q: f64, w: f64) {
+        if q == 0.0 {
+            return;
+        }
+        let f = self.fluxes(x, g);
+        self.accumulate(&f, m, w * q);
     }
 
     /// K_I, K_II (eq. 31), J from K (eq. 32) and the domain J (eq. 33).

@@ -518,8 +518,8 @@ fn bad_input_is_refused_and_singular_systems_reported() {
     p.r_i_factor = f64::NAN;
     check(p, "r_i_factor");
     let mut p = base.clone();
-    p.r_i_factor = 5.0; // 5 element lengths reach the plate edge from a = 1.1
-    check(p, "r_I");
+    p.r_i_factor = 20.5;
+    check(p, "r_i_factor");
     let mut p = base.clone();
     p.crack = vec![[0.0, 10.5], [12.0, 10.5]];
     check(p, "crack");
