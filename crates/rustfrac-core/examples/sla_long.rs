@@ -31,9 +31,9 @@ fn main() {
     let steps = env("SLA_STEPS", 100_000);
     let every = env("SLA_REPORT", 10_000);
     let mut p = CcmPdParams::paper();
-    p.dx = 0.2;
-    p.m = env("SLA_M", 12);
-    p.pd_regions = vec![[0.1, 7.5, 6.1, 13.5]];
+    p.model.dx = 0.2;
+    p.model.m = env("SLA_M", 12);
+    p.model.pd_regions = vec![[0.1, 7.5, 6.1, 13.5]];
     p.sla.max_steps = steps;
     let t = Instant::now();
     let report = |s: usize, _: usize| {

@@ -61,29 +61,30 @@ impl Fnv {
 /// solver options (fast, refactor_every, tie_tol), plus the built model's counts. The step limit,
 /// stop length, damage snapshots and checkpoint options may change between the runs.
 pub fn fingerprint(p: &CcmPdParams, n_dofs: usize, n_bonds: usize) -> u64 {
+    let (m, sla) = (&p.model, &p.sla);
     let mut h = Fnv::default();
     h.u64(VERSION as u64);
-    h.str(p.method.name());
-    for v in [p.width, p.height, p.dx, p.g0, p.material.e, p.material.nu] {
+    h.str(m.method.name());
+    for v in [m.width, m.height, m.dx, m.g0, m.material.e, m.material.nu] {
         h.f64(v);
     }
-    h.f64(p.material.thickness);
-    h.str(&format!("{:?}", p.material.plane));
-    h.u64(p.m as u64);
-    h.u64(p.pd_regions.len() as u64);
-    for r in &p.pd_regions {
+    h.f64(m.material.thickness);
+    h.str(&format!("{:?}", m.material.plane));
+    h.u64(m.m as u64);
+    h.u64(m.pd_regions.len() as u64);
+    for r in &m.pd_regions {
         r.iter().for_each(|&v| h.f64(v));
     }
-    h.u64(p.precrack.len() as u64);
-    for q in &p.precrack {
+    h.u64(m.precrack.len() as u64);
+    for q in &m.precrack {
         q.iter().for_each(|&v| h.f64(v));
     }
-    h.str(p.load.grip.name());
-    h.f64(p.load.u0);
-    h.f64(p.load.traction);
-    h.u64(p.sla.fast as u64);
-    h.u64(p.sla.refactor_every as u64);
-    h.f64(p.sla.tie_tol);
+    h.str(m.load.grip.name());
+    h.f64(m.load.u0);
+    h.f64(m.load.traction);
+    h.u64(sla.fast as u64);
+    h.u64(sla.refactor_every as u64);
+    h.f64(sla.tie_tol);
     h.u64(n_dofs as u64);
     h.u64(n_bonds as u64);
     h.finish()

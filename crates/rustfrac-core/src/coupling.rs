@@ -36,9 +36,37 @@ use crate::quadrature::subquad_rule;
 use crate::solver::Lu;
 use crate::sparse::{CscMatrix, Pattern, Reduction};
 
-/// Geometry, material and loading of a coupled (or pure PD) plate model.
+/// Model choice: splice coupling with PD rectangles, or PD everywhere.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Method {
+    CcmPd,
+    Pd,
+}
+
+impl Method {
+    /// Parses "ccm_pd" | "pd".
+    pub fn parse(s: &str) -> Result<Self> {
+        match s {
+            "ccm_pd" => Ok(Method::CcmPd),
+            "pd" => Ok(Method::Pd),
+            _ => Err(Error::invalid("method", "'ccm_pd' or 'pd'", s)),
+        }
+    }
+    pub fn name(&self) -> &'static str {
+        match self {
+            Method::CcmPd => "ccm_pd",
+            Method::Pd => "pd",
+        }
+    }
+}
+
+/// Geometry, material and loading of a coupled (or pure PD) plate model (the paper's values in
+/// [`ModelSpec::paper`]).
 #[derive(Debug, Clone)]
 pub struct ModelSpec {
+    /// splice coupling with the PD rectangles, or every node PD (pure PD model with volumetric
+    /// boundary layers)
+    pub method: Method,
     /// plate width W along x1 (the paper: 11)
     pub width: f64,
     /// plate height L along x2 (the paper: 21)
@@ -50,13 +78,52 @@ pub struct ModelSpec {
     pub material: Elastic,
     /// critical energy release rate G0
     pub g0: f64,
-    /// PD rectangles [x0, y0, x1, y1] (ignored when `all_pd`)
+    /// PD rectangles [x0, y0, x1, y1] (ignored by [`Method::Pd`])
     pub pd_regions: Vec<[f64; 4]>,
-    /// every node PD (pure PD model with volumetric boundary layers)
-    pub all_pd: bool,
     /// pre-crack polyline (first point = crack mouth); empty for none
     pub precrack: Vec<[f64; 2]>,
     pub load: PlateLoad,
+}
+
+impl ModelSpec {
+    /// The paper's benchmark: W = 11, L = 21, dx = 1/15, m = 4, PD rectangle 2.73 x 1.67 centred at
+    /// (1.70, 10.5), E = 10000, nu = 0.25, G0 = 0.367, plane strain, h = 1, pre-crack a = 1.1 along
+    /// x2 = 10.5, u0 = 0.01, u1 free.
+    pub fn paper() -> Self {
+        use crate::loading::Grip;
+        use crate::material::Plane;
+        Self {
+            method: Method::CcmPd,
+            width: 11.0,
+            height: 21.0,
+            dx: 1.0 / 15.0,
+            m: 4,
+            material: Elastic {
+                e: 10000.0,
+                nu: 0.25,
+                plane: Plane::Strain,
+                thickness: 1.0,
+            },
+            g0: 0.367,
+            pd_regions: vec![[
+                1.70 - 2.73 / 2.0,
+                10.5 - 1.67 / 2.0,
+                1.70 + 2.73 / 2.0,
+                10.5 + 1.67 / 2.0,
+            ]],
+            precrack: vec![[0.0, 10.5], [1.1, 10.5]],
+            load: PlateLoad {
+                grip: Grip::Free,
+                u0: 0.01,
+                traction: 0.0,
+            },
+        }
+    }
+
+    /// Every node PD (the pure PD model)?
+    pub fn all_pd(&self) -> bool {
+        self.method == Method::Pd
+    }
 }
 
 /// The assembled description of a coupled model (everything but the matrix values).
@@ -219,8 +286,8 @@ impl SpliceModel {
         };
         let nn = grid.n_nodes();
         // node classes
-        let mut is_pd = vec![spec.all_pd; nn];
-        if spec.all_pd {
+        let mut is_pd = vec![spec.all_pd(); nn];
+        if spec.all_pd() {
             let two_h = 2.0 * pd.delta;
             for (name, len) in [("width", spec.width), ("height", spec.height)] {
                 if len < two_h - 1e-9 * dx {
@@ -246,7 +313,7 @@ impl SpliceModel {
                 crate::pd::family_stencil(4).len()
             ));
         }
-        if !spec.all_pd {
+        if !spec.all_pd() {
             if spec.pd_regions.is_empty() {
                 return Err(Error::invalid(
                     "pd_regions",
@@ -422,7 +489,7 @@ impl SpliceModel {
         let ndof = 2 * nn;
         let pattern = Pattern::new(ndof, &rows_of, &cols_of)?;
         // loading: edge rows (coupled) or volumetric layers of m rows (pure PD)
-        let layers = if spec.all_pd {
+        let layers = if spec.all_pd() {
             spec.m.min(ny / 2).max(1)
         } else {
             1

@@ -36,17 +36,19 @@
 //! for bit the same as an uninterrupted run.
 //!
 //! Entry point for the bindings: build [`CcmPdParams`] (start from [`CcmPdParams::paper`] and
-//! override fields; `method` = [`Method::CcmPd`] or [`Method::Pd`]), call
-//! [`run`]`(&params, &|step, max_steps| true)` (return `false` to stop: status "cancelled"), read
-//! [`CcmPdResult`]. Every parameter is validated ([`Error::InvalidInput`] names it and its range);
-//! a separated body ends the run with status "separated" (never NaN); faer panics are caught
-//! inside the solver wrappers.
+//! override fields of its `model` ([`ModelSpec`]; `model.method` = [`Method::CcmPd`] or
+//! [`Method::Pd`]) and `sla` ([`SlaParams`])), call [`run`]`(&params, &|step, max_steps| true)`
+//! (return `false` to stop: status "cancelled"), read [`CcmPdResult`]. Every parameter is
+//! validated ([`Error::InvalidInput`] names it and its range): the SLA options by
+//! [`SlaParams::validate`], the model when it is built ([`SpliceModel::new`]); a separated body
+//! ends the run with status "separated" (never NaN); faer panics are caught inside the solver
+//! wrappers.
 
 use crate::checkpoint;
+pub use crate::coupling::Method;
 use crate::coupling::{ModelSpec, SpliceModel, Spring};
 use crate::error::{check_finite, check_positive, Error, Result};
-use crate::loading::{Grip, PlateLoad};
-use crate::material::Elastic;
+use crate::loading::Grip;
 use crate::pd::{damage, BYTES_PER_BOND};
 use crate::solver::{Cholesky, Lu};
 use crate::sparse::{CscMatrix, Reduction};
@@ -110,95 +112,21 @@ pub fn auto_refactor_every(n_p: usize) -> usize {
     (n_p / 2).clamp(64, 4096)
 }
 
-/// Model choice: splice coupling with PD rectangles, or PD everywhere.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Method {
-    CcmPd,
-    Pd,
-}
-
-impl Method {
-    /// Parses "ccm_pd" | "pd".
-    pub fn parse(s: &str) -> Result<Self> {
-        match s {
-            "ccm_pd" => Ok(Method::CcmPd),
-            "pd" => Ok(Method::Pd),
-            _ => Err(Error::invalid("method", "'ccm_pd' or 'pd'", s)),
-        }
-    }
-    pub fn name(&self) -> &'static str {
-        match self {
-            Method::CcmPd => "ccm_pd",
-            Method::Pd => "pd",
-        }
-    }
-}
-
-/// Everything a CCM-PD / PD run needs (the paper's values in [`CcmPdParams::paper`]).
+/// Everything a CCM-PD / PD run needs: the model and the SLA options (the paper's values in
+/// [`CcmPdParams::paper`]).
 #[derive(Debug, Clone)]
 pub struct CcmPdParams {
-    pub method: Method,
-    pub width: f64,
-    pub height: f64,
-    pub dx: f64,
-    pub m: usize,
-    pub material: Elastic,
-    pub g0: f64,
-    /// PD rectangles [x0, y0, x1, y1] (ignored by `Method::Pd`)
-    pub pd_regions: Vec<[f64; 4]>,
-    /// pre-crack polyline, first point at the crack mouth
-    pub precrack: Vec<[f64; 2]>,
-    pub load: PlateLoad,
+    /// plate, grid, horizon, material, G0, PD rectangles, pre-crack, load and method
+    pub model: ModelSpec,
     pub sla: SlaParams,
 }
 
 impl CcmPdParams {
-    /// The paper's benchmark: W = 11, L = 21, dx = 1/15, m = 4, PD rectangle 2.73 x 1.67 centred at
-    /// (1.70, 10.5), E = 10000, nu = 0.25, G0 = 0.367, plane strain, h = 1, u0 = 0.01, u1 free.
+    /// The paper's benchmark ([`ModelSpec::paper`]) with the default SLA options.
     pub fn paper() -> Self {
-        use crate::material::Plane;
         Self {
-            method: Method::CcmPd,
-            width: 11.0,
-            height: 21.0,
-            dx: 1.0 / 15.0,
-            m: 4,
-            material: Elastic {
-                e: 10000.0,
-                nu: 0.25,
-                plane: Plane::Strain,
-                thickness: 1.0,
-            },
-            g0: 0.367,
-            pd_regions: vec![[
-                1.70 - 2.73 / 2.0,
-                10.5 - 1.67 / 2.0,
-                1.70 + 2.73 / 2.0,
-                10.5 + 1.67 / 2.0,
-            ]],
-            precrack: vec![[0.0, 10.5], [1.1, 10.5]],
-            load: PlateLoad {
-                grip: Grip::Free,
-                u0: 0.01,
-                traction: 0.0,
-            },
+            model: ModelSpec::paper(),
             sla: SlaParams::default(),
-        }
-    }
-
-    /// The model part of the parameters.
-    pub fn spec(&self) -> ModelSpec {
-        ModelSpec {
-            width: self.width,
-            height: self.height,
-            dx: self.dx,
-            m: self.m,
-            material: self.material,
-            g0: self.g0,
-            pd_regions: self.pd_regions.clone(),
-            all_pd: self.method == Method::Pd,
-            precrack: self.precrack.clone(),
-            load: self.load,
         }
     }
 }
@@ -300,25 +228,28 @@ pub fn peak_memory_bytes() -> Option<u64> {
     Some(kb * 1024)
 }
 
-fn validate_sla(p: &SlaParams) -> Result<()> {
-    if p.max_steps > 1_000_000 {
-        return Err(Error::invalid("max_steps", "0..=1000000", p.max_steps));
+impl SlaParams {
+    /// Checks every option (the model is validated when it is built, [`SpliceModel::new`]).
+    pub fn validate(&self) -> Result<()> {
+        if self.max_steps > 1_000_000 {
+            return Err(Error::invalid("max_steps", "0..=1000000", self.max_steps));
+        }
+        if let Some(l) = self.stop_crack_length {
+            check_positive("stop_crack_length", l)?;
+        }
+        check_finite("tie_tol", self.tie_tol)?;
+        if !(0.0..1.0).contains(&self.tie_tol) {
+            return Err(Error::invalid("tie_tol", "0 <= tie_tol < 1", self.tie_tol));
+        }
+        if self.checkpoint_every > 0 && self.checkpoint_path.is_none() {
+            return Err(Error::invalid(
+                "checkpoint_path",
+                "a file path when checkpoint_every > 0",
+                "none",
+            ));
+        }
+        Ok(())
     }
-    if let Some(l) = p.stop_crack_length {
-        check_positive("stop_crack_length", l)?;
-    }
-    check_finite("tie_tol", p.tie_tol)?;
-    if !(0.0..1.0).contains(&p.tie_tol) {
-        return Err(Error::invalid("tie_tol", "0 <= tie_tol < 1", p.tie_tol));
-    }
-    if p.checkpoint_every > 0 && p.checkpoint_path.is_none() {
-        return Err(Error::invalid(
-            "checkpoint_path",
-            "a file path when checkpoint_every > 0",
-            "none",
-        ));
-    }
-    Ok(())
 }
 
 /// A state of the model at the reference load.
@@ -1326,10 +1257,10 @@ pub fn run(
     params: &CcmPdParams,
     progress: &(dyn Fn(usize, usize) -> bool + Sync),
 ) -> Result<CcmPdResult> {
-    validate_sla(&params.sla)?;
+    params.sla.validate()?;
     keep_large_blocks_mmapped();
     let t0 = Instant::now();
-    let model = SpliceModel::new(&params.spec())?;
+    let model = SpliceModel::new(&params.model)?;
     timing("model built", t0);
     let mut warnings = model.warnings.clone();
     let mut broken = model.precrack_broken.clone();
@@ -1448,7 +1379,8 @@ pub fn run(
         };
         // under displacement grips a cut load path leaves both parts held by their own grip: the
         // system stays regular but carries no load any more
-        if params.load.grip != Grip::Traction && st.sigma22.abs() <= 1e-9 * sol0.sigma22.abs() {
+        if params.model.load.grip != Grip::Traction && st.sigma22.abs() <= 1e-9 * sol0.sigma22.abs()
+        {
             status = "separated".into();
             break;
         }
@@ -1485,7 +1417,7 @@ pub fn run(
             lambda: lmin,
             sigma22: lmin * st.sigma22,
             cmod: lmin * st.cmod,
-            u0: lmin * params.load.u0,
+            u0: lmin * params.model.load.u0,
             bonds: sel,
             nodes: [bf.i as usize, bf.j as usize],
             detached,
@@ -1536,8 +1468,8 @@ pub fn run(
     let sla_seconds = t1.elapsed().as_secs_f64();
     let nn = model.grid.n_nodes();
     Ok(CcmPdResult {
-        method: params.method.name().into(),
-        grip: params.load.grip.name().into(),
+        method: params.model.method.name().into(),
+        grip: params.model.load.grip.name().into(),
         solver,
         u: sol0.u,
         u_final,

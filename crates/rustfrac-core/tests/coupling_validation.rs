@@ -2,28 +2,21 @@
 //! the outer boundary is reproduced everywhere, a linear strain field (error reported), and the
 //! non-symmetry of the splice matrix.
 
-use rustfrac_core::coupling::{ModelSpec, SpliceModel};
-use rustfrac_core::loading::{Grip, PlateLoad};
+use rustfrac_core::coupling::{Method, ModelSpec, SpliceModel};
 use rustfrac_core::material::{Elastic, Plane};
 use rustfrac_core::solver::Lu;
 use rustfrac_core::sparse::Reduction;
 
-fn spec(all_pd: bool) -> ModelSpec {
+fn spec(method: Method) -> ModelSpec {
     ModelSpec {
+        method,
         width: 3.0,
         height: 3.0,
         dx: 0.1,
-        m: 4,
         material: Elastic::new(10000.0, 0.25, Plane::Strain, 1.0).unwrap(),
-        g0: 0.367,
         pd_regions: vec![[1.0, 0.9, 2.05, 2.1]],
-        all_pd,
         precrack: vec![],
-        load: PlateLoad {
-            grip: Grip::Free,
-            u0: 0.01,
-            traction: 0.0,
-        },
+        ..ModelSpec::paper()
     }
 }
 
@@ -33,7 +26,7 @@ fn inf(v: &[f64]) -> f64 {
 
 #[test]
 fn rigid_motions_give_zero_internal_forces() {
-    let model = SpliceModel::new(&spec(false)).unwrap();
+    let model = SpliceModel::new(&spec(Method::CcmPd)).unwrap();
     let k = model.assemble(&model.precrack_broken);
     let kmax = inf(&k.val);
     println!("splice matrix asymmetry measure: {:.3e}", k.asymmetry());
@@ -100,7 +93,7 @@ fn solve_with_boundary_field(
 
 #[test]
 fn uniform_strain_reproduced_everywhere() {
-    let model = SpliceModel::new(&spec(false)).unwrap();
+    let model = SpliceModel::new(&spec(Method::CcmPd)).unwrap();
     let (e11, e22, e12) = (1e-3, -4e-4, 2.5e-4);
     let field = move |p: [f64; 2]| [e11 * p[0] + e12 * p[1], e12 * p[0] + e22 * p[1]];
     // FEM outside: the outer boundary nodes only
@@ -118,7 +111,7 @@ fn uniform_strain_reproduced_everywhere() {
 fn linear_strain_field_error_reported() {
     // u = a (x^2 - y^2, -2 x y): divergence-free and harmonic, so it is an elastic solution without
     // body force for any nu, with a strain field linear in x and y
-    let model = SpliceModel::new(&spec(false)).unwrap();
+    let model = SpliceModel::new(&spec(Method::CcmPd)).unwrap();
     let a = 1e-3;
     let field = move |p: [f64; 2]| {
         let (x, y) = (p[0] - 1.5, p[1] - 1.5);
@@ -145,7 +138,7 @@ fn linear_strain_field_error_reported() {
 fn pure_pd_reproduces_linear_fields_with_volumetric_layers() {
     // every node PD; the field is imposed on a boundary layer of thickness delta, so every free
     // node has its full family and the linear field is the exact discrete solution
-    let model = SpliceModel::new(&spec(true)).unwrap();
+    let model = SpliceModel::new(&spec(Method::Pd)).unwrap();
     let delta = model.pd.delta;
     let (e11, e22, e12) = (1e-3, -4e-4, 2.5e-4);
     let field = move |p: [f64; 2]| [e11 * p[0] + e12 * p[1] + 0.1, e12 * p[0] + e22 * p[1] - 0.2];

@@ -1,8 +1,11 @@
 //! FEM validation against closed forms: patch test, convergence rates on a manufactured solution,
 //! the paper's uncracked plate, solver cross-checks and singular systems.
 
+mod common;
+
+use common::{grips, solve_fem_plate};
 use rustfrac_core::fem::{Dirichlet, FemModel, LinearSystem};
-use rustfrac_core::loading::{plate_conditions, sigma22, Grip, PlateEdges, PlateLoad};
+use rustfrac_core::loading::{sigma22, Grip};
 use rustfrac_core::material::{Elastic, Plane};
 use rustfrac_core::mesh::{Mesh, Side};
 use rustfrac_core::solver::{Cholesky, Lu};
@@ -124,17 +127,7 @@ fn paper_plate(grip: Grip) -> (f64, Vec<f64>) {
     let mesh = Mesh::uniform(0.0, 0.0, 11.0, 21.0, 22, 42).unwrap();
     let mat = Elastic::new(10000.0, 0.25, Plane::Strain, 1.0).unwrap();
     let model = FemModel::new(mesh, mat, 2).unwrap();
-    let edges = PlateEdges::of_mesh(&model.mesh);
-    let load = PlateLoad {
-        grip,
-        u0: 0.01,
-        traction: 0.0,
-    };
-    let (bc, f, _) = plate_conditions(&edges, &load, model.n_dofs(), 1.0).unwrap();
-    let sol = LinearSystem::new(model.stiffness(), &bc)
-        .unwrap()
-        .solve(&f, 1.0)
-        .unwrap();
+    let (edges, f, sol) = solve_fem_plate(&model, &grips(grip, 0.01));
     (sigma22(&edges, &sol.reactions, &f, 11.0, 1.0), sol.u)
 }
 

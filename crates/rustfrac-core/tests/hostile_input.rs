@@ -5,6 +5,9 @@
 //! random SPD matrices (solved to a small residual) and random singular ones (an error, never
 //! NaN). Case counts are kept small so the whole file runs in a few seconds in release mode.
 
+mod common;
+
+use common::{go_on, pd_plate, quiet};
 use proptest::prelude::*;
 use rustfrac_core::error::{Error, MAG_MAX, MAG_MIN};
 use rustfrac_core::loading::{Grip, PlateLoad};
@@ -12,16 +15,11 @@ use rustfrac_core::material::{Elastic, Plane};
 use rustfrac_core::mesh::{Mesh, MAX_ELEMENTS};
 use rustfrac_core::pd::PdConstants;
 use rustfrac_core::plate::{self, FemPlateParams};
-use rustfrac_core::sla::{self, CcmPdParams, Method, SlaParams};
+use rustfrac_core::sla::{self, Method, SlaParams};
 use rustfrac_core::solver::{Cholesky, Lu};
 use rustfrac_core::sparse::CscMatrix;
 use rustfrac_core::xfem::{self, GrowthParams, XfemOptions, XfemParams};
 use std::sync::atomic::{AtomicUsize, Ordering};
-
-fn quiet(_: usize, _: usize) {}
-fn go_on(_: usize, _: usize) -> bool {
-    true
-}
 
 /// Successful runs per driver test: each must also exercise its valid path, not only refusals.
 static XFEM_OK: AtomicUsize = AtomicUsize::new(0);
@@ -255,19 +253,15 @@ proptest! {
     ) {
         let crack: Vec<(f64, f64)> = if garbage.is_empty() { vec![(0.0, 1.125), (a, 1.125)] } else { garbage };
         let region = [region.0, region.1, region.2, region.3];
-        let mut p = CcmPdParams::paper();
-        p.method = if pd_all { Method::Pd } else { Method::CcmPd };
-        p.width = 3.0;
-        p.height = 2.5;
-        p.dx = dx;
-        p.m = m;
-        p.material = Elastic { e, nu, plane: Plane::Strain, thickness: 1.0 };
-        p.g0 = g0;
-        p.load.grip = g;
-        p.load.u0 = u0;
-        p.load.traction = u0;
-        p.precrack = crack.iter().map(|&(x, y)| [x, y]).collect();
-        p.pd_regions = vec![[region[0], region[1], region[2], region[3]]];
+        let method = if pd_all { Method::Pd } else { Method::CcmPd };
+        let mut p = pd_plate(method, 3.0, 2.5, dx, m);
+        p.model.material = Elastic { e, nu, plane: Plane::Strain, thickness: 1.0 };
+        p.model.g0 = g0;
+        p.model.load.grip = g;
+        p.model.load.u0 = u0;
+        p.model.load.traction = u0;
+        p.model.precrack = crack.iter().map(|&(x, y)| [x, y]).collect();
+        p.model.pd_regions = vec![[region[0], region[1], region[2], region[3]]];
         p.sla = SlaParams { max_steps: steps, tie_tol: tie, stop_crack_length: stop, ..SlaParams::default() };
         match sla::run(&p, &go_on) {
             Ok(r) => {

@@ -2,20 +2,14 @@
 //! and near crack tips but stay exact in uniform stress states. Measured here against closed forms,
 //! these numbers justify the warning threshold `material::NU_LOCKING_WARN` (0.49) and its message.
 
+mod common;
+
+use common::{quiet, tada_f};
 use rustfrac_core::loading::{Grip, PlateLoad};
 use rustfrac_core::material::{Elastic, Plane, NU_LOCKING_WARN};
 use rustfrac_core::plate::{self, FemPlateParams};
 use rustfrac_core::xfem::{self, XfemParams};
 use std::f64::consts::PI;
-
-fn quiet(_: usize, _: usize) {}
-
-/// Tada's F(a/b) of K_I = sigma sqrt(pi a) F (long strip, remote tension; independent of nu).
-fn tada_f(x: f64) -> f64 {
-    let t = PI * x / 2.0;
-    (2.0 / (PI * x) * t.tan()).sqrt() * (0.752 + 2.02 * x + 0.37 * (1.0 - t.sin()).powi(3))
-        / t.cos()
-}
 
 /// Tada's V(a/b) of CMOD = 4 sigma a V / E'.
 fn tada_v(x: f64) -> f64 {

@@ -2,19 +2,14 @@
 //! two horizons, PD regions on the plate's boundary and corners and pure PD against the continuum,
 //! nodes whose bonds all break, and the step at which the ligament separates (fast and oracle).
 
+mod common;
+
+use common::{go_on, pd_plate, pd_strip, quiet, rel};
 use rustfrac_core::coupling::SpliceModel;
 use rustfrac_core::loading::Grip;
 use rustfrac_core::sla::{run, CcmPdParams, CcmPdResult, Method, SlaParams};
 use rustfrac_core::xfem::{self, XfemParams};
 use rustfrac_core::Error;
-
-fn quiet(_: usize, _: usize) -> bool {
-    true
-}
-
-fn rel(a: f64, b: f64) -> f64 {
-    (a - b).abs() / b.abs()
-}
 
 /// Horizon factors m = 1..8 on the paper's grid (dx = 1/15, PD rectangle 2.73 x 1.67) against a
 /// converged XFEM reference (176 x 333 elements, 4x the paper's mesh) at the reference load, and
@@ -24,7 +19,7 @@ fn horizon_factors_1_to_8() {
     let mut xp = XfemParams::paper(Grip::Free);
     xp.nx = 176;
     xp.ny = 333;
-    let x = xfem::run(&xp, &|_, _| {}).unwrap();
+    let x = xfem::run(&xp, &quiet).unwrap();
     println!(
         "XFEM 176 x 333 (reference): sigma22 = {:.4}, CMOD = {:.6}",
         x.sigma22, x.cmod
@@ -32,9 +27,9 @@ fn horizon_factors_1_to_8() {
     println!("  m | bonds  | warnings | sigma22  (rel. XFEM) | CMOD      (rel. XFEM) | step 1: lambda, sigma22, CMOD");
     for m in 1..=8usize {
         let mut p = CcmPdParams::paper();
-        p.m = m;
+        p.model.m = m;
         p.sla.max_steps = 1;
-        let r = run(&p, &quiet).unwrap();
+        let r = run(&p, &go_on).unwrap();
         let s1 = &r.history[0];
         println!(
             "  {m} | {:6} | {}        | {:.4} ({:+.2} %) | {:.6} ({:+.2} %) | {:.5}, {:.4}, {:.6}",
@@ -74,9 +69,9 @@ fn horizon_factors_1_to_8() {
 fn pd_region_thinner_than_two_horizons_is_refused() {
     let mut p = CcmPdParams::paper();
     // 2 m dx = 0.533: a rectangle 2.73 x 0.5 is too thin
-    p.pd_regions = vec![[0.335, 10.25, 3.065, 10.75]];
+    p.model.pd_regions = vec![[0.335, 10.25, 3.065, 10.75]];
     p.sla.max_steps = 0;
-    match run(&p, &quiet) {
+    match run(&p, &go_on) {
         Err(Error::InvalidInput {
             param, expected, ..
         }) => {
@@ -88,24 +83,19 @@ fn pd_region_thinner_than_two_horizons_is_refused() {
         other => panic!("{:?}", other.map(|r| r.status)),
     }
     // the same rectangle is fine with m = 3 (2 m dx = 0.4)... and refused along x1 too
-    p.m = 3;
-    assert!(run(&p, &quiet).is_ok());
-    p.m = 4;
-    p.pd_regions = vec![[1.0, 9.5, 1.5, 11.5]];
-    p.precrack = vec![[0.0, 10.5], [1.1, 10.5]];
+    p.model.m = 3;
+    assert!(run(&p, &go_on).is_ok());
+    p.model.m = 4;
+    p.model.pd_regions = vec![[1.0, 9.5, 1.5, 11.5]];
+    p.model.precrack = vec![[0.0, 10.5], [1.1, 10.5]];
     assert!(
-        matches!(run(&p, &quiet), Err(Error::InvalidInput { param, .. }) if param == "pd_regions[0]")
+        matches!(run(&p, &go_on), Err(Error::InvalidInput { param, .. }) if param == "pd_regions[0]")
     );
     // pure PD: the plate itself must span two horizons
-    let mut p = CcmPdParams::paper();
-    p.method = Method::Pd;
-    p.width = 0.4;
-    p.height = 2.2;
-    p.dx = 0.1;
-    p.m = 3;
-    p.precrack.clear();
+    let mut p = pd_plate(Method::Pd, 0.4, 2.2, 0.1, 3);
+    p.model.precrack.clear();
     p.sla.max_steps = 0;
-    match run(&p, &quiet) {
+    match run(&p, &go_on) {
         Err(Error::InvalidInput { param, .. }) => assert_eq!(param, "width"),
         other => panic!("{:?}", other.map(|r| r.status)),
     }
@@ -114,34 +104,33 @@ fn pd_region_thinner_than_two_horizons_is_refused() {
 /// An uncracked 4 x 6 plate, dx = 0.2, m = 3, u0 = 0.01: the continuum answer is uniform strain,
 /// sigma22 = E' 2 u0 / L (free grips).
 fn uncracked(regions: Vec<[f64; 4]>, method: Method, grip: Grip) -> CcmPdParams {
-    let mut p = CcmPdParams::paper();
-    p.method = method;
-    p.width = 4.0;
-    p.height = 6.0;
-    p.dx = 0.2;
-    p.m = 3;
-    p.pd_regions = regions;
-    p.precrack.clear();
-    p.load.grip = grip;
+    let mut p = pd_plate(method, 4.0, 6.0, 0.2, 3);
+    p.model.pd_regions = regions;
+    p.model.precrack.clear();
+    p.model.load.grip = grip;
     p.sla.max_steps = 0;
     p
 }
 
 fn check_loads(r: &CcmPdResult, p: &CcmPdParams) {
-    let u0 = p.load.u0;
-    let layers = if p.method == Method::Pd { p.m } else { 1 };
-    let h = p.height;
+    let u0 = p.model.load.u0;
+    let layers = if p.model.method == Method::Pd {
+        p.model.m
+    } else {
+        1
+    };
+    let h = p.model.height;
     for (n, xy) in r.node_xy.iter().enumerate() {
         let v = r.u[2 * n + 1];
         assert!(v.is_finite() && r.u[2 * n].is_finite());
-        if xy[1] >= h - (layers as f64 - 0.5) * p.dx {
+        if xy[1] >= h - (layers as f64 - 0.5) * p.model.dx {
             assert_eq!(v, u0, "top node {n} at {xy:?}");
         }
-        if xy[1] <= (layers as f64 - 0.5) * p.dx {
+        if xy[1] <= (layers as f64 - 0.5) * p.model.dx {
             assert_eq!(v, -u0, "bottom node {n} at {xy:?}");
         }
     }
-    if p.load.grip == Grip::Free {
+    if p.model.load.grip == Grip::Free {
         assert_eq!(r.u[2 * r.anchor_node], 0.0);
     }
 }
@@ -176,7 +165,7 @@ fn pd_regions_on_the_boundary_and_pure_pd_match_the_continuum() {
     println!("uncracked 4 x 6 plate, dx = 0.2, m = 3: continuum sigma22 = {exact:.6}");
     for (name, regions, tol) in cases {
         let p = uncracked(regions, Method::CcmPd, Grip::Free);
-        let r = run(&p, &quiet).unwrap();
+        let r = run(&p, &go_on).unwrap();
         check_loads(&r, &p);
         let e = rel(r.sigma22, exact);
         println!(
@@ -192,7 +181,7 @@ fn pd_regions_on_the_boundary_and_pure_pd_match_the_continuum() {
     // length is L - 2 (m - 1) dx; the free side surfaces soften it (PD surface effect)
     for grip in [Grip::Free, Grip::Clamped] {
         let p = uncracked(vec![], Method::Pd, grip);
-        let r = run(&p, &quiet).unwrap();
+        let r = run(&p, &go_on).unwrap();
         check_loads(&r, &p);
         let gauge = 6.0 - 2.0 * 2.0 * 0.2;
         let exact_pd = e_prime * 2.0 * 0.01 / gauge;
@@ -213,12 +202,12 @@ fn pd_regions_on_the_boundary_and_pure_pd_match_the_continuum() {
     let mut xp = XfemParams::paper(Grip::Free);
     xp.nx = 176;
     xp.ny = 333;
-    let x = xfem::run(&xp, &|_, _| {}).unwrap();
+    let x = xfem::run(&xp, &quiet).unwrap();
     let mut p = CcmPdParams::paper();
     p.sla.max_steps = 3;
-    let inner = run(&p, &quiet).unwrap();
-    p.pd_regions = vec![[0.0, 9.665, 3.065, 11.335]];
-    let edge = run(&p, &quiet).unwrap();
+    let inner = run(&p, &go_on).unwrap();
+    p.model.pd_regions = vec![[0.0, 9.665, 3.065, 11.335]];
+    let edge = run(&p, &go_on).unwrap();
     println!(
         "cracked paper plate: XFEM sigma22 {:.4} CMOD {:.6}; PD rectangle inside: {:.4} {:.6}; touching the left edge (crack mouth in PD): {:.4} {:.6}",
         x.sigma22, x.cmod, inner.sigma22, inner.cmod, edge.sigma22, edge.cmod
@@ -236,21 +225,16 @@ fn pd_regions_on_the_boundary_and_pure_pd_match_the_continuum() {
 fn node_with_every_bond_broken_is_detached_not_singular() {
     let mut hist = Vec::new();
     for fast in [true, false] {
-        let mut p = CcmPdParams::paper();
-        p.method = Method::Pd;
-        p.width = 2.0;
-        p.height = 3.0;
-        p.dx = 0.2;
-        p.m = 2;
+        let mut p = pd_plate(Method::Pd, 2.0, 3.0, 0.2, 2);
         // a square around the node (1.0, 1.4)
-        p.precrack = vec![[0.9, 1.3], [1.1, 1.3], [1.1, 1.5], [0.9, 1.5], [0.9, 1.3]];
-        p.load.grip = Grip::Clamped;
+        p.model.precrack = vec![[0.9, 1.3], [1.1, 1.3], [1.1, 1.5], [0.9, 1.5], [0.9, 1.3]];
+        p.model.load.grip = Grip::Clamped;
         p.sla = SlaParams {
             max_steps: 30,
             fast,
             ..SlaParams::default()
         };
-        let r = run(&p, &quiet).unwrap();
+        let r = run(&p, &go_on).unwrap();
         let node = r
             .node_xy
             .iter()
@@ -304,23 +288,11 @@ fn ligament_separates_at_the_right_step_fast_and_oracle() {
     for grip in [Grip::Clamped, Grip::Free] {
         let mut res = Vec::new();
         for fast in [true, false] {
-            let mut p = CcmPdParams::paper();
-            p.method = Method::Pd;
-            p.width = 1.2;
-            p.height = 2.2;
-            p.dx = 0.2;
-            p.m = 2;
-            p.precrack = vec![[0.0, 1.1], [0.5, 1.1]];
-            p.load.grip = grip;
-            p.sla = SlaParams {
-                max_steps: 2000,
-                fast,
-                ..SlaParams::default()
-            };
-            let r = run(&p, &quiet).unwrap();
+            let p = pd_strip(fast, grip);
+            let r = run(&p, &go_on).unwrap();
             assert_eq!(r.status, "separated");
             // replay the broken bonds and find the first step after which no load is carried
-            let model = SpliceModel::new(&p.spec()).unwrap();
+            let model = SpliceModel::new(&p.model).unwrap();
             let mut broken = model.precrack_broken.clone();
             assert!(carries_load(&model, &broken, r.sigma22));
             let mut first_cut = None;

@@ -2,7 +2,6 @@
 //! pure PD model under linear fields.
 
 use rustfrac_core::coupling::{ModelSpec, SpliceModel};
-use rustfrac_core::loading::{Grip, PlateLoad};
 use rustfrac_core::material::{Elastic, Plane};
 use rustfrac_core::pd::{family_stencil, find_bonds, gamma, Grid, PdConstants, BYTES_PER_BOND};
 use rustfrac_core::sla::{run, CcmPdParams, Method};
@@ -152,39 +151,34 @@ fn bad_inputs_are_refused_with_reasons() {
         other => panic!("{name}: {:?}", other.map(|r| r.status)),
     };
     let mut p = base.clone();
-    p.dx = 0.07; // does not fit W = 11
+    p.model.dx = 0.07; // does not fit W = 11
     check(p, "width");
     let mut p = base.clone();
-    p.precrack = vec![[0.0, 10.0], [1.0, 10.0]]; // along a node row
+    p.model.precrack = vec![[0.0, 10.0], [1.0, 10.0]]; // along a node row
     check(p, "precrack");
     let mut p = base.clone();
-    p.pd_regions = vec![[3.0, 1.0, 2.0, 2.0]];
+    p.model.pd_regions = vec![[3.0, 1.0, 2.0, 2.0]];
     check(p, "pd_regions[0]");
     let mut p = base.clone();
     p.sla.tie_tol = -1.0;
     check(p, "tie_tol");
     let mut p = base.clone();
-    p.material.nu = 0.3;
+    p.model.material.nu = 0.3;
     check(p, "nu");
     let mut p = base;
-    p.method = Method::CcmPd;
-    p.pd_regions.clear();
+    p.model.method = Method::CcmPd;
+    p.model.pd_regions.clear();
     check(p, "pd_regions");
     let spec = ModelSpec {
+        method: Method::Pd,
         width: 1.0,
         height: 1.0,
         dx: 0.1,
-        m: 4,
         material: ok,
         g0: 0.3,
         pd_regions: vec![],
-        all_pd: true,
         precrack: vec![[0.0, 0.55]],
-        load: PlateLoad {
-            grip: Grip::Free,
-            u0: 0.01,
-            traction: 0.0,
-        },
+        ..ModelSpec::paper()
     };
     assert!(SpliceModel::new(&spec).is_err());
 }

@@ -13,18 +13,16 @@
 //! K_II against K_I, the crack path against the plate size). A separate test checks the G0 law:
 //! multiplying G0 alone by g multiplies every critical load factor by sqrt(g) and keeps the path.
 
-use rustfrac_core::fem::{FemModel, LinearSystem};
-use rustfrac_core::loading::{plate_conditions, sigma22, Grip, PlateEdges, PlateLoad};
+mod common;
+
+use common::{go_on, grips, quiet, solve_fem_plate};
+use rustfrac_core::fem::FemModel;
+use rustfrac_core::loading::{sigma22, Grip, PlateLoad};
 use rustfrac_core::material::{Elastic, Plane};
 use rustfrac_core::mesh::Mesh;
 use rustfrac_core::plate::{self, FemPlateParams};
 use rustfrac_core::sla::{self, CcmPdParams, Method, SlaParams};
 use rustfrac_core::xfem::{self, GrowthParams, XfemParams};
-
-fn quiet(_: usize, _: usize) {}
-fn go_on(_: usize, _: usize) -> bool {
-    true
-}
 
 const TOL: f64 = 1e-9;
 
@@ -46,6 +44,33 @@ fn check(what: &str, got: f64, want: f64, size: f64, worst: &mut f64) {
         "{what}: {got:.17e} vs {want:.17e} (relative {rel:.2e} > {TOL:e})"
     );
     *worst = worst.max(rel);
+}
+
+/// sigma22 / E and CMOD / l of a scaled run against the unit run's.
+fn check_sigma_cmod(tag: &str, got: [f64; 2], want: [f64; 2], e: f64, l: f64, worst: &mut f64) {
+    check(
+        &format!("{tag} sigma22/E"),
+        got[0] / e,
+        want[0],
+        want[0],
+        worst,
+    );
+    check(
+        &format!("{tag} CMOD/l"),
+        got[1] / l,
+        want[1],
+        want[1],
+        worst,
+    );
+}
+
+/// A recorded critical state [lambda, sigma22, CMOD, u0] of a scaled run against the unit run's:
+/// lambda itself, sigma22 / E, CMOD / l and u0 / l.
+fn check_critical(tag: &str, got: [f64; 4], want: [f64; 4], e: f64, l: f64, worst: &mut f64) {
+    check(&format!("{tag} lambda"), got[0], want[0], want[0], worst);
+    check_sigma_cmod(tag, [got[1], got[2]], [want[1], want[2]], e, l, worst);
+    let u0_size = want[3].abs().max(1e-300);
+    check(&format!("{tag} u0/l"), got[3] / l, want[3], u0_size, worst);
 }
 
 fn material(e: f64, nu: f64, t: f64) -> Elastic {
@@ -81,20 +106,8 @@ fn fem_seam_crack_is_scale_invariant() {
         for &(l, e, t) in &SCALES {
             let r = fem_case(l, e, t, grip);
             let tag = format!("FEM {grip:?} l={l:e} e={e:e} t={t:e}");
-            check(
-                &format!("{tag} sigma22/E"),
-                r.sigma22 / e,
-                r0.sigma22,
-                r0.sigma22,
-                &mut worst,
-            );
-            check(
-                &format!("{tag} CMOD/l"),
-                r.cmod / l,
-                r0.cmod,
-                r0.cmod,
-                &mut worst,
-            );
+            let (got, want) = ([r.sigma22, r.cmod], [r0.sigma22, r0.cmod]);
+            check_sigma_cmod(&tag, got, want, e, l, &mut worst);
             // the stress field sigma22 / E at every Gauss point, against the largest
             let smax = r0
                 .gauss_stress
@@ -126,15 +139,7 @@ fn fem_linear_system_is_scale_invariant() {
     let solve = |l: f64, e: f64| {
         let mesh = Mesh::uniform(0.0, 0.0, 11.0 * l, 21.0 * l, 11, 21).unwrap();
         let model = FemModel::new(mesh, material(e, 0.3, 1.0), 2).unwrap();
-        let edges = PlateEdges::of_mesh(&model.mesh);
-        let load = PlateLoad {
-            grip: Grip::Free,
-            u0: 0.01 * l,
-            traction: 0.0,
-        };
-        let (bc, f, _) = plate_conditions(&edges, &load, model.n_dofs(), 1.0).unwrap();
-        let sys = LinearSystem::new(model.stiffness(), &bc).unwrap();
-        let s = sys.solve(&f, 1.0).unwrap();
+        let (edges, f, s) = solve_fem_plate(&model, &grips(Grip::Free, 0.01 * l));
         let s22 = sigma22(&edges, &s.reactions, &f, 11.0 * l, 1.0);
         (s22 / e, s.residual)
     };
@@ -191,20 +196,8 @@ fn compare_xfem(r: &xfem::XfemResult, r0: &xfem::XfemResult, l: f64, e: f64, tag
         r0.j_from_k,
         &mut worst,
     );
-    check(
-        &format!("{tag} sigma22"),
-        r.sigma22 / e,
-        r0.sigma22,
-        r0.sigma22,
-        &mut worst,
-    );
-    check(
-        &format!("{tag} CMOD"),
-        r.cmod / l,
-        r0.cmod,
-        r0.cmod,
-        &mut worst,
-    );
+    let (got, want) = ([r.sigma22, r.cmod], [r0.sigma22, r0.cmod]);
+    check_sigma_cmod(tag, got, want, e, l, &mut worst);
     assert_eq!(
         (r.n_heaviside_nodes, r.n_tip_nodes, r.n_dropped_nodes),
         (r0.n_heaviside_nodes, r0.n_tip_nodes, r0.n_dropped_nodes),
@@ -228,34 +221,11 @@ fn compare_xfem(r: &xfem::XfemResult, r0: &xfem::XfemResult, l: f64, e: f64, tag
     for (k, (a, b)) in r.history.iter().zip(&r0.history).enumerate().skip(1) {
         let tag = format!("{tag} growth step {k}");
         let kb = b.k_i.hypot(b.k_ii);
-        check(
-            &format!("{tag} lambda"),
-            a.lambda,
-            b.lambda,
-            b.lambda,
-            &mut worst,
+        let (x, y) = (
+            [a.lambda, a.sigma22, a.cmod, a.u0],
+            [b.lambda, b.sigma22, b.cmod, b.u0],
         );
-        check(
-            &format!("{tag} sigma22"),
-            a.sigma22 / e,
-            b.sigma22,
-            b.sigma22,
-            &mut worst,
-        );
-        check(
-            &format!("{tag} CMOD"),
-            a.cmod / l,
-            b.cmod,
-            b.cmod,
-            &mut worst,
-        );
-        check(
-            &format!("{tag} u0"),
-            a.u0 / l,
-            b.u0,
-            b.u0.abs().max(1e-300),
-            &mut worst,
-        );
+        check_critical(&tag, x, y, e, l, &mut worst);
         check(&format!("{tag} a"), a.a / l, b.a, b.a, &mut worst);
         check(&format!("{tag} K_I"), a.k_i / ks, b.k_i, kb, &mut worst);
         check(&format!("{tag} K_II"), a.k_ii / ks, b.k_ii, kb, &mut worst);
@@ -374,22 +344,22 @@ fn xfem_critical_load_scales_with_sqrt_g0() {
 
 fn pd_params(l: f64, e: f64, t: f64, steps: usize, method: Method, grip: Grip) -> CcmPdParams {
     let mut p = CcmPdParams::paper();
-    p.method = method;
-    p.load.grip = grip;
-    p.load.traction = 9.993 * e;
-    p.width *= l;
-    p.height *= l;
-    p.dx = 0.2 * l;
-    p.material = material(e, 0.25, t);
-    p.g0 = 0.367 * e * l;
-    p.pd_regions = vec![[0.3 * l, 9.3 * l, 4.7 * l, 11.7 * l]];
-    p.precrack = vec![[0.0, 10.5 * l], [1.1 * l, 10.5 * l]];
-    p.load.u0 *= l;
+    p.model.method = method;
+    p.model.load.grip = grip;
+    p.model.load.traction = 9.993 * e;
+    p.model.width *= l;
+    p.model.height *= l;
+    p.model.dx = 0.2 * l;
+    p.model.material = material(e, 0.25, t);
+    p.model.g0 = 0.367 * e * l;
+    p.model.pd_regions = vec![[0.3 * l, 9.3 * l, 4.7 * l, 11.7 * l]];
+    p.model.precrack = vec![[0.0, 10.5 * l], [1.1 * l, 10.5 * l]];
+    p.model.load.u0 *= l;
     if method == Method::Pd {
         // PD everywhere: a smaller plate (22 x 21 cells) keeps the dense condensation cheap
-        p.width = 4.4 * l;
-        p.height = 4.2 * l;
-        p.precrack = vec![[0.0, 2.1 * l], [1.1 * l, 2.1 * l]];
+        p.model.width = 4.4 * l;
+        p.model.height = 4.2 * l;
+        p.model.precrack = vec![[0.0, 2.1 * l], [1.1 * l, 2.1 * l]];
     }
     p.sla = SlaParams {
         max_steps: steps,
@@ -424,20 +394,8 @@ fn pd_case(method: Method, grip: Grip, scales: &[(f64, f64, f64)]) -> f64 {
         assert_eq!(r.status, r0.status, "{tag}");
         assert_eq!(r.n_precrack_bonds, r0.n_precrack_bonds, "{tag}");
         assert_eq!(r.n_removed_elements, r0.n_removed_elements, "{tag}");
-        check(
-            &format!("{tag} sigma22"),
-            r.sigma22 / e,
-            r0.sigma22,
-            r0.sigma22,
-            &mut worst,
-        );
-        check(
-            &format!("{tag} CMOD"),
-            r.cmod / l,
-            r0.cmod,
-            r0.cmod,
-            &mut worst,
-        );
+        let (got, want) = ([r.sigma22, r.cmod], [r0.sigma22, r0.cmod]);
+        check_sigma_cmod(&tag, got, want, e, l, &mut worst);
         check(&format!("{tag} s0"), r.s0, r0.s0, r0.s0, &mut worst);
         check(
             &format!("{tag} gamma"),
@@ -459,34 +417,11 @@ fn pd_case(method: Method, grip: Grip, scales: &[(f64, f64, f64)]) -> f64 {
             let tag = format!("{tag} step {}", a.step);
             assert_eq!(a.bonds, b.bonds, "{tag}: different bonds broke");
             assert_eq!(a.nodes, b.nodes, "{tag}");
-            check(
-                &format!("{tag} lambda"),
-                a.lambda,
-                b.lambda,
-                b.lambda,
-                &mut worst,
+            let (x, y) = (
+                [a.lambda, a.sigma22, a.cmod, a.u0],
+                [b.lambda, b.sigma22, b.cmod, b.u0],
             );
-            check(
-                &format!("{tag} sigma22"),
-                a.sigma22 / e,
-                b.sigma22,
-                b.sigma22,
-                &mut worst,
-            );
-            check(
-                &format!("{tag} cmod"),
-                a.cmod / l,
-                b.cmod,
-                b.cmod,
-                &mut worst,
-            );
-            check(
-                &format!("{tag} u0"),
-                a.u0 / l,
-                b.u0,
-                b.u0.abs().max(1e-300),
-                &mut worst,
-            );
+            check_critical(&tag, x, y, e, l, &mut worst);
             check(
                 &format!("{tag} crack length"),
                 a.crack_length / l,

@@ -1,26 +1,13 @@
 //! Long SLA runs (issue 6, item 7): bounded solver memory over thousands of steps, nodes detached
 //! during the run, checkpoints and bit-for-bit resume, refusal of foreign or corrupt checkpoints.
 
-use rustfrac_core::sla::{auto_refactor_every, run, CcmPdParams, CcmPdResult, SlaParams};
+mod common;
+
+use common::{coarse, go_on};
+use rustfrac_core::checkpoint;
+use rustfrac_core::sla::{auto_refactor_every, run, CcmPdParams, CcmPdResult};
 use rustfrac_core::Error;
 use std::path::PathBuf;
-
-fn quiet(_: usize, _: usize) -> bool {
-    true
-}
-
-/// The coarse plate of `sla_validation` (dx = 1/5, PD rectangle 4.4 x 2.4, ~600 PD dofs).
-fn coarse(fast: bool, steps: usize) -> CcmPdParams {
-    let mut p = CcmPdParams::paper();
-    p.dx = 0.2;
-    p.pd_regions = vec![[0.3, 9.3, 4.7, 11.7]];
-    p.sla = SlaParams {
-        max_steps: steps,
-        fast,
-        ..SlaParams::default()
-    };
-    p
-}
 
 fn tmpdir(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("rustfrac-{name}-{}", std::process::id()));
@@ -36,7 +23,7 @@ fn tmpdir(name: &str) -> PathBuf {
 #[test]
 fn long_run_keeps_the_solver_memory_bounded() {
     let n = 3000;
-    let r = run(&coarse(true, n), &quiet).unwrap();
+    let r = run(&coarse(true, n), &go_on).unwrap();
     let n_updates: usize = r.history.iter().map(|s| s.bonds.len()).sum::<usize>()
         + r.detached_nodes.iter().filter(|d| d.0 > 0).count();
     let np = 2 * r.n_pd_nodes; // upper bound of the free PD dofs
@@ -69,8 +56,8 @@ fn long_run_keeps_the_solver_memory_bounded() {
     let m = 400;
     let mut p = coarse(true, m);
     p.sla.refactor_every = 1_000_000;
-    let unbounded = run(&p, &quiet).unwrap();
-    let oracle = run(&coarse(false, m), &quiet).unwrap();
+    let unbounded = run(&p, &go_on).unwrap();
+    let oracle = run(&coarse(false, m), &go_on).unwrap();
     assert_eq!(unbounded.max_update_rank, m);
     let mut worst = 0.0f64;
     for k in 0..m {
@@ -96,8 +83,8 @@ fn long_run_keeps_the_solver_memory_bounded() {
 #[test]
 fn nodes_detached_during_the_sla_are_grounded() {
     let mut p = coarse(true, 1500);
-    p.m = 2;
-    let r = run(&p, &quiet).unwrap();
+    p.model.m = 2;
+    let r = run(&p, &go_on).unwrap();
     let during: Vec<_> = r.detached_nodes.iter().filter(|d| d.0 > 0).collect();
     println!(
         "m = 2: {} after {} steps; detached during the SLA (step, node): {:?}; warnings {:?}",
@@ -150,7 +137,7 @@ fn checkpoint_and_resume_are_bit_for_bit() {
         let mut base = coarse(fast, total);
         base.sla.refactor_every = 25;
         base.sla.damage_at_steps = vec![n / 2, n + 1, total];
-        let straight = run(&base, &quiet).unwrap();
+        let straight = run(&base, &go_on).unwrap();
         assert_eq!(straight.history.len(), total);
         let path = dir.join(format!("run-{fast}.ckpt"));
 
@@ -159,11 +146,11 @@ fn checkpoint_and_resume_are_bit_for_bit() {
         p.sla.max_steps = n + 5;
         p.sla.checkpoint_every = n;
         p.sla.checkpoint_path = Some(path.clone());
-        let first = run(&p, &quiet).unwrap();
+        let first = run(&p, &go_on).unwrap();
         assert_eq!(first.n_checkpoints, 1);
         let mut q = base.clone();
         q.sla.resume_from = Some(path.clone());
-        let resumed = run(&q, &quiet).unwrap();
+        let resumed = run(&q, &go_on).unwrap();
         assert_eq!(resumed.resumed_steps, n);
         same(&straight, &resumed);
         assert_eq!(straight.damage_at, resumed.damage_at);
@@ -175,7 +162,7 @@ fn checkpoint_and_resume_are_bit_for_bit() {
         assert_eq!(c.status, "cancelled");
         assert_eq!(c.history.len(), stop);
         assert_eq!(c.n_checkpoints, 2);
-        let resumed = run(&q, &quiet).unwrap();
+        let resumed = run(&q, &go_on).unwrap();
         assert_eq!(resumed.resumed_steps, stop);
         same(&straight, &resumed);
         println!(
@@ -199,8 +186,8 @@ fn foreign_or_corrupt_checkpoints_are_refused() {
     let mut p = coarse(true, 12);
     p.sla.checkpoint_every = 10;
     p.sla.checkpoint_path = Some(path.clone());
-    run(&p, &quiet).unwrap();
-    let expect_refusal = |q: CcmPdParams, what: &str| match run(&q, &quiet) {
+    run(&p, &go_on).unwrap();
+    let expect_refusal = |q: CcmPdParams, what: &str| match run(&q, &go_on) {
         Err(Error::InvalidInput {
             param, expected, ..
         }) => {
@@ -213,7 +200,7 @@ fn foreign_or_corrupt_checkpoints_are_refused() {
     // a different model (horizon) and a different solver option: refused
     let mut q = coarse(true, 20);
     q.sla.resume_from = Some(path.clone());
-    q.m = 3;
+    q.model.m = 3;
     expect_refusal(q, "different");
     let mut q = coarse(true, 20);
     q.sla.resume_from = Some(path.clone());
@@ -222,7 +209,7 @@ fn foreign_or_corrupt_checkpoints_are_refused() {
     // the same model resumes (and may change the step limit)
     let mut q = coarse(true, 20);
     q.sla.resume_from = Some(path.clone());
-    assert_eq!(run(&q, &quiet).unwrap().resumed_steps, 10);
+    assert_eq!(run(&q, &go_on).unwrap().resumed_steps, 10);
     // a flipped byte: checksum
     let mut bytes = std::fs::read(&path).unwrap();
     let mid = bytes.len() / 2;
@@ -241,13 +228,34 @@ fn foreign_or_corrupt_checkpoints_are_refused() {
     let mut q = coarse(true, 20);
     q.sla.resume_from = Some(dir.join("missing.ckpt"));
     assert!(
-        matches!(run(&q, &quiet), Err(Error::Io { path, .. }) if path.contains("missing.ckpt"))
+        matches!(run(&q, &go_on), Err(Error::Io { path, .. }) if path.contains("missing.ckpt"))
     );
     // checkpoint_every without a path
     let mut q = coarse(true, 20);
     q.sla.checkpoint_every = 5;
     assert!(
-        matches!(run(&q, &quiet), Err(Error::InvalidInput { param, .. }) if param == "checkpoint_path")
+        matches!(run(&q, &go_on), Err(Error::InvalidInput { param, .. }) if param == "checkpoint_path")
     );
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The checkpoint fingerprint of the paper's parameters is pinned (FNV-1a of the field sequence
+/// documented in `checkpoint::fingerprint`, computed independently of the crate): checkpoints
+/// written before the parameters were regrouped into model + SLA options still resume. It follows
+/// the model and the solver options, not the step limit or the checkpoint options.
+#[test]
+fn checkpoint_fingerprint_is_stable() {
+    let p = CcmPdParams::paper();
+    let fp = |q: &CcmPdParams| checkpoint::fingerprint(q, 1000, 2000);
+    assert_eq!(fp(&p), 0xa416_ee35_3015_db7f);
+    let mut q = p.clone();
+    q.sla.max_steps = 7;
+    q.sla.checkpoint_every = 3;
+    assert_eq!(fp(&q), fp(&p));
+    let mut q = p.clone();
+    q.model.m = 3;
+    assert_ne!(fp(&q), fp(&p));
+    let mut q = p.clone();
+    q.sla.tie_tol = 1e-9;
+    assert_ne!(fp(&q), fp(&p));
 }

@@ -1,31 +1,17 @@
 //! SLA validation: fast (condensation + SMW) against the refactorise-every-step oracle, mode I
 //! symmetry, separation, and the paper's case before any break.
 
-use rustfrac_core::sla::{run, CcmPdParams, Method, SlaParams};
+mod common;
 
-fn quiet(_: usize, _: usize) -> bool {
-    true
-}
-
-/// A coarse version of the paper's plate (dx = 1/5 keeps x2 = 10.5 and x1 = 1.1 between nodes),
-/// with a larger PD rectangle so that 100 steps stay inside it.
-fn coarse(fast: bool, steps: usize) -> CcmPdParams {
-    let mut p = CcmPdParams::paper();
-    p.dx = 0.2;
-    p.pd_regions = vec![[0.3, 9.3, 4.7, 11.7]];
-    p.sla = SlaParams {
-        max_steps: steps,
-        fast,
-        ..SlaParams::default()
-    };
-    p
-}
+use common::{coarse, go_on, pd_strip};
+use rustfrac_core::loading::Grip;
+use rustfrac_core::sla::{run, CcmPdParams};
 
 #[test]
 fn paper_case_before_any_break() {
     let mut p = CcmPdParams::paper();
     p.sla.max_steps = 0;
-    let r = run(&p, &quiet).unwrap();
+    let r = run(&p, &go_on).unwrap();
     println!(
         "paper grid: {} nodes, {} dofs, {} PD nodes, {} bonds ({} B/bond), {} pre-crack bonds, {} removed elements",
         r.n_nodes, r.n_dofs, r.n_pd_nodes, r.n_bonds, r.bytes_per_bond, r.n_precrack_bonds, r.n_removed_elements
@@ -85,11 +71,11 @@ fn compare(
 #[test]
 fn fast_sla_matches_oracle_coarse() {
     let n = 100;
-    let fast = run(&coarse(true, n), &quiet).unwrap();
-    let oracle = run(&coarse(false, n), &quiet).unwrap();
+    let fast = run(&coarse(true, n), &go_on).unwrap();
+    let oracle = run(&coarse(false, n), &go_on).unwrap();
     let mut p = coarse(true, n);
     p.sla.refactor_every = 17;
-    let periodic = run(&p, &quiet).unwrap();
+    let periodic = run(&p, &go_on).unwrap();
     let w1 = compare(&fast, &oracle, n);
     let w2 = compare(&periodic, &oracle, n);
     println!(
@@ -120,9 +106,9 @@ fn fast_sla_matches_oracle_paper_grid() {
     let n = 100;
     let mut p = CcmPdParams::paper();
     p.sla.max_steps = n;
-    let fast = run(&p, &quiet).unwrap();
+    let fast = run(&p, &go_on).unwrap();
     p.sla.fast = false;
-    let oracle = run(&p, &quiet).unwrap();
+    let oracle = run(&p, &go_on).unwrap();
     let w = compare(&fast, &oracle, n);
     println!("paper grid, {n} steps: fast {:.3} s + setup {:.3} s, oracle {:.3} s + setup {:.3} s, speed-up {:.1}; worst relative difference {w:.2e}",
         fast.sla_seconds, fast.setup_seconds, oracle.sla_seconds, oracle.setup_seconds, (oracle.sla_seconds + oracle.setup_seconds) / (fast.sla_seconds + fast.setup_seconds));
@@ -131,13 +117,12 @@ fn fast_sla_matches_oracle_paper_grid() {
 
 #[test]
 fn mode_one_damage_is_symmetric_and_runs_along_the_crack_line() {
-    use rustfrac_core::loading::Grip;
     let mut p = coarse(true, 80);
     // clamped grips are exactly symmetric about x2 = 10.5 (the single u1 anchor of the free grip
     // is not); mirror bonds then reach s0 together up to round-off and break in the same step
-    p.load.grip = Grip::Clamped;
+    p.model.load.grip = Grip::Clamped;
     p.sla.tie_tol = 1e-9;
-    let r = run(&p, &quiet).unwrap();
+    let r = run(&p, &go_on).unwrap();
     assert_eq!(r.status, "completed");
     let yc = 10.5;
     let delta = 4.0 * 0.2;
@@ -189,7 +174,7 @@ fn mode_one_damage_is_symmetric_and_runs_along_the_crack_line() {
     // the free grip: report the asymmetry the single anchor introduces
     let mut q = coarse(true, 0);
     q.sla.max_steps = 0;
-    let f = run(&q, &quiet).unwrap();
+    let f = run(&q, &go_on).unwrap();
     let mut asym = 0.0f64;
     for n in 0..f.n_nodes {
         let xy = f.node_xy[n];
@@ -206,19 +191,8 @@ fn separation_is_a_status_not_nan() {
     // pure PD strip cut through by the SLA: must end with status "separated", finite history
     let mut hist = Vec::new();
     for fast in [true, false] {
-        let mut p = CcmPdParams::paper();
-        p.method = Method::Pd;
-        p.width = 1.2;
-        p.height = 2.2;
-        p.dx = 0.2;
-        p.m = 2;
-        p.precrack = vec![[0.0, 1.1], [0.5, 1.1]];
-        p.sla = SlaParams {
-            max_steps: 2000,
-            fast,
-            ..SlaParams::default()
-        };
-        let r = run(&p, &quiet).unwrap();
+        let p = pd_strip(fast, Grip::Free);
+        let r = run(&p, &go_on).unwrap();
         println!(
             "pure PD strip (fast = {fast}, {}): status {} after {} steps",
             r.solver,

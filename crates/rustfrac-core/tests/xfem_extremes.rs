@@ -5,6 +5,9 @@
 //! elements, 1e6 unknowns). Every case either gives a finite, validated number (error against an
 //! independent reference printed and asserted) or a clear error.
 
+mod common;
+
+use common::{quiet, tada_f, tall_strip};
 use nalgebra::DMatrix;
 use rustfrac_core::fem::{Dirichlet, FemModel, LinearSystem};
 use rustfrac_core::material::{Elastic, Plane};
@@ -192,40 +195,9 @@ fn condition_estimate_matches_dense_exact_values() {
 // ------------------------------------------------------------------------------------------------
 // XFEM crack geometry extremes
 
-use rustfrac_core::loading::{plate_conditions, PlateEdges};
-use rustfrac_core::loading::{Grip, PlateLoad};
+use rustfrac_core::loading::{plate_conditions, Grip, PlateEdges, PlateLoad};
 use rustfrac_core::xfem::{run, XfemParams, XfemResult};
 use rustfrac_core::Error;
-
-fn no_progress(_: usize, _: usize) {}
-
-/// Tada's edge-crack factor (long strip, remote tension; about 0.5 % for any a/b), as in
-/// reference/closed-forms.md and python/rustfrac/handbook.py.
-fn tada_f(x: f64) -> f64 {
-    use std::f64::consts::PI;
-    let t = PI * x / 2.0;
-    (2.0 / (PI * x) * t.tan()).sqrt() * (0.752 + 2.02 * x + 0.37 * (1.0 - t.sin()).powi(3))
-        / t.cos()
-}
-
-/// Tall strip W = 1, H = 4 (half-height / width 2: the handbook's long strip), unit traction,
-/// crack from (0, y) to the polyline end.
-fn strip(crack: Vec<[f64; 2]>, nx: usize, ny: usize) -> XfemParams {
-    let mut p = XfemParams::paper(Grip::Traction);
-    p.width = 1.0;
-    p.height = 4.0;
-    p.nx = nx;
-    p.ny = ny;
-    p.material = Elastic::new(1000.0, 0.3, Plane::Strain, 1.0).unwrap();
-    p.crack = crack;
-    p.load = PlateLoad {
-        grip: Grip::Traction,
-        u0: 0.0,
-        traction: 1.0,
-    };
-    p.extra_radius_factors = vec![];
-    p
-}
 
 /// Relative error of K_I against Tada for a straight edge crack of length a (W = 1, sigma = 1).
 fn tada_err(r: &XfemResult, a: f64) -> f64 {
@@ -255,7 +227,7 @@ const H: f64 = 0.025;
 fn tip_on_node_edge_and_within_1e_9_of_them() {
     let a = 0.3;
     let ymid = 2.0 + 0.5 * H; // mid-element row: tip x = a lies on a vertical element edge
-    let base = run(&strip(vec![[0.0, ymid], [a, ymid]], NX, NY), &no_progress).unwrap();
+    let base = run(&tall_strip(vec![[0.0, ymid], [a, ymid]], NX, NY), &quiet).unwrap();
     assert_sane("tip on an edge", &base);
     println!(
         "tip on a vertical edge: K_I {:.5} (Tada {:+.3} %), cond {:.2e}",
@@ -268,8 +240,8 @@ fn tip_on_node_edge_and_within_1e_9_of_them() {
     // within 1e-9 h and 1e-13 h (below the snap) of the edge, both sides
     for d in [-1e-9, 1e-9, -1e-13, 1e-13, 0.5] {
         let r = run(
-            &strip(vec![[0.0, ymid], [a + d * H, ymid]], NX, NY),
-            &no_progress,
+            &tall_strip(vec![[0.0, ymid], [a + d * H, ymid]], NX, NY),
+            &quiet,
         )
         .unwrap();
         assert_sane("tip near an edge", &r);
@@ -292,7 +264,7 @@ fn tip_on_node_edge_and_within_1e_9_of_them() {
     );
     // tip on a node: crack along the grid line y = 2, tip at the node (a, 2), then 1e-9 h off in
     // x and in y, both sides
-    let node = run(&strip(vec![[0.0, 2.0], [a, 2.0]], NX, NY), &no_progress).unwrap();
+    let node = run(&tall_strip(vec![[0.0, 2.0], [a, 2.0]], NX, NY), &quiet).unwrap();
     assert_sane("tip on a node", &node);
     println!(
         "tip on a node: K_I {:.5} (Tada {:+.3} %), {} tip nodes, {} Heaviside, {} dropped, cond {:.2e}",
@@ -315,7 +287,7 @@ fn tip_on_node_edge_and_within_1e_9_of_them() {
         (1e-13, -1e-13),
     ] {
         let (x, y) = (a + dx * H, 2.0 + dy * H);
-        let r = run(&strip(vec![[0.0, y], [x, y]], NX, NY), &no_progress).unwrap();
+        let r = run(&tall_strip(vec![[0.0, y], [x, y]], NX, NY), &quiet).unwrap();
         assert_sane("tip near a node", &r);
         let rel = r.k_i / node.k_i - 1.0;
         println!(
@@ -341,7 +313,7 @@ fn crack_along_a_mesh_line_has_one_side_for_its_nodes() {
     let mut ks = Vec::new();
     for dy in [0.0, 1e-16, -1e-16, 1e-13, -1e-13, 1e-9, -1e-9] {
         let y = 2.0 + dy * H;
-        let r = run(&strip(vec![[0.0, y], [a, y]], NX, NY), &no_progress).unwrap();
+        let r = run(&tall_strip(vec![[0.0, y], [a, y]], NX, NY), &quiet).unwrap();
         assert_sane("crack along a mesh line", &r);
         println!(
             "crack at y = 2 {dy:+.0e} h: K_I {:.5} (Tada {:+.3} %), {} Heaviside / {} dropped nodes, cond {:.2e}",
@@ -382,18 +354,18 @@ fn crack_along_a_mesh_line_has_one_side_for_its_nodes() {
     );
     let l = 0.35;
     let on = run(
-        &strip(vec![[0.0, 2.0], [l * c, 2.0 + l * s]], NX, NY),
-        &no_progress,
+        &tall_strip(vec![[0.0, 2.0], [l * c, 2.0 + l * s]], NX, NY),
+        &quiet,
     )
     .unwrap();
     assert_sane("45 degree crack through nodes", &on);
     let off = run(
-        &strip(
+        &tall_strip(
             vec![[0.0, 2.0 + 1e-9 * H], [l * c, 2.0 + l * s + 1e-9 * H]],
             NX,
             NY,
         ),
-        &no_progress,
+        &quiet,
     )
     .unwrap();
     let (e1, e2) = (on.k_i / off.k_i - 1.0, on.k_ii / off.k_ii - 1.0);
@@ -423,7 +395,7 @@ fn corner_cut_with_area_fraction_1e_6_is_dropped_and_k_unchanged() {
         ("cut 1e-2", (2e-2 * s * c).sqrt() * H),
         ("clear of the node", 0.5 * H),
     ] {
-        let r = run(&strip(crack_for(d), NX, NY), &no_progress).unwrap();
+        let r = run(&tall_strip(crack_for(d), NX, NY), &quiet).unwrap();
         assert_sane(name, &r);
         println!(
             "{name}: d = {:.2e} h: K_I {:.5} K_II {:.5}, {} Heaviside / {} dropped nodes, cond {:.2e}",
@@ -447,9 +419,9 @@ fn corner_cut_with_area_fraction_1e_6_is_dropped_and_k_unchanged() {
     }
     // with the area rule off the sliver node stays: the equilibrated condition stays moderate
     // too (the estimate is scale-free), and K must agree
-    let mut p = strip(crack_for(d_cut), NX, NY);
+    let mut p = tall_strip(crack_for(d_cut), NX, NY);
     p.area_threshold = 0.0;
-    let r = run(&p, &no_progress).unwrap();
+    let r = run(&p, &quiet).unwrap();
     println!(
         "cut 1e-6, area rule off: K_I {:.5}, {} Heaviside / {} dropped nodes, cond {:.2e}",
         r.k_i,
@@ -468,7 +440,7 @@ fn tip_sweep_across_one_element_is_smooth() {
     let mut pts = Vec::new();
     for k in 0..=n {
         let a = 0.3 + H * k as f64 / n as f64;
-        let r = run(&strip(vec![[0.0, ymid], [a, ymid]], NX, NY), &no_progress)
+        let r = run(&tall_strip(vec![[0.0, ymid], [a, ymid]], NX, NY), &quiet)
             .unwrap_or_else(|e| panic!("step {k}: {e}"));
         assert_sane("tip sweep", &r);
         pts.push((a, r.k_i, r.condition.value()));
@@ -514,7 +486,7 @@ fn tip_sweep_across_one_element_is_smooth() {
 }
 
 fn refused_as_unresolved(p: &XfemParams) -> String {
-    match run(p, &no_progress) {
+    match run(p, &quiet) {
         Err(e @ Error::InvalidInput { .. }) => {
             let m = e.to_string();
             assert!(
@@ -535,7 +507,7 @@ fn a_over_w_from_0_01_to_0_95_against_tada() {
     let h = 1.0 / nx as f64;
     for aw in [0.01, 0.02] {
         let y = 2.0 + 0.5 * h;
-        let m = refused_as_unresolved(&strip(vec![[0.0, y], [aw, y]], nx, ny));
+        let m = refused_as_unresolved(&tall_strip(vec![[0.0, y], [aw, y]], nx, ny));
         println!(
             "a/W {aw} on {nx} x {ny} (a = {:.1} elements): refused: {m}",
             aw / h
@@ -546,7 +518,7 @@ fn a_over_w_from_0_01_to_0_95_against_tada() {
         0.05, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.85, 0.9, 0.95,
     ] {
         let y = 2.0 + 0.5 * h;
-        let r = run(&strip(vec![[0.0, y], [aw, y]], nx, ny), &no_progress).unwrap();
+        let r = run(&tall_strip(vec![[0.0, y], [aw, y]], nx, ny), &quiet).unwrap();
         assert_sane("a/W sweep", &r);
         let e = tada_err(&r, aw);
         let lig = (1.0 - aw) / h;
@@ -573,10 +545,10 @@ fn a_over_w_from_0_01_to_0_95_against_tada() {
     // height = width (the crack is 100 times smaller than both)
     let (nx, ny) = (250, 250);
     let h = 1.0 / nx as f64;
-    let mut p = strip(vec![[0.0, 0.5 + 0.5 * h], [0.01, 0.5 + 0.5 * h]], nx, ny);
+    let mut p = tall_strip(vec![[0.0, 0.5 + 0.5 * h], [0.01, 0.5 + 0.5 * h]], nx, ny);
     p.height = 1.0;
     // r_I = 2.5 h: the q-domain is clipped by the edge the crack starts from
-    let r = run(&p, &no_progress).unwrap();
+    let r = run(&p, &quiet).unwrap();
     assert_sane("a/W 0.01", &r);
     let e = tada_err(&r, 0.01);
     println!(
@@ -591,14 +563,14 @@ fn single_element_ligament_is_refused_and_two_run() {
     // 20 elements across: a/W = 0.95 leaves one element, 0.9 two
     let h = 1.0 / 20.0;
     let y = 2.0 + 0.5 * h;
-    let m = refused_as_unresolved(&strip(vec![[0.0, y], [0.95, y]], 20, 80));
+    let m = refused_as_unresolved(&tall_strip(vec![[0.0, y], [0.95, y]], 20, 80));
     println!("one element across the ligament: {m}");
     // tip inside the last element, 0.3 elements from the boundary
-    let m = refused_as_unresolved(&strip(vec![[0.0, y], [1.0 - 0.3 * h, y]], 20, 80));
+    let m = refused_as_unresolved(&tall_strip(vec![[0.0, y], [1.0 - 0.3 * h, y]], 20, 80));
     println!("tip 0.3 elements from the boundary: {m}");
     // two elements: accepted (the default r_I = 2.5 elements is clipped by the edge); K is
     // finite, and low by the measured amount
-    let r = run(&strip(vec![[0.0, y], [0.9, y]], 20, 80), &no_progress).unwrap();
+    let r = run(&tall_strip(vec![[0.0, y], [0.9, y]], 20, 80), &quiet).unwrap();
     assert_sane("two-element ligament", &r);
     let e = tada_err(&r, 0.9);
     println!(
@@ -616,8 +588,8 @@ fn stretched_elements_aspect_ratio_10_both_ways() {
         // crack mid-element in y, tip mid-element in x
         let y = 2.0 + 0.5 * dy;
         let r = run(
-            &strip(vec![[0.0, y], [a + 0.5 * dx, y]], nx, ny),
-            &no_progress,
+            &tall_strip(vec![[0.0, y], [a + 0.5 * dx, y]], nx, ny),
+            &quiet,
         )
         .unwrap();
         assert_sane(name, &r);
@@ -643,7 +615,7 @@ fn a_million_unknowns_deep_crack() {
     let h = 1.0 / nx as f64;
     let y = 2.0 + 0.5 * h;
     let t0 = std::time::Instant::now();
-    let r = run(&strip(vec![[0.0, y], [0.95, y]], nx, ny), &no_progress).unwrap();
+    let r = run(&tall_strip(vec![[0.0, y], [0.95, y]], nx, ny), &quiet).unwrap();
     let t = t0.elapsed().as_secs_f64();
     assert_sane("1e6 unknowns", &r);
     let e = tada_err(&r, 0.95);

@@ -3,16 +3,17 @@
 //! double-edge-cracked strip against Tada's formulas, the accuracy of sub-quad integration in
 //! elements cut by two cracks, symmetric growth, and refused geometries.
 
+mod common;
+
+use common::{paper_growth, quiet, tall_strip};
 use rustfrac_core::fem::LinearSystem;
 use rustfrac_core::loading::{plate_conditions, Grip, PlateEdges, PlateLoad};
 use rustfrac_core::material::{Elastic, Plane};
 use rustfrac_core::mesh::Mesh;
-use rustfrac_core::xfem::{run, GrowthParams, XfemModel, XfemOptions, XfemParams};
+use rustfrac_core::xfem::{run, XfemModel, XfemOptions, XfemParams};
 use rustfrac_core::Error;
 use std::f64::consts::PI;
 use std::sync::Arc;
-
-fn no_progress(_: usize, _: usize) {}
 
 /// Grid lines on [-l, l]: uniform spacing `h` on each fine interval (lo, hi) (sorted, disjoint,
 /// (hi - lo) / h an integer), geometric growth by `ratio` from the fine intervals into the gaps
@@ -297,20 +298,8 @@ fn dent_f(x: f64) -> (f64, f64) {
 }
 
 fn dent_params(a: f64, nx: usize, ny: usize) -> XfemParams {
-    let mut p = XfemParams::paper(Grip::Traction);
-    p.width = 1.0;
-    p.height = 4.0; // half-height = 2 widths
-    p.nx = nx;
-    p.ny = ny;
-    p.material = Elastic::new(1000.0, 0.3, Plane::Strain, 1.0).unwrap();
-    p.crack = vec![[0.0, 2.0], [a, 2.0]];
+    let mut p = tall_strip(vec![[0.0, 2.0], [a, 2.0]], nx, ny);
     p.extra_cracks = vec![vec![[1.0, 2.0], [1.0 - a, 2.0]]];
-    p.load = PlateLoad {
-        grip: Grip::Traction,
-        u0: 0.0,
-        traction: 1.0,
-    };
-    p.extra_radius_factors = vec![];
     p
 }
 
@@ -318,7 +307,7 @@ fn dent_params(a: f64, nx: usize, ny: usize) -> XfemParams {
 fn double_edge_cracked_strip_matches_tada() {
     for x in [0.2, 0.4, 0.6] {
         let a = 0.5 * x; // strip width 2b = 1
-        let r = run(&dent_params(a, 64, 257), &no_progress).unwrap();
+        let r = run(&dent_params(a, 64, 257), &quiet).unwrap();
         assert_eq!(r.tips.len(), 2);
         assert_eq!(r.tip_crack, vec![0, 1]);
         let (f1, f2) = dent_f(x);
@@ -406,13 +395,8 @@ fn elements_cut_by_two_cracks_integrate_accurately() {
 #[test]
 fn symmetric_double_edge_growth_stays_symmetric() {
     let mut p = dent_params(0.1, 40, 161);
-    p.growth = Some(GrowthParams {
-        g0: 0.367,
-        da: None,
-        a_stop: 0.35,
-        max_steps: 100,
-    });
-    let r = run(&p, &no_progress).unwrap();
+    p.growth = Some(paper_growth(0.35, 100));
+    let r = run(&p, &quiet).unwrap();
     println!(
         "status '{}', {} states, final cracks {:?}",
         r.status,
@@ -444,13 +428,8 @@ fn symmetric_double_edge_growth_stays_symmetric() {
 fn only_the_critical_tip_grows() {
     let mut p = dent_params(0.15, 40, 161);
     p.extra_cracks = vec![vec![[1.0, 2.0], [0.9, 2.0]]];
-    p.growth = Some(GrowthParams {
-        g0: 0.367,
-        da: None,
-        a_stop: 0.3,
-        max_steps: 3,
-    });
-    let r = run(&p, &no_progress).unwrap();
+    p.growth = Some(paper_growth(0.3, 3));
+    let r = run(&p, &quiet).unwrap();
     for tips in &r.tip_history[1..] {
         println!(
             "K_I {:.4} {:.4} grows {} {}",
@@ -466,7 +445,7 @@ fn only_the_critical_tip_grows() {
 #[test]
 fn bad_crack_sets_are_refused() {
     let base = dent_params(0.2, 40, 161);
-    let check = |p: XfemParams, name: &str| match run(&p, &no_progress) {
+    let check = |p: XfemParams, name: &str| match run(&p, &quiet) {
         Err(Error::InvalidInput {
             param, expected, ..
         }) => {
@@ -508,13 +487,8 @@ fn bad_crack_sets_are_refused() {
 #[test]
 fn growth_stops_before_cracks_meet() {
     let mut p = dent_params(0.1, 40, 161);
-    p.growth = Some(GrowthParams {
-        g0: 0.367,
-        da: None,
-        a_stop: 0.49,
-        max_steps: 100,
-    });
-    let r = run(&p, &no_progress).unwrap();
+    p.growth = Some(paper_growth(0.49, 100));
+    let r = run(&p, &quiet).unwrap();
     let last = r.tip_history.last().unwrap();
     let gap = last[1].pos[0] - last[0].pos[0];
     println!(

@@ -2,6 +2,9 @@
 //! path independence, mesh convergence on the paper's case with a FEM seam-crack cross-check,
 //! crack growth direction, and the paper's numbers printed beside ours.
 
+mod common;
+
+use common::{grips, paper_growth, quiet, solve_fem_plate, tada_f, tall_strip};
 use rustfrac_core::fem::{Dirichlet, FemModel, LinearSystem};
 use rustfrac_core::loading::{plate_conditions, sigma22, Grip, PlateEdges, PlateLoad};
 use rustfrac_core::material::{Elastic, Plane};
@@ -10,8 +13,6 @@ use rustfrac_core::sif::williams_displacement;
 use rustfrac_core::xfem::{run, GrowthParams, XfemModel, XfemOptions, XfemParams};
 use rustfrac_core::Error;
 use std::sync::Arc;
-
-fn no_progress(_: usize, _: usize) {}
 
 /// Imposes the exact Williams field (K_I, K_II) on the boundary of a square around a tip whose
 /// crack comes in from the left edge at angle `alpha`; returns the computed (K_I, K_II).
@@ -82,31 +83,8 @@ fn exact_williams_fields_give_k_within_half_percent() {
     }
 }
 
-/// Tada's edge-crack factor for a long strip under remote tension (Tada, Paris and Irwin, "The
-/// Stress Analysis of Cracks Handbook"; accurate to about 0.5 % for any a/b):
-/// F(x) = sqrt(2/(pi x) tan(pi x/2)) [0.752 + 2.02 x + 0.37 (1 - sin(pi x/2))^3] / cos(pi x/2).
-fn tada_f(x: f64) -> f64 {
-    use std::f64::consts::PI;
-    let t = PI * x / 2.0;
-    (2.0 / (PI * x) * t.tan()).sqrt() * (0.752 + 2.02 * x + 0.37 * (1.0 - t.sin()).powi(3))
-        / t.cos()
-}
-
 fn tall_plate(a: f64, nx: usize, ny: usize) -> XfemParams {
-    let mut p = XfemParams::paper(Grip::Traction);
-    p.width = 1.0;
-    p.height = 4.0; // half-height / width = 2
-    p.nx = nx;
-    p.ny = ny;
-    p.material = Elastic::new(1000.0, 0.3, Plane::Strain, 1.0).unwrap();
-    p.crack = vec![[0.0, 2.0], [a, 2.0]];
-    p.load = PlateLoad {
-        grip: Grip::Traction,
-        u0: 0.0,
-        traction: 1.0,
-    };
-    p.extra_radius_factors = vec![];
-    p
+    tall_strip(vec![[0.0, 2.0], [a, 2.0]], nx, ny)
 }
 
 #[test]
@@ -114,7 +92,7 @@ fn edge_crack_tall_plate_matches_tada() {
     use std::f64::consts::PI;
     for k in 1..=6 {
         let x = 0.1 * k as f64;
-        let r = run(&tall_plate(x, 60, 241), &no_progress).unwrap();
+        let r = run(&tall_plate(x, 60, 241), &quiet).unwrap();
         let f = r.k_i / (PI * x).sqrt();
         let err = f / tada_f(x) - 1.0;
         println!(
@@ -230,7 +208,7 @@ fn path_independence_between_1_5_and_3_5_element_lengths() {
         ),
     ] {
         p.extra_radius_factors = vec![1.5, 2.0, 3.0, 3.5];
-        let r = run(&p, &no_progress).unwrap();
+        let r = run(&p, &quiet).unwrap();
         let ks: Vec<f64> = r.radii.iter().map(|v| v.sifs.k_i).collect();
         let (lo, hi) = ks
             .iter()
@@ -261,7 +239,7 @@ fn paper_level(nx: usize, ny: usize) -> (f64, f64, f64) {
     p.nx = nx;
     p.ny = ny;
     p.extra_radius_factors = vec![];
-    let r = run(&p, &no_progress).unwrap();
+    let r = run(&p, &quiet).unwrap();
     (r.k_i, r.cmod, r.sigma22)
 }
 
@@ -277,17 +255,7 @@ fn fem_seam(nx: usize, ny: usize) -> (f64, f64) {
     let (mesh, pairs) = base.with_seam(ny / 2, 1.1).unwrap();
     let mat = Elastic::new(10000.0, 0.25, Plane::Strain, 1.0).unwrap();
     let model = FemModel::new(mesh, mat, 2).unwrap();
-    let edges = PlateEdges::of_mesh(&model.mesh);
-    let load = PlateLoad {
-        grip: Grip::Free,
-        u0: 0.01,
-        traction: 0.0,
-    };
-    let (bc, f, _) = plate_conditions(&edges, &load, model.n_dofs(), 1.0).unwrap();
-    let sol = LinearSystem::new(model.stiffness(), &bc)
-        .unwrap()
-        .solve(&f, 1.0)
-        .unwrap();
+    let (edges, f, sol) = solve_fem_plate(&model, &grips(Grip::Free, 0.01));
     let (lo, up) = pairs[0];
     (
         sol.u[2 * up + 1] - sol.u[2 * lo + 1],
@@ -360,7 +328,7 @@ fn crack_on_a_grid_line_is_handled_by_the_area_rule() {
     p.nx = 88;
     p.ny = 166;
     p.extra_radius_factors = vec![];
-    let r = run(&p, &no_progress).unwrap();
+    let r = run(&p, &quiet).unwrap();
     let (k, c, s) = paper_level(88, 167);
     println!(
         "88 x 166 (crack on grid line): K_I {:.5} CMOD {:.7} sigma22 {:.5}, dropped {} nodes; 88 x 167: {k:.5} {c:.7} {s:.5}",
@@ -375,14 +343,9 @@ fn crack_on_a_grid_line_is_handled_by_the_area_rule() {
 fn mode_i_growth_stays_on_the_crack_line() {
     let mut p = XfemParams::paper(Grip::Free);
     p.extra_radius_factors = vec![];
-    p.growth = Some(GrowthParams {
-        g0: 0.367,
-        da: None,
-        a_stop: 0.7 * 11.0,
-        max_steps: 1000,
-    });
+    p.growth = Some(paper_growth(0.7 * 11.0, 1000));
     let t = std::time::Instant::now();
-    let r = run(&p, &no_progress).unwrap();
+    let r = run(&p, &quiet).unwrap();
     println!(
         "growth 1.1 -> 7.7 on 44 x 83: {} states, status '{}', {:?}",
         r.history.len(),
@@ -423,12 +386,10 @@ fn growth_stops_when_the_ligament_is_used_up() {
     let mut p = XfemParams::paper(Grip::Clamped);
     p.extra_radius_factors = vec![];
     p.growth = Some(GrowthParams {
-        g0: 0.367,
         da: Some(1.0),
-        a_stop: 100.0,
-        max_steps: 100,
+        ..paper_growth(100.0, 100)
     });
-    let r = run(&p, &no_progress).unwrap();
+    let r = run(&p, &quiet).unwrap();
     let last = r.history.last().unwrap();
     println!(
         "status '{}' after {} states, last a {:.3}",
@@ -441,7 +402,7 @@ fn growth_stops_when_the_ligament_is_used_up() {
     assert!(11.0 - last.tip[0] < r.r_i + 1.0 + 1e-9 && last.tip[0] > 9.0);
     // with growth off, the status says so
     p.growth = None;
-    assert_eq!(run(&p, &no_progress).unwrap().status, "single solve");
+    assert_eq!(run(&p, &quiet).unwrap().status, "single solve");
 }
 
 #[test]
@@ -450,13 +411,8 @@ fn mixed_mode_growth_turns_as_the_criterion_says() {
     let mut p = XfemParams::paper(Grip::Traction);
     p.crack = vec![[0.0, 10.5], [1.1, 10.9]];
     p.extra_radius_factors = vec![];
-    p.growth = Some(GrowthParams {
-        g0: 0.367,
-        da: None,
-        a_stop: 3.0,
-        max_steps: 4,
-    });
-    let r = run(&p, &no_progress).unwrap();
+    p.growth = Some(paper_growth(3.0, 4));
+    let r = run(&p, &quiet).unwrap();
     let alpha0 = (0.4f64).atan2(1.1);
     for (k, h) in r.history[1..].iter().enumerate() {
         println!(
@@ -489,7 +445,7 @@ fn paper_case_printout() {
     println!("| load | sigma22 | CMOD | K_I | K_II | J(K) | J domain |");
     for grip in [Grip::Free, Grip::Clamped, Grip::Traction] {
         let p = XfemParams::paper(grip);
-        let r = run(&p, &no_progress).unwrap();
+        let r = run(&p, &quiet).unwrap();
         println!(
             "| {} | {:.4} | {:.6} | {:.3} | {:.1e} | {:.5} | {:.5} |",
             r.grip, r.sigma22, r.cmod, r.k_i, r.k_ii, r.j_from_k, r.j_domain
@@ -504,7 +460,7 @@ fn paper_case_printout() {
 #[test]
 fn bad_input_is_refused_and_singular_systems_reported() {
     let base = XfemParams::paper(Grip::Free);
-    let check = |p: XfemParams, name: &str| match run(&p, &no_progress) {
+    let check = |p: XfemParams, name: &str| match run(&p, &quiet) {
         Err(Error::InvalidInput { param, .. }) => assert_eq!(param, name),
         other => panic!(
             "{name}: expected InvalidInput, got {:?}",

@@ -682,26 +682,29 @@ fn solve_pd_plate<'py>(
     resume_from: Option<std::path::PathBuf>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    use rustfrac_core::coupling::ModelSpec;
     use rustfrac_core::sla::{self, CcmPdParams, Method, SlaParams};
     let prog = Progress::new(progress);
     let params = (|| {
         Ok::<_, CoreError>(CcmPdParams {
-            method: Method::parse(method)?,
-            width,
-            height,
-            dx,
-            m,
-            material: material(e, nu, plane, thickness)?,
-            g0,
-            pd_regions: pd_regions
-                .iter()
-                .map(|&(x0, y0, x1, y1)| [x0, y0, x1, y1])
-                .collect(),
-            precrack: precrack.iter().map(|&(x, y)| [x, y]).collect(),
-            load: PlateLoad {
-                grip: Grip::parse(bc)?,
-                u0,
-                traction,
+            model: ModelSpec {
+                method: Method::parse(method)?,
+                width,
+                height,
+                dx,
+                m,
+                material: material(e, nu, plane, thickness)?,
+                g0,
+                pd_regions: pd_regions
+                    .iter()
+                    .map(|&(x0, y0, x1, y1)| [x0, y0, x1, y1])
+                    .collect(),
+                precrack: precrack.iter().map(|&(x, y)| [x, y]).collect(),
+                load: PlateLoad {
+                    grip: Grip::parse(bc)?,
+                    u0,
+                    traction,
+                },
             },
             sla: SlaParams {
                 max_steps: sla_steps,
@@ -717,7 +720,7 @@ fn solve_pd_plate<'py>(
         })
     })()
     .map_err(|err| core_err(py, err))?;
-    let name = params.method.name();
+    let name = params.model.method.name();
     let t0 = Instant::now();
     let r = detached(py, name, || {
         let total = sla_steps.max(1);
