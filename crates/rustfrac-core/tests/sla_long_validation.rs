@@ -3,6 +3,7 @@
 
 use rustfrac_core::sla::{auto_refactor_every, run, CcmPdParams, CcmPdResult, SlaParams};
 use rustfrac_core::Error;
+use rustfrac_core::WarningKind;
 use std::path::PathBuf;
 
 fn quiet(_: usize, _: usize) -> bool {
@@ -119,7 +120,10 @@ fn nodes_detached_during_the_sla_are_grounded() {
         .history
         .iter()
         .all(|s| s.lambda.is_finite() && s.sigma22.is_finite() && s.cmod.is_finite()));
-    assert!(r.warnings.iter().any(|w| w.contains("grounded")));
+    assert!(r
+        .warnings
+        .iter()
+        .any(|w| w.kind == WarningKind::Discretisation && w.message.contains("grounded")));
 }
 
 fn same(a: &CcmPdResult, b: &CcmPdResult) {
