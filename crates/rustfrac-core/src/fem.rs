@@ -399,7 +399,7 @@ impl Dirichlet {
         let (lam, vecs) = sym3_eigen(n);
         let lmax = lam.iter().fold(0.0f64, |a, &l| a.max(l));
         let null: Vec<[f64; 3]> = (0..3)
-            .filter(|&k| !(lam[k] > 1e-10 * lmax))
+            .filter(|&k| lam[k].is_nan() || lam[k] <= 1e-10 * lmax)
             .map(|k| vecs[k])
             .collect();
         if null.is_empty() {
@@ -474,13 +474,13 @@ fn sym3_eigen(mut a: [[f64; 3]; 3]) -> ([f64; 3], [[f64; 3]; 3]) {
             let c = 1.0 / (t * t + 1.0).sqrt();
             let s = t * c;
             // A <- J^T A J with J the rotation in the (p, q) plane
-            for k in 0..3 {
-                let (akp, akq) = (a[k][p], a[k][q]);
-                a[k][p] = c * akp - s * akq;
-                a[k][q] = s * akp + c * akq;
+            for row in a.iter_mut() {
+                let (akp, akq) = (row[p], row[q]);
+                row[p] = c * akp - s * akq;
+                row[q] = s * akp + c * akq;
             }
-            for k in 0..3 {
-                let (apk, aqk) = (a[p][k], a[q][k]);
+            let (rp, rq) = (a[p], a[q]);
+            for (k, (apk, aqk)) in rp.iter().zip(&rq).enumerate() {
                 a[p][k] = c * apk - s * aqk;
                 a[q][k] = s * apk + c * aqk;
             }

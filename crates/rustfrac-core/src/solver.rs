@@ -264,7 +264,7 @@ impl Cholesky {
             + self
                 .scaled_pivots()
                 .iter()
-                .filter(|&&d| !(d > PIVOT_TOL))
+                .filter(|&&d| d.is_nan() || d <= PIVOT_TOL)
                 .count();
         if count > 0 {
             return Err(Error::Singular {
