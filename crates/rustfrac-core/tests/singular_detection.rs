@@ -180,3 +180,34 @@ fn condition_above_cond_singular_is_an_error() {
         "{d}"
     );
 }
+
+/// A numerically singular system the pivot test cannot see: a free-free chain of n = 1000 unit
+/// springs grounded by eps = 1e-15 at every node. Its near-null vector (the rigid translation) is
+/// spread over all unknowns, so the last pivot is ~n eps = 1e-12 of its diagonal, above
+/// PIVOT_TOL, while cond = 4 / eps = 4e15. The condition estimate reports it "numerically
+/// singular"; the free pivot-ratio bound (condition = false) does not (1e12 < COND_SINGULAR).
+#[test]
+fn spread_near_null_mode_is_caught_by_the_condition_estimate() {
+    let (n, eps) = (1000usize, 1e-15);
+    let mut trip = Vec::new();
+    for i in 0..n {
+        let springs = usize::from(i > 0) + usize::from(i + 1 < n);
+        trip.push((i, i, springs as f64 + eps));
+        if i + 1 < n {
+            trip.push((i, i + 1, -1.0));
+            trip.push((i + 1, i, -1.0));
+        }
+    }
+    let k = CscMatrix::from_triplets(n, n, &trip).unwrap();
+    let sys = LinearSystem::new(k, &Dirichlet::default()).unwrap();
+    let c = sys.condition_estimate().unwrap();
+    println!(
+        "grounded chain: condition {:.3e}, pivot ratio {:.3e}",
+        c.value(),
+        c.pivot_ratio
+    );
+    assert!(c.value() > COND_SINGULAR && c.pivot_ratio < COND_SINGULAR);
+    let d = singular_detail(sys.checked_condition("solve", true));
+    assert!(d.starts_with("solve: numerically singular"), "{d}");
+    assert!(sys.checked_condition("solve", false).unwrap().is_none());
+}
