@@ -115,7 +115,8 @@ def solve_xfem_plate(
     growth history (origin first; empty without growth): history_load_factor, history_sigma22,
     history_cmod, history_u0, history_traction, history_a, history_K_I, history_K_II,
     history_kink_angle, history_tip_x, history_tip_y (the most critical tip), history_condition
-    (0 at the origin; None instead of an array with ``condition=False``), and every tip's state as (s, t) arrays tip_history_x, tip_history_y,
+    (0 at the origin; None instead of an array with ``condition=False``), and every tip's state
+    as (s, t) arrays tip_history_x, tip_history_y,
     tip_history_K_I, tip_history_K_II, tip_history_kink_angle, tip_history_grows (1.0: the tip
     grew after that state)."""
 

@@ -14,9 +14,9 @@
 //! sentinel we then count) is a pivot below ~1e-13 of *its own* diagonal entry. That means a
 //! rigid-body mode or a separated part, which floating-point elimination would otherwise turn into
 //! a tiny positive pivot and a huge, meaningless solution; unknowns of very different scales (any
-//! ratio within the exponent range) do not trip it. Round-off pivots that land above it are caught
-//! by [`COND_SINGULAR`] (see [`check_condition`]) and, for the plate models, by the rigid-mode check
-//! [`crate::fem::Dirichlet::check_rigid_modes`].
+//! ratio within the exponent range) do not trip it. Round-off pivots that land above it are
+//! caught by [`COND_SINGULAR`] (see [`check_condition`]) and, for the plate models, by the
+//! rigid-mode check [`crate::fem::Dirichlet::check_rigid_modes`].
 
 use crate::error::{catch_panic, Error, Result};
 use crate::ordering::{inverse, nested_dissection};
@@ -36,9 +36,10 @@ use faer::{Conj, Side};
 /// Relative pivot threshold below which a Cholesky pivot is taken as zero: a pivot of the
 /// Jacobi-scaled matrix (unit diagonal up to a factor 2), i.e. a pivot below ~1e-13 of the
 /// unknown's own diagonal entry A_ii (the same meaning as before for a uniform mesh, where all
-/// A_ii are alike; no longer relative to the largest A_ii). A pivot above it still bounds the
-/// condition number from below by ~1e13 x lambda_max of the scaled matrix; exactly singular
-/// plates measured far below it (tests/singular_detection.rs: 0 to 4e-319).
+/// A_ii are alike; no longer relative to the largest A_ii). Pivots lie in [lambda_min,
+/// lambda_max] of the scaled matrix, so one at the threshold already means a condition number of
+/// ~1e13 or more; exactly singular plates measured far below it (tests/singular_detection.rs: the
+/// sentinel or 0).
 pub const PIVOT_TOL: f64 = 1e-13;
 /// Value faer substitutes for a pivot below the threshold; its square root marks it in the factor.
 const SENTINEL_PIVOT: f64 = 1e300;
@@ -257,9 +258,9 @@ impl Cholesky {
                 }),
             }
         })?;
-        // faer's hook misses some pivots: its blocked dense kernel for large supernodes was
-        // measured to leave a 4e-319 pivot unregularised (60 x 110 plate, x1 translation free),
-        // so the factor's own diagonal is tested as well
+        // faer's hook does not see every pivot: in the supernodal factor of the 60 x 110 plate
+        // with the x1 translation free a pivot of 0 (4e-319 without the scaling) was left
+        // unregularised and uncounted, so the factor's own diagonal is tested as well
         let count = self.regularised_pivots()
             + self
                 .scaled_pivots()
@@ -454,8 +455,9 @@ pub const COND_WARN: f64 = 1e12;
 /// trusted. The pivot test ([`PIVOT_TOL`]) catches pivots that collapse; this catches the near
 /// singularity the pivots do not show (their ratio is only a lower bound of the condition
 /// number): e.g. a near-null mode spread over n unknowns leaves a last pivot ~n lambda_min
-/// (tests/singular_detection.rs: a grounded spring chain, cond 5e15, pivot ratio 2e12). The worst well-posed model we run (a/W = 0.95 at 1e6 unknowns) measures 4.5e10, over
-/// 2000x below; between [`COND_WARN`] and this the result carries a warning.
+/// (tests/singular_detection.rs: a grounded spring chain, cond 5e15, pivot ratio 2e12). The
+/// worst well-posed model we run (a/W = 0.95 at 1e6 unknowns) measures 4.5e10, over 2000x below;
+/// between [`COND_WARN`] and this the result carries a warning.
 pub const COND_SINGULAR: f64 = 1e14;
 
 /// [`Error::Singular`] ("numerically singular") when the condition estimate `c` exceeds
