@@ -13,7 +13,9 @@ Solvers:
   rustfrac          ``rustfrac._core.solve_fem_plate``: the whole pipeline (mesh, assembly,
                     elimination, nested-dissection ordering, faer Cholesky, solve, reactions,
                     Gauss and nodal stresses) in one call; "call" is the Python wall time of the
-                    call, "core" the core's own ``wall_time_s``.
+                    call, "core" the core's own ``wall_time_s``. Includes the condition
+                    estimate (2 extra solves).
+  rustfrac-nocond   as rustfrac with ``condition=False`` (no condition estimate).
   rust-phases       the core's ``plate_phases`` example binary (same code, per-phase times), used
                     for the rustfrac factorise+solve column; skipped when the binary is absent.
   scipy             vectorised numpy COO assembly, Dirichlet elimination, ``spsolve`` (SuperLU,
@@ -132,12 +134,21 @@ def loaded_blas() -> list[str]:
         return []
 
 
-def work_rustfrac(nx: int, ny: int) -> dict:
+def work_rustfrac(nx: int, ny: int, condition: bool = True) -> dict:
     from rustfrac import _core
 
     c0, t0 = time.process_time(), time.perf_counter()
     r = _core.solve_fem_plate(
-        width=W, height=L, nx=nx, ny=ny, e=E, nu=NU, plane="strain", bc="free", u0=U0
+        width=W,
+        height=L,
+        nx=nx,
+        ny=ny,
+        e=E,
+        nu=NU,
+        plane="strain",
+        bc="free",
+        u0=U0,
+        condition=condition,
     )
     call = time.perf_counter() - t0
     cpu = time.process_time() - c0
@@ -252,8 +263,8 @@ def worker(args: argparse.Namespace) -> None:
     nx, ny = args.nx, args.ny
     load0 = os.getloadavg()[0]
     try:
-        if args.worker == "rustfrac":
-            res = work_rustfrac(nx, ny)
+        if args.worker in ("rustfrac", "rustfrac-nocond"):
+            res = work_rustfrac(nx, ny, condition=args.worker == "rustfrac")
         elif args.worker == "rust-phases":
             res = work_rust_phases(nx, ny, args.phases_bin)
         else:
@@ -358,9 +369,10 @@ def summarise(results: dict, solvers: list[str], timeout: float) -> str:
                 continue
             label = {
                 "rustfrac": "rustfrac `solve_fem_plate` (call)",
+                "rustfrac-nocond": "rustfrac `solve_fem_plate(condition=False)` (call)",
                 "rust-phases": "rustfrac phases (`plate_phases` example)",
             }.get(s, s)
-            if s == "rustfrac" and st.get("core_s") is not None:
+            if s.startswith("rustfrac") and st.get("core_s") is not None:
                 label += f"; core {fmt(st['core_s'])} s"
             if st.get("timeout"):
                 row = ["-", "-", "-", f"> {timeout:g}", "-", "-"]
@@ -419,7 +431,9 @@ def main() -> None:
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--out", default=str(ROOT / "benches" / "results_fem.json"))
     ap.add_argument("--timeout", type=float, default=900.0, help="seconds per case")
-    ap.add_argument("--solvers", default="rustfrac,rust-phases,scipy,cholmod,cholmod-openblas")
+    ap.add_argument(
+        "--solvers", default="rustfrac,rustfrac-nocond,rust-phases,scipy,cholmod,cholmod-openblas"
+    )
     ap.add_argument("--phases-bin", default=None, help="plate_phases example binary")
     ap.add_argument(
         "--openblas-dir",

@@ -58,19 +58,29 @@ def test_condition_saved_and_loaded(xfem_growth: rf.Result, tmp_path: Path) -> N
     assert back.warnings == []
 
 
-def test_warnings_become_python_warnings(monkeypatch: pytest.MonkeyPatch) -> None:
-    """A result whose core reported a warning (e.g. condition > COND_WARN) warns on run()."""
+@pytest.mark.parametrize("kind", _core.WARNING_KINDS)
+def test_warnings_become_python_warnings(monkeypatch: pytest.MonkeyPatch, kind: str) -> None:
+    """A result whose core reported a warning warns on run() with the class of its kind, not of
+    its text: every message below mentions a condition estimate."""
     real = runner._RUNNERS["fem"]
+    cls = rf.errors.WARNING_CLASSES[kind]
+    others = [c for k, c in rf.errors.WARNING_CLASSES.items() if k != kind]
 
-    def flagged(scene: rf.Scene, progress: runner.ProgressCallback | None) -> rf.Result:
-        res = real(scene, progress)
-        res.meta["warnings"] = ["solve: condition estimate 3.00e+13 exceeds 1e12"]
+    def flagged(scene: rf.Scene, progress: runner.ProgressCallback | None, cond: bool) -> rf.Result:
+        res = real(scene, progress, cond)
+        res.meta["warnings"] = [f"solve: condition estimate 3.00e+13 ({kind})"]
+        res.meta["warning_kinds"] = [kind]
         return res
 
     monkeypatch.setitem(runner._RUNNERS, "fem", flagged)
-    with pytest.warns(rf.IllConditionedWarning, match="3.00e"):
+    with pytest.warns(cls, match="3.00e") as rec:
         res = rf.run(rf.scenes.edge_crack_plate(method="fem", mesh=(8, 16)))
-    assert res.warnings and issubclass(rf.IllConditionedWarning, RuntimeWarning)
+    assert [type(w.message) for w in rec] == [cls]
+    assert not any(issubclass(cls, o) or issubclass(o, cls) for o in others)
+    assert res.warnings and res.warning_kinds == [kind]
+    assert issubclass(rf.IllConditionedWarning, RuntimeWarning)
+    assert issubclass(rf.LockingWarning, rf.AccuracyWarning)
+    assert issubclass(rf.DiscretisationWarning, rf.AccuracyWarning)
     monkeypatch.setitem(runner._RUNNERS, "fem", real)
     with warnings.catch_warnings():
         warnings.simplefilter("error")

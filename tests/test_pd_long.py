@@ -28,10 +28,11 @@ def coarse(steps: int = 30, **kw: object) -> rf.Scene:
 
 
 def test_m1_runs_with_an_accuracy_warning() -> None:
-    with pytest.warns(rf.AccuracyWarning, match="m = 1") as rec:
+    with pytest.warns(rf.DiscretisationWarning, match="m = 1") as rec:
         res = rf.run(coarse(3, m=1))
     assert len(rec) == 1
     assert res.meta["warnings"] and "m = 1" in res.meta["warnings"][0]
+    assert res.warning_kinds == ["discretisation"]
     assert np.isfinite(res.sigma22) and np.isfinite(res.cmod)
     assert len(res.history["step"]) == 4  # the origin + 3 steps
     with warnings.catch_warnings():

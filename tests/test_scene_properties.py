@@ -420,9 +420,10 @@ def test_native_entry_points_refuse_by_name() -> None:
 
 def test_locking_warning() -> None:
     s = rf.scenes.edge_crack_plate("fem", nu=0.4999, mesh=(8, 12))
-    with pytest.warns(rf.AccuracyWarning, match="lock"):
+    with pytest.warns(rf.LockingWarning, match="lock"):
         r = rf.run(s)
     assert r.meta["warnings"] and "0.4999" in r.meta["warnings"][0]
+    assert r.warning_kinds == ["locking"]
     with warnings.catch_warnings():
         warnings.simplefilter("error", rf.AccuracyWarning)
         r = rf.run(s.replace(material__nu=0.3))

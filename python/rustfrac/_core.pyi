@@ -12,6 +12,12 @@ __version__: str
 PROGRESS_INTERVAL_S: float
 #: condition estimate above which a result carries a warning (rustfrac_core::solver::COND_WARN)
 COND_WARN: float
+#: condition estimate above which a solve raises SingularSystemError ("numerically singular",
+#: rustfrac_core::solver::COND_SINGULAR)
+COND_SINGULAR: float
+#: kinds of the (kind, message) warning pairs: "ill_conditioned", "locking", "discretisation"
+#: (Python classes: rustfrac.errors.WARNING_CLASSES)
+WARNING_KINDS: list[str]
 
 ProgressCallback = Callable[[int, int, str], Any]
 
@@ -30,14 +36,17 @@ def solve_fem_plate(
     traction: float = 0.0,
     seam: tuple[float, float] | None = None,
     gauss: int = 2,
+    condition: bool = True,
     progress: ProgressCallback | None = None,
 ) -> dict[str, Any]:
     """The paper's plate with plain Q4 FEM (GIL released). Keys: coords (n,2), elements (m,4)
     int64, u (2n,), reactions (2n,), nodal_stress (n,3), gauss_points (g,2), gauss_stress (g,3)
     as float64 arrays; sigma22, cmod, energy, residual, wall_time_s: float; n_dofs, anchor_node:
     int; seam_y: float | None; bc: str; condition (dimensionless condition estimate of the
-    equilibrated stiffness), condition_pivot_ratio: float; warnings: list[str] (ill
-    conditioning, volumetric locking near nu = 0.5)."""
+    equilibrated stiffness), condition_pivot_ratio: float, both None with ``condition=False``
+    (not computed: saves 2 solves); warnings: list[tuple[str, str]] (kind in WARNING_KINDS,
+    message: ill conditioning, volumetric locking near nu = 0.5). Raises SingularSystemError
+    naming a free rigid-body mode, or when the system is numerically singular."""
 
 def solve_fem_grid(
     *,
@@ -55,7 +64,8 @@ def solve_fem_grid(
 ) -> dict[str, Any]:
     """A uniform Q4 grid with explicit Dirichlet dofs (2 node + component) and nodal forces.
     Keys: coords, elements, u, reactions, nodal_stress, energy, residual, n_dofs. Raises
-    SingularSystemError if the conditions leave a rigid-body mode."""
+    SingularSystemError if the conditions leave a rigid-body mode free (named) or the system is
+    numerically singular."""
 
 def solve_xfem_plate(
     *,
@@ -82,6 +92,7 @@ def solve_xfem_plate(
     g0: float | None = None,
     da: float | None = None,
     a_stop: float | None = None,
+    condition: bool = True,
     progress: ProgressCallback | None = None,
 ) -> dict[str, Any]:
     """The plate with XFEM (GIL released); ``crack`` is a polyline (an end on the boundary is a
@@ -92,9 +103,9 @@ def solve_xfem_plate(
 
     Keys: K_I, K_II, J (from K), J_domain, r_i (absolute), sigma22, cmod, wall_time_s,
     condition (dimensionless condition estimate of the initial solve), condition_pivot_ratio:
-    float; warnings: list[str];
+    float, both None with ``condition=False``; warnings: list[tuple[str, str]] (kind, message);
     n_dofs, n_std, n_heaviside_nodes, n_tip_nodes, n_dropped_nodes, anchor_node: int;
-    status, bc: str; warnings: list[str]; coords (n,2), elements (m,4) int64, u (n_dofs,) (u[:n_std] are the nodal
+    status, bc: str; coords (n,2), elements (m,4) int64, u (n_dofs,) (u[:n_std] are the nodal
     displacements), heaviside_nodes, tip_nodes (int64), crack (k,2) final polyline,
     crack_initial (k0,2), radii (r,5) [radius, K_I, K_II, J_from_K, J_domain], radii_factor (r,),
     tips (t,6) [x1, x2, K_I, K_II, J_from_K, J_domain] (every tip), tip_crack (t,) int64 (0 =
@@ -104,7 +115,8 @@ def solve_xfem_plate(
     growth history (origin first; empty without growth): history_load_factor, history_sigma22,
     history_cmod, history_u0, history_traction, history_a, history_K_I, history_K_II,
     history_kink_angle, history_tip_x, history_tip_y (the most critical tip), history_condition
-    (0 at the origin), and every tip's state as (s, t) arrays tip_history_x, tip_history_y,
+    (0 at the origin; None instead of an array with ``condition=False``), and every tip's state
+    as (s, t) arrays tip_history_x, tip_history_y,
     tip_history_K_I, tip_history_K_II, tip_history_kink_angle, tip_history_grows (1.0: the tip
     grew after that state)."""
 
@@ -147,8 +159,8 @@ def solve_pd_plate(
     n_pd_nodes, n_bonds, n_precrack_bonds, n_removed_elements, bytes_per_bond, anchor_node,
     n_refactorisations, max_update_rank, refactor_interval, resumed_steps, n_checkpoints: int;
     peak_memory_bytes: int | None; status ("completed" | "crack_length_reached" | "separated" |
-    "no_bond_in_tension" | "cancelled"), solver, bc, method: str; warnings: list[str] (accuracy
-    warnings: m < 2, detached nodes). Checkpoints every ``checkpoint_every`` steps to
+    "no_bond_in_tension" | "cancelled"), solver, bc, method: str; warnings: list[tuple[str, str]]
+    ((kind, message): "discretisation": m < 2, detached nodes). Checkpoints every ``checkpoint_every`` steps to
     ``checkpoint_path`` (atomic); ``resume_from`` replays a checkpoint of the same model bit for
     bit (another model's checkpoint: InvalidParameterError; unreadable: CheckpointIOError).
     Arrays: node_xy (n,2), u (2n,), u_final (2n,; empty when separated), pd_nodes (p,) int64,

@@ -13,12 +13,15 @@ near nu = 0.5) are reported with :class:`AccuracyWarning` (a ``UserWarning``), a
 from __future__ import annotations
 
 __all__ = [
+    "WARNING_CLASSES",
     "AccuracyWarning",
     "CheckpointIOError",
+    "DiscretisationWarning",
     "IllConditionedWarning",
     "InternalError",
     "InvalidParameterError",
     "InvalidTypeError",
+    "LockingWarning",
     "MethodNotAvailableError",
     "RustfracError",
     "SeparatedError",
@@ -69,7 +72,8 @@ class CheckpointIOError(RustfracError, OSError):
 class IllConditionedWarning(RuntimeWarning):
     """A solve's condition estimate exceeded ``rustfrac._core.COND_WARN`` (1e12): round-off may
     reach ``condition * 2.2e-16`` relative in the solution. The result is still returned; its
-    ``warnings`` and ``condition`` say which solve."""
+    ``warnings`` and ``condition`` say which solve. Above ``rustfrac._core.COND_SINGULAR`` (1e14)
+    the system counts as numerically singular: :class:`SingularSystemError` instead."""
 
 
 class MethodNotAvailableError(RustfracError, NotImplementedError):
@@ -81,4 +85,22 @@ class AccuracyWarning(UserWarning):
     usual (the message says which and by how much it was measured to matter); e.g. plane-strain
     nu >= 0.49, where the fully integrated Q4 elements lock, a PD horizon factor m < 2 (too few
     bonds per node), or PD nodes detached (grounded) during the SLA. Issued with
-    :func:`warnings.warn` and recorded in ``Result.meta["warnings"]``."""
+    :func:`warnings.warn` and recorded in ``Result.meta["warnings"]``; the subclasses
+    :class:`LockingWarning` and :class:`DiscretisationWarning` say which kind."""
+
+
+class LockingWarning(AccuracyWarning):
+    """Plane-strain nu >= 0.49: the fully integrated Q4 elements lock (native kind ``"locking"``)."""
+
+
+class DiscretisationWarning(AccuracyWarning):
+    """A PD discretisation limit: horizon factor m < 2, or nodes grounded after losing all
+    stiffness along a direction (native kind ``"discretisation"``)."""
+
+
+#: Python warning class of each native warning kind (``rustfrac._core.WARNING_KINDS``)
+WARNING_CLASSES: dict[str, type[Warning]] = {
+    "ill_conditioned": IllConditionedWarning,
+    "locking": LockingWarning,
+    "discretisation": DiscretisationWarning,
+}

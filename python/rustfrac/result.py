@@ -136,14 +136,24 @@ class Result:
     @property
     def condition(self) -> float | None:
         """Dimensionless condition estimate of the (first) solve: the Hager-Higham 1-norm
-        estimate of the Jacobi-scaled stiffness (FEM and XFEM), else None. Growth runs also have
+        estimate of the Jacobi-scaled stiffness (FEM and XFEM); None for the PD methods and when
+        not computed (``run(..., condition=False)``). Growth runs also have
         ``history["condition"]`` per step."""
         return self.scalars.get("condition")
 
     @property
     def warnings(self) -> list[str]:
-        """Numerical warnings of the run (e.g. a condition estimate above 1e12)."""
+        """Numerical and accuracy warnings of the run (messages, e.g. a condition estimate
+        above 1e12); their kinds are :attr:`warning_kinds`."""
         return list(self.meta.get("warnings", []))
+
+    @property
+    def warning_kinds(self) -> list[str | None]:
+        """Kind of each of :attr:`warnings` (``rustfrac._core.WARNING_KINDS``: "ill_conditioned",
+        "locking", "discretisation"; the Python class is ``errors.WARNING_CLASSES[kind]``); None
+        for results saved before kinds were recorded."""
+        kinds = self.meta.get("warning_kinds")
+        return list(kinds) if kinds is not None else [None] * len(self.warnings)
 
     @property
     def gamma(self) -> float | None:
@@ -165,6 +175,8 @@ class Result:
             s += f", K_I = {self.K_I:.6g}, K_II = {self.K_II:.3g}"
         if self.condition is not None:
             s += f", condition {self.condition:.2g}"
+        elif "condition" in self.scalars:
+            s += ", condition not computed"
         if self.history:
             s += f", {len(next(iter(self.history.values())))} history points"
         if "bc" in self.meta:
@@ -238,7 +250,7 @@ def load(directory: PathLike) -> Result:
         fields=fields,
         history=history,
         scalars={
-            k: _float(v) if v is None or isinstance(v, float) else v
+            k: v if v is None and k in _OPTIONAL_SCALARS else _float(v) if v is None else v
             for k, v in doc.get("scalars", {}).items()
         },
         meta=doc.get("meta", {}),
@@ -247,6 +259,11 @@ def load(directory: PathLike) -> Result:
 
 # ----------------------------------------------------------------------------------------------
 # helpers
+
+
+#: scalars whose None means "not computed" (``run(..., condition=False)``), not a NaN saved as
+#: null: they are never NaN (a non-finite condition estimate is an error)
+_OPTIONAL_SCALARS = ("condition", "condition_pivot_ratio")
 
 
 def _float(v: Any) -> float:

@@ -13,8 +13,8 @@ import numpy as np
 
 from . import _core
 from .errors import (
+    WARNING_CLASSES,
     AccuracyWarning,
-    IllConditionedWarning,
     InvalidParameterError,
     InvalidTypeError,
     MethodNotAvailableError,
@@ -34,6 +34,8 @@ _PENDING: dict[str, str] = {}
 def run(
     scene: Scene | Mapping[str, Any] | str | Path,
     progress: ProgressCallback | None = None,
+    *,
+    condition: bool = True,
 ) -> Result:
     """Runs a scene and returns its :class:`~rustfrac.result.Result`.
 
@@ -42,14 +44,22 @@ def run(
         progress: optional callable ``progress(done, total, message)``; the native solver calls it
             (holding the GIL only then) at most every ~0.1 s and once at the end. Raising from it
             (e.g. KeyboardInterrupt) stops the run and re-raises.
+        condition: FEM and XFEM: compute the condition estimate of every solve (2 extra solves
+            each, ~8 % of a 1e6-unknown FEM run); ``False`` leaves ``result.condition`` None
+            ("not computed") and ``history`` without a "condition" column, and only the free
+            pivot-ratio bound guards against ``_core.COND_SINGULAR``. Ignored by the PD methods.
 
     Warns:
         AccuracyWarning: the run completed but a known discretisation limit makes it less
-            accurate (e.g. plane-strain nu >= 0.49: Q4 locking); also in ``meta["warnings"]``.
+            accurate: :class:`LockingWarning` (plane-strain nu >= 0.49: Q4 locking) or
+            :class:`DiscretisationWarning` (PD m < 2, grounded nodes); the class follows the
+            native warning kind (``meta["warning_kinds"]``), the messages are in
+            ``meta["warnings"]``.
 
     Raises:
         InvalidParameterError: the scene is invalid (a ``ValueError``).
-        SingularSystemError: the system is singular (a rigid mode left, a separated body).
+        SingularSystemError: the system is singular (a rigid mode left free, named; a separated
+            body; a condition estimate above ``_core.COND_SINGULAR``).
         MethodNotAvailableError: the method is validated but not bound in this build yet.
 
     Warns:
@@ -64,12 +74,21 @@ def run(
             f"{_PENDING.get(scene.method, 'not implemented')}; the scene itself is valid"
         )
     t0 = time.perf_counter()
-    res = runner(scene, progress)
+    res = runner(scene, progress, condition)
     res.meta.setdefault("timings", {})["total_s"] = time.perf_counter() - t0
-    for msg in res.meta.setdefault("warnings", []):
-        category = IllConditionedWarning if "condition estimate" in msg else AccuracyWarning
-        warnings.warn(f"{scene.method}: {msg}", category, stacklevel=2)
+    msgs = res.meta.setdefault("warnings", [])
+    for msg, kind in zip(msgs, res.meta.get("warning_kinds", [None] * len(msgs))):
+        warnings.warn(
+            f"{scene.method}: {msg}", WARNING_CLASSES.get(kind, AccuracyWarning), stacklevel=2
+        )
     return res
+
+
+def _warning_meta(pairs: Any) -> dict[str, list[str]]:
+    """The native (kind, message) warning pairs as ``meta["warnings"]`` (the messages) and
+    ``meta["warning_kinds"]`` (``_core.WARNING_KINDS`` names, same order)."""
+    pairs = [(str(k), str(m)) for k, m in pairs]
+    return {"warnings": [m for _, m in pairs], "warning_kinds": [k for k, _ in pairs]}
 
 
 def _as_scene(scene: Scene | Mapping[str, Any] | str | Path) -> Scene:
@@ -122,15 +141,16 @@ def _plate_kwargs(scene: Scene) -> dict[str, Any]:
     }
 
 
-def _condition_scalars(out: Mapping[str, Any]) -> dict[str, float]:
-    """The solve's condition estimate (FEM and XFEM): see ``Result.condition``."""
+def _condition_scalars(out: Mapping[str, Any]) -> dict[str, float | None]:
+    """The solve's condition estimate (FEM and XFEM): see ``Result.condition``; None when not
+    computed (``run(..., condition=False)``)."""
     return {
-        "condition": float(out["condition"]),
-        "condition_pivot_ratio": float(out["condition_pivot_ratio"]),
+        k: None if out[k] is None else float(out[k])
+        for k in ("condition", "condition_pivot_ratio")
     }
 
 
-def _run_fem(scene: Scene, progress: ProgressCallback | None) -> Result:
+def _run_fem(scene: Scene, progress: ProgressCallback | None, condition: bool = True) -> Result:
     load, c, mesh = scene.load, scene.crack, scene.mesh
     try:
         out = _core.solve_fem_plate(
@@ -139,6 +159,7 @@ def _run_fem(scene: Scene, progress: ProgressCallback | None) -> Result:
             ny=mesh.ny,
             seam=(c.a0, c.y) if c.kind == "seam" else None,
             gauss=mesh.gauss,
+            condition=condition,
             progress=progress,
         )
     except InvalidParameterError as e:
@@ -161,7 +182,7 @@ def _run_fem(scene: Scene, progress: ProgressCallback | None) -> Result:
             _BC_DESC[load.bc],
             None if load.bc == "clamped" else int(out["anchor_node"]),
             seam_y=out["seam_y"],
-            warnings=list(out["warnings"]),
+            **_warning_meta(out["warnings"]),
             timings={"rust_s": float(out["wall_time_s"])},
         ),
     )
@@ -305,7 +326,7 @@ def _scene_param(err: InvalidParameterError) -> InvalidParameterError:
     return err
 
 
-def _run_xfem(scene: Scene, progress: ProgressCallback | None) -> Result:
+def _run_xfem(scene: Scene, progress: ProgressCallback | None, condition: bool = True) -> Result:
     """XFEM: ``fields["u"]`` holds the nodal displacements (the standard dofs: the shifted
     enrichments vanish at the nodes), ``fields["u_enriched"]`` the whole solution vector; the
     growth history (origin first) is in ``history``."""
@@ -328,6 +349,7 @@ def _run_xfem(scene: Scene, progress: ProgressCallback | None) -> Result:
             g0=mat.G0 if growth else None,
             da=x.da or None,
             a_stop=x.a_stop or None,
+            condition=condition,
             progress=_growth_progress(scene, progress),
         )
     except InvalidParameterError as e:
@@ -344,6 +366,8 @@ def _run_xfem(scene: Scene, progress: ProgressCallback | None) -> Result:
     enrichment[fields["tip_nodes"]] = 2.0
     fields["enrichment"] = enrichment
     history = {k: out["history_" + k] for k in XFEM_HISTORY} if growth else {}
+    if growth and history["condition"] is None:
+        del history["condition"]  # not computed
     scalars: dict[str, Any] = {k: out[k] for k in _XFEM_SCALARS}
     scalars["r_I"] = scalars.pop("r_i")
     scalars = {k: (int(v) if k.startswith("n_") else float(v)) for k, v in scalars.items()}
@@ -362,7 +386,7 @@ def _run_xfem(scene: Scene, progress: ProgressCallback | None) -> Result:
             _BC_DESC[load.bc],
             None if load.bc == "clamped" else int(out["anchor_node"]),
             status=str(out["status"]),
-            warnings=list(out["warnings"]),
+            **_warning_meta(out["warnings"]),
             enrichment={
                 "n_std": n_std,
                 "n_heaviside_nodes": int(out["n_heaviside_nodes"]),
@@ -380,13 +404,13 @@ def _run_xfem(scene: Scene, progress: ProgressCallback | None) -> Result:
     )
 
 
-_RUNNERS: dict[str, Callable[[Scene, ProgressCallback | None], Result]] = {
+_RUNNERS: dict[str, Callable[[Scene, ProgressCallback | None, bool], Result]] = {
     "fem": _run_fem,
     "xfem": _run_xfem,
 }
 
 
-def _run_pd(scene: Scene, progress: ProgressCallback | None) -> Result:
+def _run_pd(scene: Scene, progress: ProgressCallback | None, condition: bool = True) -> Result:
     """Pure PD (``method="pd"``, PD on the whole plate) or CCM-PD (``"ccm_pd"``, PD in the scene's
     rectangle, FEM elsewhere), then the sequentially linear analysis.
 
@@ -424,7 +448,7 @@ def _run_pd(scene: Scene, progress: ProgressCallback | None) -> Result:
         )
     except InvalidParameterError as e:
         raise _scene_param(e) from e
-    run_warnings = [str(w) for w in out["warnings"]]
+    run_warnings = _warning_meta(out["warnings"])
     prefix = "history_"
     a0 = c.a0 if c.kind == "edge" else 0.0
     origin = {"crack_length": a0, "bond": -1, "node_i": -1, "node_j": -1}
@@ -470,7 +494,7 @@ def _run_pd(scene: Scene, progress: ProgressCallback | None) -> Result:
             n_checkpoints=int(out["n_checkpoints"]),
             checkpoint_path=pd.checkpoint_path or None,
             resumed_from=pd.resume_from or None,
-            warnings=run_warnings,
+            **run_warnings,
             peak_memory_bytes=out["peak_memory_bytes"],
             counts={
                 k: int(out[k])

@@ -56,6 +56,7 @@ fn bench(c: &mut Criterion) {
             load,
             seam: None,
             gauss: 2,
+            condition: true,
         };
         g.bench_with_input(BenchmarkId::new("end_to_end", ndof), &p, |b, p| {
             b.iter(|| run(p).unwrap())

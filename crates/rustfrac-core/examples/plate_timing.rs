@@ -25,6 +25,7 @@ fn main() {
         },
         seam: None,
         gauss: 2,
+        condition: true,
     };
     let r = run(&p).unwrap();
     println!(

@@ -35,6 +35,7 @@ use crate::pd::{find_bonds, Bond, Grid, PdConstants};
 use crate::quadrature::subquad_rule;
 use crate::solver::Lu;
 use crate::sparse::{CscMatrix, Pattern, Reduction};
+use crate::warning::{Warning, WarningKind};
 
 /// Model choice: splice coupling with PD rectangles, or PD everywhere.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -161,7 +162,7 @@ pub struct SpliceModel {
     node_bond_ptr: Vec<usize>,
     node_bonds: Vec<u32>,
     /// accuracy warnings about the discretisation (e.g. m < 2: too few bonds per node)
-    pub warnings: Vec<String>,
+    pub warnings: Vec<Warning>,
 }
 
 /// A grounding spring k p p^T on the free dofs of one PD node, along the unit direction `p`: it
@@ -303,7 +304,9 @@ impl SpliceModel {
         }
         let mut warnings = Vec::new();
         if spec.m < 2 {
-            warnings.push(format!(
+            warnings.push(Warning::new(
+                WarningKind::Discretisation,
+                format!(
                 "horizon factor m = {}: a bulk node has only {} bonds (m = 2: {}, the paper's m = \
                  4: {}); too few bonds for a peridynamic continuum, expect errors of several \
                  percent in stiffness and fracture (use m >= 2, preferably 3-4)",
@@ -311,6 +314,7 @@ impl SpliceModel {
                 crate::pd::family_stencil(spec.m).len(),
                 crate::pd::family_stencil(2).len(),
                 crate::pd::family_stencil(4).len()
+            ),
             ));
         }
         if !spec.all_pd() {

@@ -23,6 +23,8 @@ pub mod sif;
 pub mod sla;
 pub mod solver;
 pub mod sparse;
+pub mod warning;
 pub mod xfem;
 
 pub use error::{Error, Result};
+pub use warning::{Warning, WarningKind};

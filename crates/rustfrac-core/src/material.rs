@@ -1,6 +1,7 @@
 //! Linear isotropic elasticity in 2D: plane strain or plane stress, with thickness (eq. 14).
 
 use crate::error::{check_positive, Error, Result};
+use crate::warning::{Warning, WarningKind};
 
 /// Plane-strain or plane-stress idealisation.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -76,15 +77,18 @@ impl Elastic {
 
     /// A warning when the Q4 elements (full 2 x 2 integration) lock: plane strain with
     /// nu >= [`NU_LOCKING_WARN`]; the measured error is quoted there.
-    pub fn locking_warning(&self) -> Option<String> {
+    pub fn locking_warning(&self) -> Option<Warning> {
         (self.plane == Plane::Strain && self.nu >= NU_LOCKING_WARN).then(|| {
-            format!(
+            Warning::new(
+                WarningKind::Locking,
+                format!(
                 "plane-strain nu = {} is nearly incompressible: the fully integrated Q4 elements \
                  lock (measured on an edge-cracked strip with 40-80 elements across: extra error \
                  of 1-3 % in K_I and 2-5 % in CMOD at nu = 0.49, 1.4-10 % and 13-26 % at 0.499, \
                  4-20 % and 45-63 % at 0.4999); refine the mesh and check convergence, or use \
                  nu < {NU_LOCKING_WARN}",
-                self.nu
+                    self.nu
+                ),
             )
         })
     }
@@ -151,7 +155,11 @@ mod tests {
         assert!(Elastic::new(1.0, f64::NAN, Plane::Strain, 1.0).is_err());
         assert!(m.locking_warning().is_none());
         let soft = Elastic::new(1.0, 0.4999, Plane::Strain, 1.0).unwrap();
-        assert!(soft.locking_warning().unwrap().contains("nu = 0.4999"));
+        assert!(soft
+            .locking_warning()
+            .unwrap()
+            .message
+            .contains("nu = 0.4999"));
         let stress = Elastic::new(1.0, 0.4999, Plane::Stress, 1.0).unwrap();
         assert!(stress.locking_warning().is_none());
     }

@@ -52,6 +52,7 @@ use crate::loading::Grip;
 use crate::pd::{damage, BYTES_PER_BOND};
 use crate::solver::{Cholesky, Lu};
 use crate::sparse::{CscMatrix, Reduction};
+use crate::warning::{Warning, WarningKind};
 use faer::linalg::solvers::DenseSolveCore;
 use faer::Mat;
 use rayon::prelude::*;
@@ -209,7 +210,7 @@ pub struct CcmPdResult {
     /// (step, node) of every grounding of a detached node; step 0 = detached by the pre-crack
     pub detached_nodes: Vec<(usize, usize)>,
     /// accuracy warnings (e.g. m < 2, detached nodes); the run went on
-    pub warnings: Vec<String>,
+    pub warnings: Vec<Warning>,
     /// steps replayed from `resume_from` (0 without resume)
     pub resumed_steps: usize,
     /// checkpoints written by this run
@@ -1457,12 +1458,15 @@ pub fn run(
     };
     if !detached_nodes.is_empty() {
         let n_pre = detached_nodes.iter().filter(|d| d.0 == 0).count();
-        warnings.push(format!(
-            "{} PD node(s) lost all stiffness along some direction (every bond broken, the \
+        warnings.push(Warning::new(
+            WarningKind::Discretisation,
+            format!(
+                "{} PD node(s) lost all stiffness along some direction (every bond broken, the \
              remaining ones parallel, or a loose fragment of at most {DEBRIS_LIMIT} nodes) and \
              were grounded there ({n_pre} by the pre-crack, the others during the SLA); they \
              carry no force along it (see detached_nodes)",
-            detached_nodes.len()
+                detached_nodes.len()
+            ),
         ));
     }
     let sla_seconds = t1.elapsed().as_secs_f64();

@@ -118,6 +118,7 @@ use crate::quadrature::{subquad_rule, QPoint};
 use crate::sif::{k_equivalent, kink_angle, DomainIntegral, DomainSifs};
 use crate::solver::{condition_warning, ConditionEstimate};
 use crate::sparse::{CscMatrix, Pattern};
+use crate::warning::Warning;
 use std::collections::HashMap;
 use std::sync::Arc;
 
@@ -1750,6 +1751,10 @@ pub struct XfemParams {
     pub fixed_area_radius: Option<f64>,
     pub area_threshold: f64,
     pub growth: Option<GrowthParams>,
+    /// compute the condition estimate of every solve (2 extra solves each); without it
+    /// `condition` is None, the history's is None, and only the free pivot-ratio bound guards
+    /// against [`crate::solver::COND_SINGULAR`]
+    pub condition: bool,
 }
 
 impl XfemParams {
@@ -1782,6 +1787,7 @@ impl XfemParams {
             fixed_area_radius: None,
             area_threshold: DEFAULT_AREA_THRESHOLD,
             growth: None,
+            condition: true,
         }
     }
 }
@@ -1824,8 +1830,9 @@ pub struct GrowthStep {
     pub kink_angle: f64,
     /// position of the most critical tip (first in global tip order on ties)
     pub tip: [f64; 2],
-    /// condition estimate of this step's solve ([`ConditionEstimate::value`]; 0 for the origin)
-    pub condition: f64,
+    /// condition estimate of this step's solve ([`ConditionEstimate::value`]; 0 for the origin;
+    /// None when not computed, [`XfemParams::condition`])
+    pub condition: Option<f64>,
 }
 
 /// The state of one tip at one point of the load path (see [`XfemResult::tip_history`]).
@@ -1900,11 +1907,12 @@ pub struct XfemResult {
     /// growth runs: the deformed patch around the growing tip at every critical state
     /// (displacements at the critical load, i.e. scaled by lambda), for Fig. 8b
     pub snapshots: Vec<DeformedPatch>,
-    /// condition estimate of the initial crack's solve (see [`ConditionEstimate`])
-    pub condition: ConditionEstimate,
+    /// condition estimate of the initial crack's solve (see [`ConditionEstimate`]); None when
+    /// not computed ([`XfemParams::condition`] false)
+    pub condition: Option<ConditionEstimate>,
     /// numerical and accuracy warnings (a condition estimate above
     /// [`crate::solver::COND_WARN`], volumetric locking near nu = 0.5, [`Elastic::locking_warning`])
-    pub warnings: Vec<String>,
+    pub warnings: Vec<Warning>,
 }
 
 /// One solve of a plate model at the reference load.
@@ -1913,20 +1921,26 @@ struct PlateSolve {
     sigma22: f64,
     cmod: f64,
     anchor: usize,
-    condition: ConditionEstimate,
+    condition: Option<ConditionEstimate>,
 }
 
+/// One solve at the reference load: the rigid-mode check of the Dirichlet set (standard dofs;
+/// the enrichment has no rigid modes), factorisation, the condition check (with the estimate
+/// when `condition`; `what` names the solve) and the solve.
 fn solve_plate(
     model: &XfemModel,
     edges: &PlateEdges,
     load: &PlateLoad,
     width: f64,
+    what: &str,
+    condition: bool,
 ) -> Result<PlateSolve> {
     let t = model.material.thickness;
     let (bc, f, anchor) = plate_conditions(edges, load, model.n_dofs, t)?;
+    bc.check_rigid_modes(&model.mesh.coords)?;
     let sys = LinearSystem::with_positions(model.stiffness()?, &bc, Some(&model.dof_positions()))?;
+    let condition = sys.checked_condition(what, condition)?;
     let sol = sys.solve(&f, 1.0)?;
-    let condition = sys.condition_estimate()?;
     let s22 = sigma22(edges, &sol.reactions, &f, width, t);
     let cmod = model.cmod(&sol.u)?;
     Ok(PlateSolve {
@@ -2086,7 +2100,14 @@ pub fn run(params: &XfemParams, progress: &(dyn Fn(usize, usize) + Sync)) -> Res
     let edges = PlateEdges::of_mesh(&mesh);
     let mut model = XfemModel::new_multi(mesh.clone(), params.material, params.cracks(), opts)?;
     check_tip_clearance(&model)?;
-    let first = solve_plate(&model, &edges, &params.load, params.width)?;
+    let first = solve_plate(
+        &model,
+        &edges,
+        &params.load,
+        params.width,
+        "initial solve",
+        params.condition,
+    )?;
     let h_tip = model.tip_element_size(0);
     let r_i = params.r_i_factor * h_tip;
     let mut tips = Vec::new();
@@ -2146,7 +2167,12 @@ pub fn run(params: &XfemParams, progress: &(dyn Fn(usize, usize) + Sync)) -> Res
             .material
             .locking_warning()
             .into_iter()
-            .chain(condition_warning("initial solve", &first.condition))
+            .chain(
+                first
+                    .condition
+                    .as_ref()
+                    .and_then(|c| condition_warning("initial solve", c)),
+            )
             .collect(),
     };
     let Some(g) = params.growth else {
@@ -2169,7 +2195,7 @@ pub fn run(params: &XfemParams, progress: &(dyn Fn(usize, usize) + Sync)) -> Res
         k_ii: 0.0,
         kink_angle: 0.0,
         tip: model.tips[0].pos,
-        condition: 0.0,
+        condition: first.condition.map(|_| 0.0),
     });
     res.tip_history.push(
         model
@@ -2188,11 +2214,20 @@ pub fn run(params: &XfemParams, progress: &(dyn Fn(usize, usize) + Sync)) -> Res
     let (x_max, y_max) = (params.width, params.height);
     for step in 0..g.max_steps {
         if step > 0 {
-            sol = solve_plate(&model, &edges, &params.load, params.width)?;
-            res.warnings.extend(condition_warning(
-                &format!("growth step {step}"),
-                &sol.condition,
-            ));
+            let what = format!("growth step {step}");
+            sol = solve_plate(
+                &model,
+                &edges,
+                &params.load,
+                params.width,
+                &what,
+                params.condition,
+            )?;
+            res.warnings.extend(
+                sol.condition
+                    .as_ref()
+                    .and_then(|c| condition_warning(&what, c)),
+            );
         }
         let n_tips = model.tips.len();
         let sizes: Vec<f64> = (0..n_tips).map(|t| model.tip_element_size(t)).collect();
@@ -2233,7 +2268,7 @@ pub fn run(params: &XfemParams, progress: &(dyn Fn(usize, usize) + Sync)) -> Res
             k_ii: lam * s.k_ii,
             kink_angle: kinks[t],
             tip: model.tips[t].pos,
-            condition: sol.condition.value(),
+            condition: sol.condition.map(|c| c.value()),
         });
         res.tip_history.push(
             (0..n_tips)

@@ -82,6 +82,7 @@ fn uniform_tension_is_exact_at_any_nu() {
             },
             seam: None,
             gauss: 2,
+            condition: true,
         })
         .unwrap();
         let exact = mat.e_prime() * 2.0 * 0.01 / 40.0;

@@ -94,6 +94,7 @@ fn fem_case(l: f64, e: f64, t: f64, grip: Grip) -> plate::FemPlateResult {
         },
         seam: Some((1.1 * l, 10.5 * l)),
         gauss: 2,
+        condition: true,
     })
     .unwrap()
 }

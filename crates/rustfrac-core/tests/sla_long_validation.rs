@@ -7,6 +7,7 @@ use common::{coarse, go_on};
 use rustfrac_core::checkpoint;
 use rustfrac_core::sla::{auto_refactor_every, run, CcmPdParams, CcmPdResult};
 use rustfrac_core::Error;
+use rustfrac_core::WarningKind;
 use std::path::PathBuf;
 
 fn tmpdir(name: &str) -> PathBuf {
@@ -106,7 +107,10 @@ fn nodes_detached_during_the_sla_are_grounded() {
         .history
         .iter()
         .all(|s| s.lambda.is_finite() && s.sigma22.is_finite() && s.cmod.is_finite()));
-    assert!(r.warnings.iter().any(|w| w.contains("grounded")));
+    assert!(r
+        .warnings
+        .iter()
+        .any(|w| w.kind == WarningKind::Discretisation && w.message.contains("grounded")));
 }
 
 fn same(a: &CcmPdResult, b: &CcmPdResult) {

@@ -202,6 +202,13 @@ fn quads<'py>(py: Python<'py>, v: Vec<[[f64; 2]; 4]>) -> Bound<'py, PyAny> {
         .into_any()
 }
 
+/// A result's warnings as (kind name, message) pairs for Python.
+fn warning_pairs(w: &[rustfrac_core::Warning]) -> Vec<(&'static str, String)> {
+    w.iter()
+        .map(|w| (w.kind.name(), w.message.clone()))
+        .collect()
+}
+
 fn material(e: f64, nu: f64, plane: &str, thickness: f64) -> Result<Elastic, CoreError> {
     Elastic::new(e, nu, Plane::parse(plane)?, thickness)
 }
@@ -216,12 +223,14 @@ fn material(e: f64, nu: f64, plane: &str, thickness: f64) -> Result<Elastic, Cor
 /// nodal_stress (n,3) [s11, s22, s12], gauss_points (g,2), gauss_stress (g,3); scalars sigma22,
 /// cmod, energy, residual, n_dofs, anchor_node, seam_y (or None), wall_time_s, bc, condition
 /// (dimensionless condition estimate of the solve, `rustfrac_core::solver::ConditionEstimate`),
-/// condition_pivot_ratio, warnings (list of str: ill conditioning, volumetric locking near
-/// nu = 0.5).
+/// condition_pivot_ratio (both None with `condition = False`: not computed, which saves the
+/// estimate's 2 solves), warnings (list of (kind, message) pairs, kind in `WARNING_KINDS`: ill
+/// conditioning, volumetric locking near nu = 0.5). A Dirichlet set leaving a rigid-body mode free
+/// or a condition above `COND_SINGULAR` raises `SingularSystemError`.
 #[pyfunction]
 #[pyo3(signature = (*, width, height, nx, ny, e, nu, plane = "strain", thickness = 1.0,
                     bc = "free", u0 = 0.0, traction = 0.0, seam = None, gauss = 2,
-                    progress = None))]
+                    condition = true, progress = None))]
 #[allow(clippy::too_many_arguments)]
 fn solve_fem_plate<'py>(
     py: Python<'py>,
@@ -238,6 +247,7 @@ fn solve_fem_plate<'py>(
     traction: f64,
     seam: Option<(f64, f64)>,
     gauss: usize,
+    condition: bool,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let prog = Progress::new(progress);
@@ -255,6 +265,7 @@ fn solve_fem_plate<'py>(
             },
             seam,
             gauss,
+            condition,
         })
     })()
     .map_err(|err| core_err(py, err))?;
@@ -284,9 +295,9 @@ fn solve_fem_plate<'py>(
     d.set_item("anchor_node", r.anchor_node)?;
     d.set_item("seam_y", r.seam_y)?;
     d.set_item("wall_time_s", r.wall_time_s)?;
-    d.set_item("condition", r.condition.value())?;
-    d.set_item("condition_pivot_ratio", r.condition.pivot_ratio)?;
-    d.set_item("warnings", r.warnings)?;
+    d.set_item("condition", r.condition.map(|c| c.value()))?;
+    d.set_item("condition_pivot_ratio", r.condition.map(|c| c.pivot_ratio))?;
+    d.set_item("warnings", warning_pairs(&r.warnings))?;
     d.set_item("bc", params.load.grip.name())?;
     Ok(d)
 }
@@ -304,8 +315,9 @@ fn solve_fem_plate<'py>(
 ///
 /// Returns a dict: scalars K_I, K_II, J (from K, eq. 32), J_domain (eq. 33), r_i (absolute),
 /// sigma22, cmod, n_dofs, n_std, n_heaviside_nodes, n_tip_nodes, n_dropped_nodes, anchor_node,
-/// status, bc, wall_time_s, condition (dimensionless condition estimate of the initial solve),
-/// condition_pivot_ratio, warnings (list of str); arrays coords (n,2), elements (m,4) int64, u (n_dofs,) (standard dofs
+/// status, bc, wall_time_s, condition (dimensionless condition estimate of the initial solve;
+/// None with `condition = False`), condition_pivot_ratio (likewise), warnings (list of (kind,
+/// message) pairs, see `solve_fem_plate`); arrays coords (n,2), elements (m,4) int64, u (n_dofs,) (standard dofs
 /// first: u[:n_std] are the nodal displacements), heaviside_nodes, tip_nodes (int64),
 /// crack (k,2) (final polyline), crack_initial (k0,2), radii (r,5) [radius, K_I, K_II, J_from_K,
 /// J_domain] sorted by radius, radii_factor (r,), tips (t,6) [x1, x2, K_I, K_II, J_from_K,
@@ -316,7 +328,8 @@ fn solve_fem_plate<'py>(
 /// cells + scale * disp), snapshot_cells / snapshot_disp (C,4,2) with snapshot_offsets (s+1,)
 /// (the patch around the growing tip at each critical state, displacements at the critical load;
 /// snapshot k belongs to history row k + 1), and the growth history as history_<name> arrays (load_factor, sigma22,
-/// cmod, u0, traction, a, K_I, K_II, kink_angle, tip_x, tip_y, condition: the most critical tip;
+/// cmod, u0, traction, a, K_I, K_II, kink_angle, tip_x, tip_y, condition (None instead of an
+/// array with `condition = False`): the most critical tip;
 /// empty without growth; history[0] is the unloaded origin) with every tip's state in tip_history_x,
 /// tip_history_y, tip_history_K_I, tip_history_K_II, tip_history_kink_angle and
 /// tip_history_grows (1.0 if the tip grew after that state) as (s, t) float64 arrays.
@@ -330,7 +343,7 @@ fn solve_fem_plate<'py>(
                     nsub = 4, tip_nsub = 0,
                     r_i = 2.5, extra_radii = vec![1.5, 2.0, 3.0, 3.5], fixed_area_radius = None,
                     area_threshold = xfem::DEFAULT_AREA_THRESHOLD, growth_steps = 0, g0 = None,
-                    da = None, a_stop = None, progress = None))]
+                    da = None, a_stop = None, condition = true, progress = None))]
 #[allow(clippy::too_many_arguments)]
 fn solve_xfem_plate<'py>(
     py: Python<'py>,
@@ -357,6 +370,7 @@ fn solve_xfem_plate<'py>(
     g0: Option<f64>,
     da: Option<f64>,
     a_stop: Option<f64>,
+    condition: bool,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let prog = Progress::new(progress);
@@ -398,6 +412,7 @@ fn solve_xfem_plate<'py>(
             fixed_area_radius,
             area_threshold,
             growth,
+            condition,
         })
     })()
     .map_err(|err| core_err(py, err))?;
@@ -497,9 +512,16 @@ fn solve_xfem_plate<'py>(
     d.set_item("history_kink_angle", arr1(py, col(|s| s.kink_angle)))?;
     d.set_item("history_tip_x", arr1(py, col(|s| s.tip[0])))?;
     d.set_item("history_tip_y", arr1(py, col(|s| s.tip[1])))?;
-    d.set_item("history_condition", arr1(py, col(|s| s.condition)))?;
-    d.set_item("condition", r.condition.value())?;
-    d.set_item("condition_pivot_ratio", r.condition.pivot_ratio)?;
+    if params.condition {
+        d.set_item(
+            "history_condition",
+            arr1(py, col(|s| s.condition.unwrap_or(0.0))),
+        )?;
+    } else {
+        d.set_item("history_condition", py.None())?;
+    }
+    d.set_item("condition", r.condition.map(|c| c.value()))?;
+    d.set_item("condition_pivot_ratio", r.condition.map(|c| c.pivot_ratio))?;
     d.set_item("K_I", r.k_i)?;
     d.set_item("K_II", r.k_ii)?;
     d.set_item("J", r.j_from_k)?;
@@ -516,14 +538,16 @@ fn solve_xfem_plate<'py>(
     d.set_item("status", r.status)?;
     d.set_item("bc", r.grip)?;
     d.set_item("wall_time_s", wall)?;
-    d.set_item("warnings", r.warnings)?;
+    d.set_item("warnings", warning_pairs(&r.warnings))?;
     Ok(d)
 }
 
 /// Solves a uniform rectangular Q4 grid (origin 0, size width x height, nx x ny elements) with
 /// explicit Dirichlet conditions `fixed_dofs` -> `fixed_values` (dof = 2 node + component) and
 /// nodal forces `forces` (length 2 (nx+1) (ny+1), or empty for none). Nodes are numbered row by
-/// row from the bottom-left corner. Too few conditions raise `SingularSystemError`.
+/// row from the bottom-left corner. Too few conditions (a free rigid-body mode, named) or a
+/// numerically singular system (pivot-ratio bound above `COND_SINGULAR`) raise
+/// `SingularSystemError`.
 ///
 /// Returns a dict: coords, elements, u, reactions, nodal_stress, energy, residual, n_dofs.
 #[pyfunction]
@@ -570,7 +594,9 @@ fn solve_fem_grid<'py>(
         let bc = Dirichlet {
             dofs: fixed_dofs.into_iter().zip(fixed_values).collect(),
         };
+        bc.check_rigid_modes(&model.mesh.coords)?;
         let sys = LinearSystem::new(model.stiffness(), &bc)?;
+        sys.checked_condition("solve", false)?;
         let sol = sys.solve(&f, 1.0)?;
         Ok((model, sol))
     })?;
@@ -636,8 +662,8 @@ fn hist_i64<'py>(py: Python<'py>, v: impl Iterator<Item = usize>) -> Bound<'py, 
 /// delta, n_dofs, n_nodes, n_pd_nodes, n_bonds, n_precrack_bonds, n_removed_elements,
 /// bytes_per_bond, anchor_node, status, solver, n_refactorisations, max_update_rank,
 /// refactor_interval, resumed_steps, n_checkpoints, setup_seconds, sla_seconds,
-/// peak_memory_bytes (or None), wall_time_s, bc, method; warnings (list of str: accuracy
-/// warnings, e.g. m < 2 or detached nodes). Checkpoints: `checkpoint_every` steps to
+/// peak_memory_bytes (or None), wall_time_s, bc, method; warnings (list of (kind, message)
+/// pairs: discretisation warnings, e.g. m < 2 or detached nodes). Checkpoints: `checkpoint_every` steps to
 /// `checkpoint_path` (atomic), `resume_from` a checkpoint of the same model (replayed bit for
 /// bit). Arrays: detached_nodes (d,2) int64 (step, node; step 0 = by the pre-crack), node_xy (n,2), u (2n,),
 /// u_final (2n,; empty when the body separated), pd_nodes (p,) int64, pd_node_xy (p,2),
@@ -823,7 +849,7 @@ fn solve_pd_plate<'py>(
     d.set_item("refactor_interval", r.refactor_interval)?;
     d.set_item("resumed_steps", r.resumed_steps)?;
     d.set_item("n_checkpoints", r.n_checkpoints)?;
-    d.set_item("warnings", r.warnings)?;
+    d.set_item("warnings", warning_pairs(&r.warnings))?;
     let nd = r.detached_nodes.len();
     let flat: Vec<i64> = r
         .detached_nodes
@@ -850,6 +876,14 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("PROGRESS_INTERVAL_S", PROGRESS_INTERVAL_S)?;
     m.add("COND_WARN", rustfrac_core::solver::COND_WARN)?;
+    m.add("COND_SINGULAR", rustfrac_core::solver::COND_SINGULAR)?;
+    m.add(
+        "WARNING_KINDS",
+        rustfrac_core::WarningKind::ALL
+            .iter()
+            .map(|k| k.name())
+            .collect::<Vec<_>>(),
+    )?;
     m.add_function(wrap_pyfunction!(solve_fem_plate, m)?)?;
     m.add_function(wrap_pyfunction!(solve_fem_grid, m)?)?;
     m.add_function(wrap_pyfunction!(solve_xfem_plate, m)?)?;
