@@ -22,6 +22,11 @@
 //! prog.report(done, total, "<method>", false)))`, and returns a dict like [`solve_fem_plate`]
 //! (history arrays as `history_<name>` keys); on the Python side one `_run_<method>` entry in
 //! `rustfrac.runner._RUNNERS`.
+//!
+//! The solvers keep flat keyword signatures (PyO3 checks every name and type, and the `.pyi` stubs
+//! mirror them one to one), so the plate, material and load keywords repeat across signatures by
+//! design; turning them into core values happens once ([`material`], [`plate_load`]), and the
+//! Python side builds them once (`rustfrac.runner._plate_kwargs`).
 
 use numpy::ndarray::{Array2, Array3};
 use numpy::{IntoPyArray, PyArray1};
@@ -209,6 +214,15 @@ fn warning_pairs(w: &[rustfrac_core::Warning]) -> Vec<(&'static str, String)> {
         .collect()
 }
 
+/// The load of the plate solvers' `bc`, `u0`, `traction` keywords.
+fn plate_load(bc: &str, u0: f64, traction: f64) -> Result<PlateLoad, CoreError> {
+    Ok(PlateLoad {
+        grip: Grip::parse(bc)?,
+        u0,
+        traction,
+    })
+}
+
 fn material(e: f64, nu: f64, plane: &str, thickness: f64) -> Result<Elastic, CoreError> {
     Elastic::new(e, nu, Plane::parse(plane)?, thickness)
 }
@@ -258,11 +272,7 @@ fn solve_fem_plate<'py>(
             nx,
             ny,
             material: material(e, nu, plane, thickness)?,
-            load: PlateLoad {
-                grip: Grip::parse(bc)?,
-                u0,
-                traction,
-            },
+            load: plate_load(bc, u0, traction)?,
             seam,
             gauss,
             condition,
@@ -400,11 +410,7 @@ fn solve_xfem_plate<'py>(
             material: material(e, nu, plane, thickness)?,
             crack,
             extra_cracks,
-            load: PlateLoad {
-                grip: Grip::parse(bc)?,
-                u0,
-                traction,
-            },
+            load: plate_load(bc, u0, traction)?,
             nsub,
             tip_nsub: if tip_nsub == 0 { nsub } else { tip_nsub },
             r_i_factor: r_i,
@@ -726,11 +732,7 @@ fn solve_pd_plate<'py>(
                     .map(|&(x0, y0, x1, y1)| [x0, y0, x1, y1])
                     .collect(),
                 precrack: precrack.iter().map(|&(x, y)| [x, y]).collect(),
-                load: PlateLoad {
-                    grip: Grip::parse(bc)?,
-                    u0,
-                    traction,
-                },
+                load: plate_load(bc, u0, traction)?,
             },
             sla: SlaParams {
                 max_steps: sla_steps,
