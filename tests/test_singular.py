@@ -84,6 +84,14 @@ def test_condition_opt_out(method: str, tmp_path: Path) -> None:
     assert back.condition is None
 
 
+@pytest.mark.parametrize("bad", ["no", 0, None])
+def test_condition_keyword_must_be_a_bool(bad: object) -> None:
+    scene = rf.scenes.edge_crack_plate(method="fem", mesh=(8, 12))
+    with pytest.raises(rf.InvalidTypeError) as e:
+        rf.run(scene, condition=bad)  # type: ignore[arg-type]
+    assert e.value.param == "condition" and "condition" in str(e.value)
+
+
 def test_condition_opt_out_in_growth() -> None:
     scene = rf.scenes.edge_crack_plate(method="xfem", mesh=(22, 41), a0=2.0, growth_steps=2)
     off = rf.run(scene, condition=False)

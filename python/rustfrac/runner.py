@@ -45,7 +45,8 @@ def run(
             (holding the GIL only then) at most every ~0.1 s and once at the end. Raising from it
             (e.g. KeyboardInterrupt) stops the run and re-raises.
         condition: FEM and XFEM: compute the condition estimate of every solve (2 extra solves
-            each, ~8 % of a 1e6-unknown FEM run); ``False`` leaves ``result.condition`` None
+            each: +15 % of a 1e5- and +20 % of a 1e6-unknown FEM run, benches/RESULTS.md);
+            ``False`` leaves ``result.condition`` None
             ("not computed") and ``history`` without a "condition" column, and only the free
             pivot-ratio bound guards against ``_core.COND_SINGULAR``. Ignored by the PD methods.
 
@@ -66,6 +67,10 @@ def run(
         IllConditionedWarning: a solve's condition estimate exceeded ``_core.COND_WARN`` (the
             messages are also in ``result.warnings``).
     """
+    if not isinstance(condition, bool):
+        raise InvalidTypeError(
+            f"invalid condition: expected True or False, got {condition!r}", "condition"
+        )
     scene = _as_scene(scene)
     runner = _RUNNERS.get(scene.method)
     if runner is None:

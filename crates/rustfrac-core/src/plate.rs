@@ -25,9 +25,9 @@ pub struct FemPlateParams {
     pub seam: Option<(f64, f64)>,
     /// Gauss points per direction (2 is exact for rectangles)
     pub gauss: usize,
-    /// compute the condition estimate (2 extra solves, ~8 % of the run at 1e6 unknowns); without
-    /// it `condition` is None and only the free pivot-ratio bound guards against
-    /// [`crate::solver::COND_SINGULAR`]
+    /// compute the condition estimate (2 extra solves: +15-20 % of the run at 1e5-1e6 unknowns,
+    /// benches/RESULTS.md); without it `condition` is None and only the free pivot-ratio bound
+    /// guards against [`crate::solver::COND_SINGULAR`]
     pub condition: bool,
 }
 
