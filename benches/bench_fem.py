@@ -10,7 +10,7 @@ case that exceeds ``--timeout`` is killed and reported as "> timeout". Every sol
 sigma22 = E/(1-nu^2) 2 u0/L to 1e-8 relative; otherwise the benchmark stops with an error.
 
 Solvers:
-  rustfrac          ``rustfrac._core.solve_fem_plate``: the whole pipeline (mesh, assembly,
+  rustfrac          ``rustfrac._core.run`` (method fem): the whole pipeline (mesh, assembly,
                     elimination, nested-dissection ordering, faer Cholesky, solve, reactions,
                     Gauss and nodal stresses) in one call; "call" is the Python wall time of the
                     call, "core" the core's own ``wall_time_s``. Includes the condition
@@ -138,18 +138,15 @@ def work_rustfrac(nx: int, ny: int, condition: bool = True) -> dict:
     from rustfrac import _core
 
     c0, t0 = time.process_time(), time.perf_counter()
-    r = _core.solve_fem_plate(
-        width=W,
-        height=L,
-        nx=nx,
-        ny=ny,
-        e=E,
-        nu=NU,
-        plane="strain",
-        bc="free",
-        u0=U0,
-        condition=condition,
-    )
+    scene = {
+        "method": "fem",
+        "plate": {"width": W, "height": L},
+        "mesh": {"nx": nx, "ny": ny},
+        "material": {"E": E, "nu": NU, "plane": "strain"},
+        "load": {"bc": "free", "u0": U0},
+        "crack": {"kind": "none"},
+    }
+    r = _core.run(scene, None, condition)
     call = time.perf_counter() - t0
     cpu = time.process_time() - c0
     rel = check_sigma("rustfrac", float(r["sigma22"]))
@@ -368,8 +365,8 @@ def summarise(results: dict, solvers: list[str], timeout: float) -> str:
             if st is None:
                 continue
             label = {
-                "rustfrac": "rustfrac `solve_fem_plate` (call)",
-                "rustfrac-nocond": "rustfrac `solve_fem_plate(condition=False)` (call)",
+                "rustfrac": "rustfrac `_core.run` (call)",
+                "rustfrac-nocond": "rustfrac `_core.run(condition=False)` (call)",
                 "rust-phases": "rustfrac phases (`plate_phases` example)",
             }.get(s, s)
             if s.startswith("rustfrac") and st.get("core_s") is not None:

@@ -80,61 +80,56 @@ def small() -> rf.Result:
 # the binding
 
 
+def _coarse_native(**pd: object) -> dict[str, object]:
+    return {
+        "method": "ccm_pd",
+        "pd": {"dx": 0.2, "center": [2.5, 10.5], "size": [4.4, 2.4], **pd},
+    }
+
+
 def test_binding_dict_keys_and_shapes() -> None:
-    out = _core.solve_pd_plate(
-        method="ccm_pd",
-        width=11.0,
-        height=21.0,
-        dx=0.2,
-        m=4,
-        e=10000.0,
-        nu=0.25,
-        g0=0.367,
-        u0=0.01,
-        pd_regions=[(0.3, 9.3, 4.7, 11.7)],
-        precrack=[(0.0, 10.5), (1.1, 10.5)],
-        sla_steps=4,
-        damage_at_steps=[2, 3],
-    )
-    scalars = {
-        "sigma22", "cmod", "gamma", "c", "s0", "delta", "n_dofs", "n_nodes", "n_pd_nodes",
-        "n_bonds", "n_precrack_bonds", "n_removed_elements", "bytes_per_bond", "anchor_node",
-        "status", "solver", "n_refactorisations", "setup_seconds", "sla_seconds",
-        "peak_memory_bytes", "wall_time_s", "bc", "method", "max_update_rank",
-        "refactor_interval", "resumed_steps", "n_checkpoints", "warnings",
+    out = _core.run(_coarse_native(sla_steps=4, damage_at_steps=[2, 3]))
+    assert set(out) == {
+        "method", "sigma22", "cmod", "n_dofs", "wall_time_s", "fields", "history", "scalars",
+        "meta",
     }  # fmt: skip
-    arrays = {
+    f, h, meta = out["fields"], out["history"], out["meta"]
+    assert set(out["scalars"]) == {"gamma", "c", "s0", "delta"}
+    assert set(f) == {
         "node_xy", "u", "u_final", "pd_nodes", "pd_node_xy", "damage", "broken", "bond_nodes",
-        "out_of_balance", "anchor_xy", "damage_at_steps", "damage_at", "detached_nodes",
-        *("history_" + k for k in HISTORY_KEYS if k != "step"), "history_step",
+        "damage_at_steps", "damage_at", "detached_nodes",
     }  # fmt: skip
-    assert set(out) == scalars | arrays
-    n, p, b = out["n_nodes"], out["n_pd_nodes"], out["n_bonds"]
+    assert set(h) == set(HISTORY_KEYS)
+    counts = meta["counts"]
+    n, p, b = counts["n_nodes"], counts["n_pd_nodes"], counts["n_bonds"]
     assert n == 56 * 106 and out["n_dofs"] == 2 * n
-    assert out["node_xy"].shape == (n, 2) and out["u"].shape == out["u_final"].shape == (2 * n,)
-    assert out["pd_nodes"].shape == (p,) and out["pd_nodes"].dtype == np.int64
-    assert out["pd_node_xy"].shape == (p, 2) and out["damage"].shape == (p,)
-    assert out["broken"].shape == (b,) and out["broken"].dtype == np.bool_
-    assert out["bond_nodes"].shape == (b, 2) and out["bond_nodes"].dtype == np.int64
-    assert out["out_of_balance"].shape == out["anchor_xy"].shape == (2,)
-    assert out["damage_at_steps"].tolist() == [2, 3] and out["damage_at"].shape == (2, p)
+    assert f["node_xy"].shape == (n, 2) and f["u"].shape == f["u_final"].shape == (2 * n,)
+    assert f["pd_nodes"].shape == (p,) and f["pd_nodes"].dtype == np.int64
+    assert f["pd_node_xy"].shape == (p, 2) and f["damage"].shape == (p,)
+    assert f["broken"].shape == (b,) and f["broken"].dtype == np.bool_
+    assert f["bond_nodes"].shape == (b, 2) and f["bond_nodes"].dtype == np.int64
+    assert len(meta["out_of_balance"]) == len(meta["anchor_xy"]) == 2
+    assert f["damage_at_steps"].tolist() == [2, 3] and f["damage_at"].shape == (2, p)
     for k in HISTORY_KEYS:
-        assert out["history_" + k].shape == (4,), k
-    assert out["history_step"].tolist() == [1, 2, 3, 4]
-    assert out["broken"].sum() == out["n_precrack_bonds"] + out["history_n_broken"].sum()
-    np.testing.assert_array_equal(out["node_xy"][out["pd_nodes"]], out["pd_node_xy"])
-    assert out["status"] == "completed" and out["bc"] == "free" and out["method"] == "ccm_pd"
-    assert out["peak_memory_bytes"] is None or out["peak_memory_bytes"] > 0
+        assert h[k].shape == (5,), k  # the unloaded origin, then 4 steps
+    assert h["step"].tolist() == [0, 1, 2, 3, 4]
+    assert f["broken"].sum() == counts["n_precrack_bonds"] + h["n_broken"].sum()
+    np.testing.assert_array_equal(f["node_xy"][f["pd_nodes"]], f["pd_node_xy"])
+    assert meta["status"] == "completed" and meta["bc"] == "free" and out["method"] == "ccm_pd"
+    assert meta["peak_memory_bytes"] is None or meta["peak_memory_bytes"] > 0
+    assert meta["sla_steps_done"] == 4
 
 
 def test_binding_errors_name_the_parameter() -> None:
-    base = dict(width=11.0, height=21.0, dx=0.2, m=4, e=1e4, nu=0.25, g0=0.367, u0=0.01)
-    with pytest.raises(rf.InvalidParameterError, match="method"):
-        _core.solve_pd_plate(method="xfem", **base)  # type: ignore[arg-type]
-    with pytest.raises(rf.InvalidParameterError, match="tie_tol"):
-        _core.solve_pd_plate(method="pd", tie_tol=1.0, **base)  # type: ignore[arg-type]
-    with pytest.raises(rf.InvalidParameterError, match="bc"):
-        _core.solve_pd_plate(method="pd", bc="glued", **base)  # type: ignore[arg-type]
+    with pytest.raises(rf.InvalidParameterError, match="method") as e:
+        _core.run({**_coarse_native(), "method": "xfemm"})
+    assert e.value.param == "method"
+    with pytest.raises(rf.InvalidParameterError, match="tie_tol") as e:
+        _core.run(_coarse_native(tie_tol=1.0))
+    assert e.value.param == "pd.tie_tol"
+    with pytest.raises(rf.InvalidParameterError, match="bc") as e:
+        _core.run({**_coarse_native(), "load": {"bc": "glued"}})
+    assert e.value.param == "load.bc"
 
 
 def test_progress_is_forwarded_and_a_raising_callback_stops_the_run() -> None:
@@ -188,23 +183,10 @@ def test_paper_grid_before_any_break(paper: rf.Result) -> None:
     assert counts["n_nodes"] == 166 * 316 and counts["n_pd_nodes"] == 40 * 26
     assert paper.sigma22 == pytest.approx(CORE_SIGMA22, rel=1e-9)
     assert paper.cmod == pytest.approx(CORE_CMOD, rel=1e-9)
-    # the scene maps to the same model as the core's CcmPdParams::paper()
-    out = _core.solve_pd_plate(
-        method="ccm_pd",
-        width=11.0,
-        height=21.0,
-        dx=1.0 / 15.0,
-        m=4,
-        e=10000.0,
-        nu=0.25,
-        g0=0.367,
-        u0=0.01,
-        pd_regions=[(1.70 - 2.73 / 2, 10.5 - 1.67 / 2, 1.70 + 2.73 / 2, 10.5 + 1.67 / 2)],
-        precrack=[(0.0, 10.5), (1.1, 10.5)],
-        sla_steps=5,
-    )
+    # the minimal scene (every key the core's default) is the same model as the paper scene
+    out = _core.run({"method": "ccm_pd", "pd": {"sla_steps": 5}})
     assert out["sigma22"] == paper.sigma22 and out["cmod"] == paper.cmod
-    np.testing.assert_array_equal(out["history_load_factor"], paper.history["load_factor"][1:])
+    np.testing.assert_array_equal(out["history"]["load_factor"], paper.history["load_factor"])
     # u is the reference-load solution, before any break: sigma22 scales with it
     assert paper.history["sigma22"][1] == pytest.approx(
         paper.history["load_factor"][1] * paper.sigma22, rel=1e-12

@@ -383,39 +383,38 @@ def test_invalid_materials_refused_with_range(kw: dict[str, float], param: str) 
 
 
 def test_native_entry_points_refuse_by_name() -> None:
-    """The bindings map the core's refusals (Rust validation) to InvalidParameterError."""
+    """The native module checks a scene dict itself (Rust validation, bypassing Scene) and the
+    error carries the scene key."""
     from rustfrac import _core
 
-    base = dict(width=2.0, height=2.0, nx=4, ny=4, e=1.0, nu=0.3, bc="free", u0=0.01)
-    for bad, name in [
-        ({"e": -1.0}, "E"),
-        ({"e": math.nan}, "E"),
-        ({"nu": 0.5}, "nu"),
-        ({"nu": -1.0}, "nu"),
-        ({"thickness": 0.0}, "thickness"),
-        ({"thickness": math.inf}, "thickness"),
-        ({"width": math.nan}, "width"),
-        ({"u0": math.inf}, "u0"),
-        ({"nx": 10**7}, "nx"),
+    base = {"method": "fem", "plate": {"width": 2.0, "height": 2.0}, "mesh": {"nx": 4, "ny": 4}}
+    for sec, bad, name in [
+        ("material", {"E": -1.0}, "material.E"),
+        ("material", {"E": math.nan}, "material.E"),
+        ("material", {"nu": 0.5}, "material.nu"),
+        ("material", {"nu": -1.0}, "material.nu"),
+        ("material", {"thickness": 0.0}, "material.thickness"),
+        ("material", {"thickness": math.inf}, "material.thickness"),
+        ("plate", {"width": math.nan}, "plate.width"),
+        ("load", {"u0": math.inf}, "load.u0"),
+        ("mesh", {"nx": 10**7}, "mesh.nx"),
     ]:
-        with pytest.raises(rf.InvalidParameterError, match=f"invalid {name}"):
-            _core.solve_fem_plate(**{**base, **bad})
-    with pytest.raises(rf.InvalidParameterError, match="invalid G0"):
-        _core.solve_pd_plate(
-            method="pd",
-            width=3.0,
-            height=2.5,
-            dx=0.25,
-            m=3,
-            e=1.0,
-            nu=0.25,
-            g0=-1.0,
-            bc="free",
-            u0=0.01,
-            pd_regions=[],
-            precrack=[],
-            sla_steps=1,
+        scene = {**base, sec: {**base.get(sec, {}), **bad}}
+        with pytest.raises(rf.InvalidParameterError, match=f"invalid {name}") as e:
+            _core.run(scene)
+        assert e.value.param.startswith(name)
+    with pytest.raises(rf.InvalidParameterError, match="invalid material.G0") as e:
+        _core.run(
+            {
+                "method": "pd",
+                "plate": {"width": 3.0, "height": 2.5},
+                "material": {"G0": -1.0},
+                "crack": {"kind": "none"},
+                "pd": {"dx": 0.25, "m": 3, "sla_steps": 1},
+            }
         )
+    assert e.value.param == "material.G0"
+
 
 
 def test_locking_warning() -> None:

@@ -56,17 +56,9 @@ def test_free_rotation_is_named() -> None:
 def test_crack_through_the_width_is_refused() -> None:
     """An XFEM crack cutting the plate in two is refused up front (a FEM seam through the width
     is reported singular: crates/rustfrac-core/tests/singular_detection.rs)."""
-    with pytest.raises(rf.InvalidParameterError, match="cut the plate in two"):
-        _core.solve_xfem_plate(
-            width=11.0,
-            height=21.0,
-            nx=11,
-            ny=21,
-            e=10000.0,
-            nu=0.25,
-            u0=0.01,
-            crack=[[0.0, 10.5], [11.0, 10.5]],
-        )
+    with pytest.raises(rf.InvalidParameterError, match="cut the plate in two") as e:
+        _core.run({"method": "xfem", "mesh": {"nx": 11, "ny": 21}, "crack": {"a0": 11.0}})
+    assert e.value.param == "crack.a0"
 
 
 @pytest.mark.parametrize("method", ["fem", "xfem"])
@@ -117,11 +109,11 @@ def test_warning_kinds_round_trip(tmp_path: Path) -> None:
 
 
 def test_native_warning_pairs() -> None:
-    out = _core.solve_fem_plate(
-        width=11.0, height=21.0, nx=8, ny=12, e=1e4, nu=0.4999, u0=0.01, condition=False
+    out = _core.run(
+        {"method": "fem", "mesh": {"nx": 8, "ny": 12}, "material": {"nu": 0.4999}}, None, False
     )
-    assert out["condition"] is None and out["condition_pivot_ratio"] is None
-    [(kind, msg)] = out["warnings"]
+    assert out["scalars"]["condition"] is None and out["scalars"]["condition_pivot_ratio"] is None
+    [kind], [msg] = out["meta"]["warning_kinds"], out["meta"]["warnings"]
     assert kind == "locking" and kind in _core.WARNING_KINDS and "0.4999" in msg
     assert set(_core.WARNING_KINDS) == set(rf.errors.WARNING_CLASSES)
     assert _core.COND_SINGULAR == 1e14 > _core.COND_WARN

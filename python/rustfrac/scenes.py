@@ -1,67 +1,40 @@
-"""Ready-made scenes. Every default is the paper's value (N, mm, MPa)."""
+"""Ready-made scenes. Every default is the paper's value (N, mm, MPa), as the core defines it."""
 
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from typing import Any
 
-from .scene import (
-    Crack,
-    Load,
-    Material,
-    MeshOptions,
-    PdOptions,
-    Plate,
-    Scene,
-    XfemOptions,
-)
+from .errors import InvalidTypeError, UnknownParameterError
+from .scene import Crack, Scene, keys
 
 __all__ = ["edge_crack_plate"]
+
+#: keyword names of :func:`edge_crack_plate` that differ from their scene key
+_ALIASES: dict[str, tuple[str, str]] = {
+    "crack": ("crack", "kind"),
+    "crack_y": ("crack", "y"),
+    "crack_angle": ("crack", "angle"),
+    "crack_x": ("crack", "x"),
+    "crack_side": ("crack", "side"),
+    "pd_center": ("pd", "center"),
+    "pd_size": ("pd", "size"),
+}
+#: every other keyword is the scene key of that name (the key names are unique across sections)
+_KEYS: dict[str, tuple[str, str]] = {
+    **{k["key"]: (k["section"], k["key"]) for k in keys() if k["section"] != "crack"},
+    **{k["key"]: ("crack", k["key"]) for k in keys("crack") if k["key"] == "a0"},
+    **_ALIASES,
+}
 
 
 def edge_crack_plate(
     method: str = "fem",
     *,
-    a0: float = 1.1,
-    mesh: tuple[int, int] = (44, 83),
-    bc: str = "free",
-    crack: str | None = None,
-    width: float = 11.0,
-    height: float = 21.0,
-    crack_y: float = 10.5,
-    crack_angle: float = 0.0,
-    crack_x: float = 5.5,
-    E: float = 10000.0,
-    nu: float = 0.25,
-    G0: float = 0.367,
-    plane: str = "strain",
-    thickness: float = 1.0,
-    u0: float = 0.01,
-    traction: float = 9.993,
-    gauss: int = 2,
-    nsub: int = 4,
-    tip_nsub: int = 0,
-    r_I: float = 2.5,
-    fixed_area_radius: float = 0.0,
-    area_threshold: float = 1e-4,
-    growth_steps: int = 0,
-    da: float = 0.0,
-    a_stop: float = 0.0,
-    dx: float = 1.0 / 15.0,
-    m: int = 4,
-    pd_center: tuple[float, float] = (1.70, 10.5),
-    pd_size: tuple[float, float] = (2.73, 1.67),
-    sla_steps: int = 500,
-    tie_tol: float = 0.0,
-    refactor_every: int = 0,
-    fast: bool = True,
-    stop_crack_length: float = 0.0,
-    damage_at_steps: tuple[int, ...] | list[int] = (),
-    checkpoint_every: int = 0,
-    checkpoint_path: str = "",
-    resume_from: str = "",
-    name: str = "",
+    mesh: tuple[int, int] | None = None,
     cracks: Sequence[Crack | Mapping[str, Any]] | None = None,
+    name: str = "",
+    **overrides: Any,
 ) -> Scene:
     """The paper's edge-cracked plate (section 3).
 
@@ -95,49 +68,23 @@ def edge_crack_plate(
 
     Every value is validated; bad ones raise :class:`~rustfrac.errors.InvalidParameterError`.
     """
-    if crack is None:
-        crack = "seam" if method == "fem" else "edge"
-    try:
-        nx, ny = mesh
-    except (TypeError, ValueError):
-        from .errors import InvalidTypeError
-
-        raise InvalidTypeError(f"mesh must be a pair (nx, ny), got {mesh!r}", "mesh") from None
-    return Scene(
-        method=method,
-        name=name,
-        plate=Plate(width=width, height=height),
-        material=Material(E=E, nu=nu, plane=plane, thickness=thickness, G0=G0),
-        load=Load(bc=bc, u0=u0, traction=traction),
-        crack=(
-            Crack(kind=crack, a0=a0, y=crack_y, angle=crack_angle, x=crack_x)
-            if cracks is None
-            else list(cracks)  # type: ignore[arg-type]  # Scene splits and validates the list
-        ),
-        mesh=MeshOptions(nx=nx, ny=ny, gauss=gauss),
-        xfem=XfemOptions(
-            nsub=nsub,
-            tip_nsub=tip_nsub,
-            r_I=r_I,
-            fixed_area_radius=fixed_area_radius,
-            area_threshold=area_threshold,
-            growth_steps=growth_steps,
-            da=da,
-            a_stop=a_stop,
-        ),
-        pd=PdOptions(
-            dx=dx,
-            m=m,
-            center=pd_center,
-            size=pd_size,
-            sla_steps=sla_steps,
-            tie_tol=tie_tol,
-            refactor_every=refactor_every,
-            fast=fast,
-            stop_crack_length=stop_crack_length,
-            damage_at_steps=damage_at_steps,
-            checkpoint_every=checkpoint_every,
-            checkpoint_path=checkpoint_path,
-            resume_from=resume_from,
-        ),
-    )
+    sections: dict[str, dict[str, Any]] = {}
+    for kw, v in overrides.items():
+        if kw not in _KEYS:
+            raise UnknownParameterError(
+                f"unknown keyword {kw!r} of edge_crack_plate; allowed: mesh, cracks, name, "
+                + ", ".join(sorted(_KEYS)),
+                kw,
+            )
+        sec, key = _KEYS[kw]
+        sections.setdefault(sec, {})[key] = v
+    if mesh is not None:
+        try:
+            nx, ny = mesh
+        except (TypeError, ValueError):
+            raise InvalidTypeError(f"mesh must be a pair (nx, ny), got {mesh!r}", "mesh") from None
+        sections.setdefault("mesh", {}).update(nx=nx, ny=ny)
+    d: dict[str, Any] = {"method": method, "name": name, **sections}
+    if cracks is not None:
+        d["crack"] = [c.to_dict() if isinstance(c, Crack) else c for c in cracks]
+    return Scene.from_dict(d)

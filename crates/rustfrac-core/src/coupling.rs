@@ -240,7 +240,7 @@ fn clipped_length(a: [f64; 2], b: [f64; 2], bx: [f64; 4]) -> f64 {
     }
 }
 
-fn grid_count(len: f64, dx: f64, name: &str) -> Result<usize> {
+pub(crate) fn grid_count(len: f64, dx: f64, name: &str) -> Result<usize> {
     let r = len / dx;
     let n = r.round();
     if !(1.0..=1e7).contains(&n) || (r - n).abs() > 1e-6 * n.max(1.0) {

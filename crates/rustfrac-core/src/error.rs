@@ -11,6 +11,16 @@ pub enum Error {
         expected: String,
         got: String,
     },
+    /// A scene value has the wrong kind (a string where a number is expected). `param` is the
+    /// scene key (`section.key`); `expected` says the kind and the range.
+    InvalidType {
+        param: String,
+        expected: String,
+        got: String,
+    },
+    /// A scene holds a key the core does not know (most often a typo), or lacks a required one;
+    /// `param` is the key, `message` says which keys are allowed.
+    UnknownKey { param: String, message: String },
     /// Array or matrix sizes do not match.
     SizeMismatch {
         what: String,
@@ -32,6 +42,16 @@ pub enum Error {
 pub type Result<T> = std::result::Result<T, Error>;
 
 impl Error {
+    /// The scene key (or core parameter name) an input error names, if it is one.
+    pub fn param(&self) -> Option<&str> {
+        match self {
+            Error::InvalidInput { param, .. }
+            | Error::InvalidType { param, .. }
+            | Error::UnknownKey { param, .. } => Some(param),
+            _ => None,
+        }
+    }
+
     /// Shorthand for [`Error::InvalidInput`].
     pub fn invalid(param: &str, expected: &str, got: impl fmt::Display) -> Self {
         Error::InvalidInput {
@@ -50,6 +70,12 @@ impl fmt::Display for Error {
                 expected,
                 got,
             } => write!(f, "invalid {param}: expected {expected}, got {got}"),
+            Error::InvalidType {
+                param,
+                expected,
+                got,
+            } => write!(f, "{param} must be {expected}, got {got}"),
+            Error::UnknownKey { message, .. } => f.write_str(message),
             Error::SizeMismatch {
                 what,
                 expected,

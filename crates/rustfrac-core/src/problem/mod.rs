@@ -1,0 +1,280 @@
+//! The problem description: one value that every driver (FEM, XFEM, PD, CCM-PD) reads.
+//!
+//! A [`Problem`] states the domain, the material, the boundary conditions, the cracks and the
+//! method with its options, each once. It is read from a scene tree ([`value::Value`], what the
+//! Python package or a TOML file gives) by [`Problem::from_scene`], which applies every rule of
+//! [`schema`] (kinds, ranges, defaults) and the cross-parameter checks of [`validate`] before
+//! anything is built; an error names the scene key it refuses (`Error::InvalidInput { param:
+//! "pd.dx", .. }`).
+//!
+//! Extension points for the general scenes (holes and notches, boundary conditions on regions,
+//! point loads, probes): [`Domain`] gains hole and notch lists (level sets on the structured
+//! grid), [`Boundary`] a variant of region supports and loads, both read from new scene tables;
+//! the drivers match on them. Today they hold the paper's plate: the rectangle [0, W] x [0, L]
+//! loaded through its top and bottom edges (eq. 61).
+
+pub mod lower;
+pub mod parse;
+pub mod schema;
+pub mod validate;
+pub mod value;
+
+use crate::loading::{Grip, PlateLoad};
+use crate::material::Elastic;
+use crate::mesh::Side;
+use crate::sla::SlaParams;
+use crate::xfem::XfemOptions;
+
+/// The material: isotropic linear elasticity and the fracture energy.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Material {
+    pub elastic: Elastic,
+    /// critical energy release rate G0 (force / length)
+    pub g0: f64,
+}
+
+/// The body: the rectangle [0, width] x [0, height].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Domain {
+    pub width: f64,
+    pub height: f64,
+}
+
+/// Boundary conditions, all proportional to one load factor (growth and the SLA scale it).
+#[derive(Debug, Clone, Copy)]
+pub enum Boundary {
+    /// the paper's grips on the top and bottom edges (eq. 61; [`PlateLoad`])
+    Grips(PlateLoad),
+}
+
+impl Boundary {
+    /// The plate load of [`Boundary::Grips`]; traction grips prescribe no displacement, so
+    /// their `u0` is 0 (the histories' `u0` column is then 0).
+    pub fn plate_load(&self) -> PlateLoad {
+        match self {
+            Boundary::Grips(l) if l.grip == Grip::Traction => PlateLoad { u0: 0.0, ..*l },
+            Boundary::Grips(l) => *l,
+        }
+    }
+
+    /// One line saying which conditions ran (results carry it).
+    pub fn description(&self) -> &'static str {
+        match self.plate_load().grip {
+            Grip::Free => "u2 = +-u0 on top/bottom, u1 free (u1 = 0 at the anchor node only)",
+            Grip::Clamped => "u2 = +-u0 and u1 = 0 on top/bottom (clamped grips)",
+            Grip::Traction => {
+                "uniform normal traction on top/bottom (u1, u2 = 0 at the anchor node, u1 = 0 at \
+                 the top-right corner)"
+            }
+        }
+    }
+}
+
+/// How a crack is represented.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CrackKind {
+    /// FEM: duplicated nodes along the grid line nearest `y`, from x1 = 0 to `a0`
+    Seam,
+    /// a crack from an edge (XFEM level set; PD pre-broken bonds)
+    Edge,
+    /// an interior crack (XFEM)
+    Center,
+}
+
+/// One straight crack as the scene states it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CrackSpec {
+    pub kind: CrackKind,
+    /// length (half-length of a centre crack)
+    pub a0: f64,
+    /// x2 of the mouth (left/right sides) or of the centre
+    pub y: f64,
+    /// degrees, counter-clockwise from x1 (centre) or from the side's inward normal (edge)
+    pub angle: f64,
+    /// x1 of the centre, or of the mouth on the bottom/top sides
+    pub x: f64,
+    /// the side an edge crack starts from
+    pub side: Side,
+}
+
+impl CrackSpec {
+    /// The crack as two points: (mouth, tip) for edge cracks and seams, (tip, tip) for centre
+    /// cracks.
+    pub fn polyline(&self, d: &Domain) -> Vec<[f64; 2]> {
+        let t = self.angle.to_radians();
+        let (c, s) = (t.cos(), t.sin());
+        match self.kind {
+            CrackKind::Center => vec![
+                [self.x - self.a0 * c, self.y - self.a0 * s],
+                [self.x + self.a0 * c, self.y + self.a0 * s],
+            ],
+            CrackKind::Seam => vec![[0.0, self.y], [self.a0, self.y]],
+            CrackKind::Edge => {
+                let (mouth, n) = match self.side {
+                    Side::Left => ([0.0, self.y], [1.0, 0.0]),
+                    Side::Right => ([d.width, self.y], [-1.0, 0.0]),
+                    Side::Bottom => ([self.x, 0.0], [0.0, 1.0]),
+                    Side::Top => ([self.x, d.height], [0.0, -1.0]),
+                };
+                let dir = [n[0] * c - n[1] * s, n[0] * s + n[1] * c];
+                vec![
+                    mouth,
+                    [mouth[0] + self.a0 * dir[0], mouth[1] + self.a0 * dir[1]],
+                ]
+            }
+        }
+    }
+}
+
+/// A structured grid of Q4 elements over the domain.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct FeGrid {
+    pub nx: usize,
+    pub ny: usize,
+}
+
+/// Plain Q4 FEM.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FemMethod {
+    pub grid: FeGrid,
+    /// Gauss points per direction
+    pub gauss: usize,
+    /// compute the condition estimate of the solve (2 extra solves)
+    pub condition: bool,
+}
+
+/// LEFM growth of the XFEM model.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Growth {
+    /// most growth steps (critical states)
+    pub max_steps: usize,
+    /// extension per step; None = one element length
+    pub da: Option<f64>,
+    /// stop once a crack length would exceed this
+    pub a_stop: f64,
+}
+
+/// XFEM (section 2.1).
+#[derive(Debug, Clone, PartialEq)]
+pub struct XfemMethod {
+    pub grid: FeGrid,
+    /// enrichment and integration options
+    pub options: XfemOptions,
+    /// r_I in tip-element lengths
+    pub r_i: f64,
+    /// further radii (tip-element lengths) at which the SIFs are reported
+    pub extra_radii: Vec<f64>,
+    pub growth: Option<Growth>,
+    /// compute the condition estimate of every solve (2 extra solves each)
+    pub condition: bool,
+}
+
+/// Peridynamics: the grid, horizon, PD region and the sequentially linear analysis.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PdMethod {
+    /// grid spacing
+    pub dx: f64,
+    /// horizon factor m = delta / dx
+    pub m: usize,
+    /// CCM-PD: the PD rectangle [x0, y0, x1, y1]; pure PD: None (the whole plate)
+    pub region: Option<[f64; 4]>,
+    pub sla: SlaParams,
+}
+
+/// The method and its options.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Method {
+    Fem(FemMethod),
+    Xfem(XfemMethod),
+    /// bond-based PD on the whole plate (volumetric boundary layers)
+    Pd(PdMethod),
+    /// splice CCM-PD coupling: PD in the region, Q4 FEM elsewhere
+    CcmPd(PdMethod),
+}
+
+impl Method {
+    /// Stable name: "fem" | "xfem" | "pd" | "ccm_pd".
+    pub fn name(&self) -> &'static str {
+        match self {
+            Method::Fem(_) => "fem",
+            Method::Xfem(_) => "xfem",
+            Method::Pd(_) => "pd",
+            Method::CcmPd(_) => "ccm_pd",
+        }
+    }
+}
+
+/// One complete, validated description of a run.
+#[derive(Debug, Clone)]
+pub struct Problem {
+    /// optional label
+    pub name: String,
+    pub domain: Domain,
+    pub material: Material,
+    pub boundary: Boundary,
+    /// the cracks (empty: uncracked); the first is the primary crack (CMOD, history `a`)
+    pub cracks: Vec<CrackSpec>,
+    pub method: Method,
+}
+
+impl Problem {
+    /// Reads and validates a scene tree (see [`parse`]).
+    pub fn from_scene(scene: &value::Table) -> crate::Result<Self> {
+        Ok(Self::checked(scene)?.0)
+    }
+
+    /// [`Problem::from_scene`], with the checked scene tree (every key of every section the
+    /// method reads, defaults filled in, the cracks as a list).
+    pub fn checked(scene: &value::Table) -> crate::Result<(Self, value::Table)> {
+        let c = parse::check(scene)?;
+        let p = parse::problem(scene)?;
+        validate::problem(&p)?;
+        Ok((p, c.to_tree()))
+    }
+
+    /// Whether FEM and XFEM solves compute their condition estimate (2 extra solves each; a
+    /// run option, not part of the scene).
+    pub fn set_condition(&mut self, on: bool) {
+        match &mut self.method {
+            Method::Fem(m) => m.condition = on,
+            Method::Xfem(m) => m.condition = on,
+            _ => {}
+        }
+    }
+
+    /// XFEM growth: the number of steps the primary crack needs to reach `a_stop` with the
+    /// step's extension (`da`, or one element chord along the crack), at most `max_steps`: the
+    /// total that progress reports count to.
+    pub fn growth_steps_estimate(&self) -> Option<usize> {
+        let Method::Xfem(x) = &self.method else {
+            return None;
+        };
+        let g = x.growth?;
+        let c = self.cracks.first()?;
+        let line = c.polyline(&self.domain);
+        let (d0, d1) = (line[1][0] - line[0][0], line[1][1] - line[0][1]);
+        let len = d0.hypot(d1);
+        let (hx, hy) = (
+            self.domain.width / x.grid.nx as f64,
+            self.domain.height / x.grid.ny as f64,
+        );
+        let chord = |h: f64, d: f64| {
+            if (d / len).abs() > 1e-12 {
+                h / (d / len).abs()
+            } else {
+                f64::INFINITY
+            }
+        };
+        let da = g.da.unwrap_or_else(|| chord(hx, d0).min(chord(hy, d1)));
+        let n = ((g.a_stop - c.a0) / da + 1e-9).floor().max(0.0) as usize + 1;
+        Some(n.clamp(1, g.max_steps))
+    }
+
+    /// The crack polylines.
+    pub fn crack_polylines(&self) -> Vec<Vec<[f64; 2]>> {
+        self.cracks
+            .iter()
+            .map(|c| c.polyline(&self.domain))
+            .collect()
+    }
+}

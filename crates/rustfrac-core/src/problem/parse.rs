@@ -1,0 +1,523 @@
+//! Reading a scene tree into a [`Problem`]: the method, the sections it reads, unknown keys,
+//! each key's kind and range ([`schema`]), defaults and the values derived from them (the crack
+//! kind of a scene without `[crack]`, tip_nsub = 0 meaning nsub, a_stop = 0 meaning 0.7 W, the
+//! PD rectangle from its centre and size). Cross-parameter checks follow in [`super::validate`].
+
+use super::schema::{self, Kind, Val};
+use super::value::{Table, Value};
+use super::{
+    Boundary, CrackKind, CrackSpec, Domain, FeGrid, FemMethod, Growth, Material, Method, PdMethod,
+    Problem, XfemMethod,
+};
+use crate::error::{Error, Result};
+use crate::loading::{Grip, PlateLoad};
+use crate::material::{Elastic, Plane};
+use crate::mesh::Side;
+use crate::sla::SlaParams;
+use crate::xfem::XfemOptions;
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+/// The checked values of one section, every key present (defaults filled in).
+pub type Section = BTreeMap<&'static str, Val>;
+
+/// The scene name of crack `k`: "crack" for the first, "crack[k]" for the others.
+pub fn crack_name(k: usize) -> String {
+    if k == 0 {
+        "crack".into()
+    } else {
+        format!("crack[{k}]")
+    }
+}
+
+fn type_error(param: &str, kind: Kind, valid: &str, v: &Value) -> Error {
+    let got = match kind {
+        Kind::Pair | Kind::IntList => v.repr(),
+        _ => format!("{} {}", v.type_name(), v.repr()),
+    };
+    Error::InvalidType {
+        param: param.to_string(),
+        expected: format!("{} ({valid})", kind.phrase()),
+        got,
+    }
+}
+
+fn numbers(list: &[Value]) -> Option<Vec<f64>> {
+    list.iter().map(Value::as_number).collect()
+}
+
+/// Checks one value against its spec; `param` is the name errors carry (`crack[2].a0`).
+pub fn key_value(spec: &schema::KeySpec, param: &str, v: &Value) -> Result<Val> {
+    let bad_type = || type_error(param, spec.kind, &spec.valid, v);
+    let out_of_range = |got: String| Error::InvalidInput {
+        param: param.to_string(),
+        expected: spec.valid.clone(),
+        got,
+    };
+    // an integer beyond 64 bits is an integer of the right kind, out of every range
+    if let Value::Other { type_name, repr } = v {
+        if type_name == "int" && matches!(spec.kind, Kind::Float | Kind::Int) {
+            return Err(out_of_range(repr.clone()));
+        }
+        if type_name == "str" && spec.kind == Kind::Str {
+            return Err(out_of_range(repr.clone()));
+        }
+    }
+    let val = match (spec.kind, v) {
+        (Kind::Float, Value::Float(f)) => Val::Float(*f),
+        (Kind::Float, Value::Int(i)) => Val::Float(*i as f64),
+        (Kind::Int, Value::Int(i)) => Val::Int(*i),
+        (Kind::Str, Value::Str(s)) => Val::Str(s.clone()),
+        (Kind::Bool, Value::Bool(b)) => Val::Bool(*b),
+        (Kind::Pair, Value::List(l)) if l.len() == 2 => match numbers(l) {
+            Some(x) => Val::Pair([x[0], x[1]]),
+            None => return Err(bad_type()),
+        },
+        (Kind::IntList, Value::List(l)) => {
+            let ints: Option<Vec<i64>> = l
+                .iter()
+                .map(|x| match x {
+                    Value::Int(i) => Some(*i),
+                    _ => None,
+                })
+                .collect();
+            match ints {
+                Some(x) => Val::IntList(x),
+                None => return Err(bad_type()),
+            }
+        }
+        _ => return Err(bad_type()),
+    };
+    if (spec.ok)(&val) {
+        Ok(val)
+    } else {
+        Err(out_of_range(val.repr()))
+    }
+}
+
+/// A key for messages (TOML keys are strings; a Python dict may hold anything).
+fn shown(k: &str) -> String {
+    if k.is_empty() {
+        "''".into()
+    } else {
+        k.to_string()
+    }
+}
+
+/// Checks one section table: unknown keys, then every key (defaults for the missing ones).
+/// `name` is the section's scene name (`crack[2]` for the third crack).
+pub fn section(section: &str, name: &str, t: &Value) -> Result<Section> {
+    let Value::Table(t) = t else {
+        return Err(Error::InvalidType {
+            param: name.to_string(),
+            expected: format!("a table/dict ([{name}])"),
+            got: t.type_name().to_string(),
+        });
+    };
+    let allowed: Vec<&str> = schema::section_keys(section).map(|k| k.key).collect();
+    let unknown: Vec<&String> = t
+        .keys()
+        .filter(|k| !allowed.contains(&k.as_str()))
+        .collect();
+    if let Some(first) = unknown.first() {
+        let list: Vec<String> = unknown
+            .iter()
+            .take(20)
+            .map(|k| format!("{name}.{}", shown(k)))
+            .collect();
+        let more = if unknown.len() > 20 {
+            format!(" and {} more", unknown.len() - 20)
+        } else {
+            String::new()
+        };
+        return Err(Error::UnknownKey {
+            param: format!("{name}.{}", shown(first)),
+            message: format!(
+                "unknown key(s) {}{more}; allowed in [{name}]: {}",
+                list.join(", "),
+                allowed.join(", ")
+            ),
+        });
+    }
+    let mut out = Section::new();
+    for spec in schema::section_keys(section) {
+        let param = format!("{name}.{}", spec.key);
+        let v = match t.get(spec.key) {
+            Some(v) => key_value(spec, &param, v)?,
+            None => spec.default.clone(),
+        };
+        out.insert(spec.key, v);
+    }
+    section_rules(section, name, &out)?;
+    Ok(out)
+}
+
+/// Rules between the keys of one section.
+fn section_rules(section: &str, name: &str, s: &Section) -> Result<()> {
+    match section {
+        "mesh" => {
+            let (nx, ny) = (s["nx"].i(), s["ny"].i());
+            if nx.saturating_mul(ny) > schema::max_elements() as i64 {
+                return Err(Error::invalid(
+                    &format!("{name}.nx * {name}.ny"),
+                    &format!(
+                        "at most {} elements (a documented memory guard)",
+                        schema::max_elements()
+                    ),
+                    format!("{nx} x {ny}"),
+                ));
+            }
+        }
+        "xfem" => {
+            let (nsub, tip) = (s["nsub"].i(), s["tip_nsub"].i());
+            if tip != 0 && tip < nsub {
+                return Err(Error::invalid(
+                    &format!("{name}.tip_nsub"),
+                    &format!("0 (= nsub) or an integer in nsub..64 = {nsub}..64"),
+                    tip,
+                ));
+            }
+        }
+        _ => {}
+    }
+    Ok(())
+}
+
+fn string(t: &Table, key: &str, valid: &str, ok: impl Fn(&str) -> bool) -> Result<Option<String>> {
+    match t.get(key) {
+        None => Ok(None),
+        Some(Value::Str(s)) if ok(s) => Ok(Some(s.clone())),
+        Some(Value::Str(s)) => Err(Error::invalid(key, valid, format!("'{s}'"))),
+        Some(Value::Other { type_name, repr }) if type_name == "str" => {
+            Err(Error::invalid(key, valid, repr))
+        }
+        Some(v) => Err(Error::InvalidType {
+            param: key.into(),
+            expected: format!("a string ({valid})"),
+            got: format!("{} {}", v.type_name(), v.repr()),
+        }),
+    }
+}
+
+/// The method of a scene tree (required).
+pub fn method(t: &Table) -> Result<&'static str> {
+    let q: Vec<String> = schema::METHODS.iter().map(|m| format!("'{m}'")).collect();
+    let valid = format!("one of {}", q.join(", "));
+    match string(t, "method", &valid, |s| schema::METHODS.contains(&s))? {
+        None => Err(Error::UnknownKey {
+            param: "method".into(),
+            message: format!("missing required key 'method' ({valid})"),
+        }),
+        Some(m) => Ok(schema::METHODS.iter().find(|x| **x == m).copied().unwrap_or("fem")),
+    }
+}
+
+/// The checked sections of a scene tree: `(method, name, sections, cracks)`, each section with
+/// every key (missing sections take their defaults), the crack tables in order.
+pub struct Checked {
+    pub method: &'static str,
+    pub name: String,
+    pub sections: BTreeMap<&'static str, Section>,
+    pub cracks: Vec<Section>,
+}
+
+impl Checked {
+    /// The checked scene as a tree: every section of the method with every key, the cracks as
+    /// a list of tables (what the Python layer builds its scene from).
+    pub fn to_tree(&self) -> Table {
+        let table = |s: &Section| {
+            Value::Table(
+                s.iter()
+                    .map(|(k, v)| (k.to_string(), v.to_value()))
+                    .collect(),
+            )
+        };
+        let mut t = Table::new();
+        t.insert("method".into(), Value::Str(self.method.into()));
+        t.insert("name".into(), Value::Str(self.name.clone()));
+        for (k, s) in &self.sections {
+            t.insert(k.to_string(), table(s));
+        }
+        t.insert(
+            "crack".into(),
+            Value::List(self.cracks.iter().map(table).collect()),
+        );
+        t
+    }
+}
+
+/// Kinds, ranges, unknown keys and defaults of a whole scene tree.
+pub fn check(t: &Table) -> Result<Checked> {
+    let method = method(t)?;
+    let wanted = schema::method_sections(method);
+    let unknown: Vec<&String> = t
+        .keys()
+        .filter(|k| !matches!(k.as_str(), "method" | "name") && !wanted.contains(&k.as_str()))
+        .collect();
+    if let Some(first) = unknown.first() {
+        let other: Vec<&str> = unknown
+            .iter()
+            .filter(|k| schema::SECTIONS.contains(&k.as_str()))
+            .map(|k| k.as_str())
+            .collect();
+        let hint = if other.is_empty() {
+            String::new()
+        } else {
+            format!(
+                " (section(s) {} do not apply to method '{method}')",
+                other.join(", ")
+            )
+        };
+        let list: Vec<String> = unknown.iter().take(20).map(|k| shown(k)).collect();
+        let mut allowed = vec!["method", "name"];
+        allowed.extend_from_slice(wanted);
+        return Err(Error::UnknownKey {
+            param: shown(first),
+            message: format!(
+                "unknown key(s) {}{hint}; allowed: {}",
+                list.join(", "),
+                allowed.join(", ")
+            ),
+        });
+    }
+    let name = string(t, "name", "a string of Unicode text", |_| true)?.unwrap_or_default();
+    let mut sections = BTreeMap::new();
+    let mut cracks = Vec::new();
+    for &sec in wanted {
+        let v = t.get(sec);
+        if sec == "crack" {
+            cracks = crack_tables(method, v)?;
+            continue;
+        }
+        let s = match v {
+            Some(v) => section(sec, sec, v)?,
+            None => section(sec, sec, &Value::Table(Table::new()))?,
+        };
+        sections.insert(sec, s);
+    }
+    let c = Checked {
+        method,
+        name,
+        sections,
+        cracks,
+    };
+    scene_rules(&c)?;
+    Ok(c)
+}
+
+/// Rules between keys of two sections, on the values as written.
+fn scene_rules(c: &Checked) -> Result<()> {
+    if let (Some(x), Some(plate)) = (c.sections.get("xfem"), c.sections.get("plate")) {
+        let (a_stop, w) = (x["a_stop"].f(), plate["width"].f());
+        if a_stop != 0.0 && !(a_stop < w) {
+            return Err(Error::invalid(
+                "xfem.a_stop",
+                &format!("0 (0.7 plate.width) or 0 < a_stop < plate.width = {w}"),
+                a_stop,
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The `[crack]` table or the `[[crack]]` array (at least one table). A crack without `kind`
+/// (or no `[crack]` at all) is the method's default kind ([`schema::default_crack_kind`]).
+fn crack_tables(method: &str, v: Option<&Value>) -> Result<Vec<Section>> {
+    let one = |k: usize, c: &Value| {
+        let mut c = c.clone();
+        if let Value::Table(t) = &mut c {
+            t.entry("kind".into())
+                .or_insert_with(|| Value::Str(schema::default_crack_kind(method).into()));
+        }
+        section("crack", &crack_name(k), &c)
+    };
+    match v {
+        None => Ok(vec![one(0, &Value::Table(Table::new()))?]),
+        Some(Value::List(l)) if l.is_empty() => Err(Error::invalid(
+            "crack",
+            "at least one [[crack]] table",
+            "none",
+        )),
+        Some(Value::List(l)) => l.iter().enumerate().map(|(k, c)| one(k, c)).collect(),
+        Some(v) => Ok(vec![one(0, v)?]),
+    }
+}
+
+fn side(s: &str) -> Side {
+    match s {
+        "right" => Side::Right,
+        "bottom" => Side::Bottom,
+        "top" => Side::Top,
+        _ => Side::Left,
+    }
+}
+
+fn crack(s: &Section) -> Option<CrackSpec> {
+    let kind = match s["kind"].s() {
+        "seam" => CrackKind::Seam,
+        "edge" => CrackKind::Edge,
+        "center" => CrackKind::Center,
+        _ => return None,
+    };
+    Some(CrackSpec {
+        kind,
+        a0: s["a0"].f(),
+        y: s["y"].f(),
+        angle: s["angle"].f(),
+        x: s["x"].f(),
+        side: side(s["side"].s()),
+    })
+}
+
+fn grid(s: &Section) -> FeGrid {
+    FeGrid {
+        nx: s["nx"].i() as usize,
+        ny: s["ny"].i() as usize,
+    }
+}
+
+fn positive_or_none(v: f64) -> Option<f64> {
+    (v > 0.0).then_some(v)
+}
+
+fn path_or_none(s: &str) -> Option<PathBuf> {
+    (!s.is_empty()).then(|| PathBuf::from(s))
+}
+
+fn xfem_method(mesh: &Section, x: &Section, domain: &Domain) -> XfemMethod {
+    let nsub = x["nsub"].i() as usize;
+    let tip = x["tip_nsub"].i() as usize;
+    let steps = x["growth_steps"].i() as usize;
+    let a_stop = x["a_stop"].f();
+    XfemMethod {
+        grid: grid(mesh),
+        options: XfemOptions {
+            nsub,
+            tip_nsub: if tip == 0 { nsub } else { tip },
+            fixed_area_radius: positive_or_none(x["fixed_area_radius"].f()),
+            area_threshold: x["area_threshold"].f(),
+        },
+        r_i: x["r_I"].f(),
+        extra_radii: schema::XFEM_EXTRA_RADII.to_vec(),
+        growth: (steps > 0).then(|| Growth {
+            max_steps: steps,
+            da: positive_or_none(x["da"].f()),
+            a_stop: if a_stop > 0.0 {
+                a_stop
+            } else {
+                0.7 * domain.width
+            },
+        }),
+        condition: true,
+    }
+}
+
+fn pd_method(pd: &Section, ccm: bool) -> PdMethod {
+    let [cx, cy] = pd["center"].pair();
+    let [sx, sy] = pd["size"].pair();
+    PdMethod {
+        dx: pd["dx"].f(),
+        m: pd["m"].i() as usize,
+        region: ccm.then_some([cx - sx / 2.0, cy - sy / 2.0, cx + sx / 2.0, cy + sy / 2.0]),
+        sla: SlaParams {
+            max_steps: pd["sla_steps"].i() as usize,
+            stop_crack_length: positive_or_none(pd["stop_crack_length"].f()),
+            tie_tol: pd["tie_tol"].f(),
+            refactor_every: pd["refactor_every"].i() as usize,
+            fast: pd["fast"].b(),
+            damage_at_steps: pd["damage_at_steps"]
+                .ints()
+                .iter()
+                .map(|&k| k as usize)
+                .collect(),
+            checkpoint_every: pd["checkpoint_every"].i() as usize,
+            checkpoint_path: path_or_none(pd["checkpoint_path"].s()),
+            resume_from: path_or_none(pd["resume_from"].s()),
+        },
+    }
+}
+
+/// The [`Problem`] of a checked scene.
+pub fn from_checked(c: &Checked) -> Problem {
+    let s = &c.sections;
+    let (plate, mat, load) = (&s["plate"], &s["material"], &s["load"]);
+    let domain = Domain {
+        width: plate["width"].f(),
+        height: plate["height"].f(),
+    };
+    let elastic = Elastic {
+        e: mat["E"].f(),
+        nu: mat["nu"].f(),
+        plane: if mat["plane"].s() == "stress" {
+            Plane::Stress
+        } else {
+            Plane::Strain
+        },
+        thickness: mat["thickness"].f(),
+    };
+    let grip = match load["bc"].s() {
+        "clamped" => Grip::Clamped,
+        "traction" => Grip::Traction,
+        _ => Grip::Free,
+    };
+    let method = match c.method {
+        "fem" => Method::Fem(FemMethod {
+            grid: grid(&s["mesh"]),
+            gauss: s["mesh"]["gauss"].i() as usize,
+            condition: true,
+        }),
+        "xfem" => Method::Xfem(xfem_method(&s["mesh"], &s["xfem"], &domain)),
+        "pd" => Method::Pd(pd_method(&s["pd"], false)),
+        _ => Method::CcmPd(pd_method(&s["pd"], true)),
+    };
+    Problem {
+        name: c.name.clone(),
+        domain,
+        material: Material {
+            elastic,
+            g0: mat["G0"].f(),
+        },
+        boundary: Boundary::Grips(PlateLoad {
+            grip,
+            u0: load["u0"].f(),
+            traction: load["traction"].f(),
+        }),
+        cracks: c.cracks.iter().filter_map(crack).collect(),
+        method,
+    }
+}
+
+/// Kinds, ranges and defaults of a scene tree, read into a [`Problem`] (not yet
+/// cross-validated: [`Problem::from_scene`] does both).
+pub fn problem(t: &Table) -> Result<Problem> {
+    let c = check(t)?;
+    validate_kinds(&c)?;
+    Ok(from_checked(&c))
+}
+
+/// Rules that need the scene's own spelling (crack kinds per method) rather than the problem.
+fn validate_kinds(c: &Checked) -> Result<()> {
+    let kinds = schema::crack_kinds(c.method);
+    if c.cracks.len() > 1 && c.method != "xfem" {
+        return Err(Error::invalid(
+            "crack",
+            &format!(
+                "one crack for method '{}' (several cracks need method 'xfem')",
+                c.method
+            ),
+            c.cracks.len(),
+        ));
+    }
+    for (k, s) in c.cracks.iter().enumerate() {
+        let kind = s["kind"].s();
+        if !kinds.contains(&kind) {
+            let q: Vec<String> = kinds.iter().map(|x| format!("'{x}'")).collect();
+            return Err(Error::invalid(
+                &format!("{}.kind", crack_name(k)),
+                &format!("for method '{}' one of {}", c.method, q.join(", ")),
+                format!("'{kind}'"),
+            ));
+        }
+    }
+    Ok(())
+}

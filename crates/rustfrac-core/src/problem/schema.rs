@@ -1,0 +1,349 @@
+//! Every scene key: its section, kind, default, valid range and meaning. This table is the one
+//! place where a scene rule lives; the Python package reads it (`rustfrac._core.scene_schema()`)
+//! to build its section classes, so a new parameter is one entry here plus the line of
+//! [`super::parse`] that reads it into the [`super::Problem`].
+//!
+//! Units are consistent and up to the user; the paper's case uses N, mm and MPa (E = 10000).
+
+use super::value::Value;
+use crate::error::{MAG_MAX, MAG_MIN};
+use crate::mesh::MAX_ELEMENTS;
+use std::sync::OnceLock;
+
+/// Largest SLA step count, re-condensation period and damage-snapshot step.
+pub const MAX_STEPS: usize = 1_000_000;
+/// Largest number of XFEM growth steps.
+pub const MAX_GROWTH_STEPS: usize = 100_000;
+/// Largest PD horizon factor m = delta / dx (bonds per node grow as m^2).
+pub const MAX_HORIZON_FACTOR: usize = 12;
+/// Plane-strain Poisson's ratio of bond-based peridynamics (fixed by the model).
+pub const PD_NU: f64 = 0.25;
+/// Radii (tip-element lengths) at which the SIFs are reported besides r_I, where they fit.
+pub const XFEM_EXTRA_RADII: [f64; 4] = [1.5, 2.0, 3.0, 3.5];
+/// The methods, in the order the docs list them.
+pub const METHODS: [&str; 4] = ["fem", "xfem", "pd", "ccm_pd"];
+/// The grip variants of the plate's loading (eq. 61).
+pub const BCS: [&str; 3] = ["free", "clamped", "traction"];
+/// Crack kinds accepted by each method.
+pub fn crack_kinds(method: &str) -> &'static [&'static str] {
+    match method {
+        "fem" => &["none", "seam"],
+        "xfem" => &["edge", "center"],
+        _ => &["none", "edge"],
+    }
+}
+/// The crack kind of a scene without a `[crack]` section: the paper's crack, as a seam for FEM.
+pub fn default_crack_kind(method: &str) -> &'static str {
+    if method == "fem" {
+        "seam"
+    } else {
+        "edge"
+    }
+}
+/// Sections each method reads (the others must not appear in its scenes).
+pub fn method_sections(method: &str) -> &'static [&'static str] {
+    match method {
+        "fem" => &["plate", "material", "load", "crack", "mesh"],
+        "xfem" => &["plate", "material", "load", "crack", "mesh", "xfem"],
+        _ => &["plate", "material", "load", "crack", "pd"],
+    }
+}
+/// Every section, in the order of the docs.
+pub const SECTIONS: [&str; 7] = ["plate", "material", "load", "crack", "mesh", "xfem", "pd"];
+
+/// The kind of a key's value.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Kind {
+    Float,
+    Int,
+    Str,
+    Bool,
+    /// two floats
+    Pair,
+    /// a list of integers
+    IntList,
+}
+
+impl Kind {
+    /// Stable name (the Python side maps it to a type).
+    pub fn name(&self) -> &'static str {
+        match self {
+            Kind::Float => "float",
+            Kind::Int => "int",
+            Kind::Str => "str",
+            Kind::Bool => "bool",
+            Kind::Pair => "pair",
+            Kind::IntList => "intlist",
+        }
+    }
+    /// How messages say "a value of this kind".
+    pub fn phrase(&self) -> &'static str {
+        match self {
+            Kind::Float => "a number",
+            Kind::Int => "an integer",
+            Kind::Str => "a string",
+            Kind::Bool => "true or false",
+            Kind::Pair => "a pair of numbers",
+            Kind::IntList => "a list of integers",
+        }
+    }
+}
+
+/// A key's value after its kind was checked.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Val {
+    Float(f64),
+    Int(i64),
+    Str(String),
+    Bool(bool),
+    Pair([f64; 2]),
+    IntList(Vec<i64>),
+}
+
+impl Val {
+    pub fn f(&self) -> f64 {
+        match self {
+            Val::Float(v) => *v,
+            Val::Int(v) => *v as f64,
+            _ => f64::NAN,
+        }
+    }
+    pub fn i(&self) -> i64 {
+        match self {
+            Val::Int(v) => *v,
+            _ => 0,
+        }
+    }
+    pub fn s(&self) -> &str {
+        match self {
+            Val::Str(v) => v,
+            _ => "",
+        }
+    }
+    pub fn b(&self) -> bool {
+        matches!(self, Val::Bool(true))
+    }
+    pub fn pair(&self) -> [f64; 2] {
+        match self {
+            Val::Pair(v) => *v,
+            _ => [f64::NAN; 2],
+        }
+    }
+    pub fn ints(&self) -> &[i64] {
+        match self {
+            Val::IntList(v) => v,
+            _ => &[],
+        }
+    }
+    /// Back to the tree (defaults and normalised values for Python).
+    pub fn to_value(&self) -> Value {
+        match self {
+            Val::Float(v) => Value::Float(*v),
+            Val::Int(v) => Value::Int(*v),
+            Val::Str(v) => Value::Str(v.clone()),
+            Val::Bool(v) => Value::Bool(*v),
+            Val::Pair(v) => Value::List(v.iter().map(|&x| Value::Float(x)).collect()),
+            Val::IntList(v) => Value::List(v.iter().map(|&x| Value::Int(x)).collect()),
+        }
+    }
+    /// Python-style repr for messages.
+    pub fn repr(&self) -> String {
+        self.to_value().repr()
+    }
+}
+
+/// One scene key.
+pub struct KeySpec {
+    pub section: &'static str,
+    pub key: &'static str,
+    pub kind: Kind,
+    pub default: Val,
+    /// the valid range in words (messages and docs)
+    pub valid: String,
+    /// what the key means, with units
+    pub doc: &'static str,
+    /// the range check of a value of the right kind
+    pub ok: fn(&Val) -> bool,
+}
+
+impl KeySpec {
+    /// `section.key`, the name errors carry.
+    pub fn param(&self) -> String {
+        format!("{}.{}", self.section, self.key)
+    }
+}
+
+fn finite(v: f64) -> bool {
+    v.is_finite() && v.abs() <= MAG_MAX
+}
+fn positive(v: f64) -> bool {
+    v.is_finite() && (MAG_MIN..=MAG_MAX).contains(&v)
+}
+fn nonneg(v: f64) -> bool {
+    v == 0.0 || positive(v)
+}
+
+const POS: &str = "a finite number in [1e-30, 1e30]";
+const FINITE: &str = "a finite number with |value| <= 1e30";
+
+fn choice(opts: &[&str]) -> String {
+    let q: Vec<String> = opts.iter().map(|o| format!("'{o}'")).collect();
+    format!("one of {}", q.join(", "))
+}
+
+#[allow(clippy::too_many_lines)]
+fn build() -> Vec<KeySpec> {
+    use Kind::*;
+    let k = |section, key, kind, default, valid: &str, doc, ok: fn(&Val) -> bool| KeySpec {
+        section,
+        key,
+        kind,
+        default,
+        valid: valid.to_string(),
+        doc,
+        ok,
+    };
+    let pos = |v: &Val| positive(v.f());
+    let fin = |v: &Val| finite(v.f());
+    vec![
+        k("plate", "width", Float, Val::Float(11.0), POS,
+          "plate width W along x1 (length); the plate is [0, W] x [0, L]", pos),
+        k("plate", "height", Float, Val::Float(21.0), POS,
+          "plate height L along x2 (length)", pos),
+        k("material", "E", Float, Val::Float(10000.0), POS,
+          "Young's modulus (stress)", pos),
+        k("material", "nu", Float, Val::Float(0.25), "-1 < nu < 0.5",
+          "Poisson's ratio (bond-based PD fixes 0.25)",
+          |v| v.f().is_finite() && v.f() > -1.0 && v.f() < 0.5),
+        k("material", "plane", Str, Val::Str("strain".into()), &choice(&["strain", "stress"]),
+          "plane strain or plane stress", |v| matches!(v.s(), "strain" | "stress")),
+        k("material", "thickness", Float, Val::Float(1.0), POS,
+          "out-of-plane thickness h (length)", pos),
+        k("material", "G0", Float, Val::Float(0.367), POS,
+          "critical energy release rate (force / length): LEFM growth and PD bond strength", pos),
+        k("load", "bc", Str, Val::Str("free".into()), &choice(&BCS),
+          "grips on the top and bottom edges (eq. 61): 'free' (u2 = +-u0, u1 free, one anchor \
+           node), 'clamped' (u2 = +-u0, u1 = 0) or 'traction' (uniform normal stress)",
+          |v| BCS.contains(&v.s())),
+        k("load", "u0", Float, Val::Float(0.01), FINITE,
+          "reference grip displacement (length), non-zero under displacement grips", fin),
+        k("load", "traction", Float, Val::Float(9.993), FINITE,
+          "reference traction (stress) of bc = 'traction', non-zero there", fin),
+        k("crack", "kind", Str, Val::Str("seam".into()),
+          &choice(&["none", "seam", "edge", "center"]),
+          "'none', 'seam' (FEM: duplicated nodes on the grid line nearest y), 'edge' (XFEM level \
+           set / PD pre-broken bonds) or 'center' (XFEM interior crack); without a [crack] \
+           section: 'seam' for FEM, else 'edge'",
+          |v| matches!(v.s(), "none" | "seam" | "edge" | "center")),
+        k("crack", "a0", Float, Val::Float(1.1), POS,
+          "crack length (length); the half-length of a 'center' crack", pos),
+        k("crack", "y", Float, Val::Float(10.5), POS,
+          "x2 of the crack mouth (left/right edge cracks) or centre", pos),
+        k("crack", "angle", Float, Val::Float(0.0), "-180 <= angle <= 180 degrees",
+          "degrees counter-clockwise from x1 ('center'), or from the side's inward normal \
+           (edge cracks); XFEM only, 0 elsewhere",
+          |v| v.f().is_finite() && v.f().abs() <= 180.0),
+        k("crack", "x", Float, Val::Float(5.5), POS,
+          "x1 of a 'center' crack's centre, or of the mouth of a bottom/top edge crack", pos),
+        k("crack", "side", Str, Val::Str("left".into()),
+          &choice(&["left", "right", "bottom", "top"]),
+          "the edge an XFEM edge crack starts from (other methods: 'left')",
+          |v| matches!(v.s(), "left" | "right" | "bottom" | "top")),
+        k("mesh", "nx", Int, Val::Int(44), "an integer >= 1",
+          "Q4 elements along x1 (FEM, XFEM)", |v| v.i() >= 1),
+        k("mesh", "ny", Int, Val::Int(83), "an integer >= 1",
+          "Q4 elements along x2 (FEM, XFEM)", |v| v.i() >= 1),
+        k("mesh", "gauss", Int, Val::Int(2), "an integer in 1..5",
+          "Gauss points per direction of the standard elements (2 is exact for rectangles)",
+          |v| (1..=5).contains(&v.i())),
+        k("xfem", "nsub", Int, Val::Int(4), "an integer in 1..32",
+          "sub-quads per direction of split and branch-enriched elements, 2 x 2 Gauss points \
+           each (eq. 35)", |v| (1..=32).contains(&v.i())),
+        k("xfem", "tip_nsub", Int, Val::Int(0), "0 (= nsub) or an integer in nsub..64",
+          "sub-quads per direction in tip elements", |v| (0..=64).contains(&v.i())),
+        k("xfem", "r_I", Float, Val::Float(2.5), "0.5 <= r_I <= 20 element lengths",
+          "radius of the interaction-integral domain, in tip-element lengths",
+          |v| v.f().is_finite() && (0.5..=20.0).contains(&v.f())),
+        k("xfem", "fixed_area_radius", Float, Val::Float(0.0),
+          "0 (off) or a length in [1e-30, 1e30]",
+          "enrich every node within this distance of a tip with the branch functions (Laborde \
+           et al. 2005); 0 = the tip element's nodes only", |v| nonneg(v.f())),
+        k("xfem", "area_threshold", Float, Val::Float(1e-4), "0 <= area_threshold < 0.5",
+          "small-area rule: a Heaviside node is dropped when the smaller part of its support \
+           cut by the crack is below this fraction of the support (0: only exactly zero parts)",
+          |v| v.f() >= 0.0 && v.f() < 0.5),
+        k("xfem", "growth_steps", Int, Val::Int(0),
+          &format!("an integer in 0..{MAX_GROWTH_STEPS}"),
+          "0 = solve at the reference load only; else the most LEFM growth steps (critical \
+           states where G = G0)", |v| (0..=MAX_GROWTH_STEPS as i64).contains(&v.i())),
+        k("xfem", "da", Float, Val::Float(0.0),
+          "0 (one element length) or a length in [1e-30, 1e30]",
+          "crack extension per growth step", |v| nonneg(v.f())),
+        k("xfem", "a_stop", Float, Val::Float(0.0),
+          "0 (0.7 plate.width) or 0 < a_stop < plate.width",
+          "growth stops once a crack length would exceed it (half-length for 'center')",
+          |v| nonneg(v.f())),
+        k("pd", "dx", Float, Val::Float(1.0 / 15.0), POS,
+          "PD grid spacing (length); the grid must fit the plate", pos),
+        k("pd", "m", Int, Val::Int(4), &format!("an integer in 1..{MAX_HORIZON_FACTOR}"),
+          "horizon factor: delta = m dx", |v| (1..=MAX_HORIZON_FACTOR as i64).contains(&v.i())),
+        k("pd", "center", Pair, Val::Pair([1.70, 10.5]), "two finite numbers, |x| <= 1e30",
+          "centre of the CCM-PD rectangle (pure PD covers the whole plate)",
+          |v| v.pair().iter().all(|&x| finite(x))),
+        k("pd", "size", Pair, Val::Pair([2.73, 1.67]), "two finite numbers in [1e-30, 1e30]",
+          "size of the CCM-PD rectangle along x1 and x2",
+          |v| v.pair().iter().all(|&x| positive(x))),
+        k("pd", "sla_steps", Int, Val::Int(500),
+          &format!("an integer >= 1 (at most {MAX_STEPS})"),
+          "most SLA steps (bond-break events)", |v| (1..=MAX_STEPS as i64).contains(&v.i())),
+        k("pd", "tie_tol", Float, Val::Float(0.0), "0 <= tie_tol < 1",
+          "break together every bond within this relative tolerance of the step's load factor \
+           (0 = one bond per step)", |v| v.f() >= 0.0 && v.f() < 1.0),
+        k("pd", "refactor_every", Int, Val::Int(0),
+          &format!("an integer >= 0 (at most {MAX_STEPS})"),
+          "fast solver: re-condense after this many breaks (0 = automatic, n_P / 2)",
+          |v| (0..=MAX_STEPS as i64).contains(&v.i())),
+        k("pd", "fast", Bool, Val::Bool(true), "true or false",
+          "condensation + Sherman-Morrison-Woodbury; false runs the refactorise-every-step \
+           oracle", |_| true),
+        k("pd", "stop_crack_length", Float, Val::Float(0.0),
+          "a finite number >= 0 (0 = no stop; else in [1e-30, 1e30])",
+          "stop the SLA once the crack is this long", |v| nonneg(v.f())),
+        k("pd", "damage_at_steps", IntList, Val::IntList(Vec::new()),
+          &format!("a list of integers >= 1 (at most {MAX_STEPS})"),
+          "steps after which the damage field is stored too",
+          |v| v.ints().iter().all(|&x| (1..=MAX_STEPS as i64).contains(&x))),
+        k("pd", "checkpoint_every", Int, Val::Int(0),
+          &format!("an integer >= 0 (at most {MAX_STEPS})"),
+          "write a checkpoint every this many steps (0 = never)",
+          |v| (0..=MAX_STEPS as i64).contains(&v.i())),
+        k("pd", "checkpoint_path", Str, Val::Str(String::new()), "a file path (empty: none)",
+          "checkpoint file, written atomically", |_| true),
+        k("pd", "resume_from", Str, Val::Str(String::new()),
+          "a checkpoint file path (empty: none)",
+          "continue from a checkpoint of the same model and solver options", |_| true),
+    ]
+}
+
+/// The whole table (built once).
+pub fn schema() -> &'static [KeySpec] {
+    static S: OnceLock<Vec<KeySpec>> = OnceLock::new();
+    S.get_or_init(build)
+}
+
+/// The keys of one section, in table order.
+pub fn section_keys(section: &str) -> impl Iterator<Item = &'static KeySpec> + '_ {
+    schema().iter().filter(move |k| k.section == section)
+}
+
+/// The spec of `section.key`.
+pub fn spec(section: &str, key: &str) -> Option<&'static KeySpec> {
+    schema()
+        .iter()
+        .find(|k| k.section == section && k.key == key)
+}
+
+/// The largest mesh (elements) and PD grid (nodes): [`MAX_ELEMENTS`].
+pub const fn max_elements() -> usize {
+    MAX_ELEMENTS
+}

@@ -1,0 +1,300 @@
+//! Cross-parameter checks of a [`Problem`], run before anything is built: cracks inside the
+//! plate and apart from each other, a load that is not zero, the PD grid fitting the plate, the
+//! PD rectangle inside the plate and around the crack tip, a pre-crack between node rows. Each
+//! error names the scene key to change.
+
+use super::parse::crack_name;
+use super::schema::{self, PD_NU};
+use super::{CrackKind, CrackSpec, Domain, Method, PdMethod, Problem};
+use crate::error::{Error, Result};
+use crate::geometry::segment_distance;
+use crate::loading::Grip;
+use crate::material::Plane;
+use crate::mesh::Side;
+
+/// Every cross-parameter rule of a problem.
+pub fn problem(p: &Problem) -> Result<()> {
+    let d = &p.domain;
+    for (k, c) in p.cracks.iter().enumerate() {
+        crack_geometry(c, d, &crack_name(k))?;
+        if !matches!(p.method, Method::Xfem(_)) && c.side != Side::Left {
+            return Err(Error::invalid(
+                &format!("{}.side", crack_name(k)),
+                &format!("'left' (method '{}' starts edge cracks there)", p.method.name()),
+                format!("'{}'", side_name(c.side)),
+            ));
+        }
+    }
+    cracks_apart(p)?;
+    if !matches!(p.method, Method::Xfem(_)) {
+        if let Some(c) = p.cracks.first() {
+            if c.angle != 0.0 {
+                return Err(Error::invalid(
+                    "crack.angle",
+                    &format!(
+                        "0 for method '{}' (cracks along x1; inclined cracks need method 'xfem')",
+                        p.method.name()
+                    ),
+                    c.angle,
+                ));
+            }
+        }
+    }
+    match &p.method {
+        Method::Xfem(x) => {
+            for (n, key) in [(x.grid.nx, "mesh.nx"), (x.grid.ny, "mesh.ny")] {
+                if n < 2 {
+                    return Err(Error::invalid(key, "an integer >= 2 for XFEM", n));
+                }
+            }
+            if let Some(g) = &x.growth {
+                let a0 = p.cracks.iter().map(|c| c.a0).fold(0.0, f64::max);
+                if !(g.a_stop > a0) {
+                    return Err(Error::invalid(
+                        "xfem.a_stop",
+                        &format!(
+                            "a stop length beyond the initial crack(s): a_stop > crack.a0 = {a0}"
+                        ),
+                        g.a_stop,
+                    ));
+                }
+            }
+        }
+        Method::Pd(pd) | Method::CcmPd(pd) => peridynamics(p, pd)?,
+        Method::Fem(_) => {}
+    }
+    Ok(())
+}
+
+fn side_name(s: Side) -> &'static str {
+    match s {
+        Side::Left => "left",
+        Side::Right => "right",
+        Side::Bottom => "bottom",
+        Side::Top => "top",
+    }
+}
+
+/// The precondition of a run that scales a critical state (XFEM, PD, CCM-PD): a reference load
+/// that is not zero (a zero load has no critical load factor). A scene with a zero load is still
+/// a valid description (FEM solves it).
+pub fn reference_load(p: &Problem) -> Result<()> {
+    if matches!(p.method, Method::Fem(_)) {
+        return Ok(());
+    }
+    let l = p.boundary.plate_load();
+    match l.grip {
+        Grip::Traction if l.traction == 0.0 => Err(Error::invalid(
+            "load.traction",
+            "a non-zero reference traction for bc = 'traction'",
+            0.0,
+        )),
+        Grip::Free | Grip::Clamped if l.u0 == 0.0 => Err(Error::invalid(
+            "load.u0",
+            "a non-zero reference displacement for displacement grips",
+            0.0,
+        )),
+        _ => Ok(()),
+    }
+}
+
+/// The crack lies inside the plate (tips strictly inside, edge cracks pointing inwards).
+fn crack_geometry(c: &CrackSpec, d: &Domain, pre: &str) -> Result<()> {
+    let (w, h) = (d.width, d.height);
+    if !(c.y < h) {
+        return Err(Error::invalid(
+            &format!("{pre}.y"),
+            &format!("0 < y < plate.height = {h}"),
+            c.y,
+        ));
+    }
+    let inside = |q: [f64; 2]| 0.0 < q[0] && q[0] < w && 0.0 < q[1] && q[1] < h;
+    match c.kind {
+        CrackKind::Seam | CrackKind::Edge => {
+            if c.kind == CrackKind::Edge && !(c.angle > -90.0 && c.angle < 90.0) {
+                return Err(Error::invalid(
+                    &format!("{pre}.angle"),
+                    "an edge crack pointing into the plate: -90 < angle < 90",
+                    c.angle,
+                ));
+            }
+            if c.kind == CrackKind::Edge
+                && matches!(c.side, Side::Bottom | Side::Top)
+                && !(c.x < w)
+            {
+                return Err(Error::invalid(
+                    &format!("{pre}.x"),
+                    &format!("0 < x < plate.width = {w}"),
+                    c.x,
+                ));
+            }
+            let tip = c.polyline(d)[1];
+            if !inside(tip) {
+                let hint = if c.angle == 0.0 && c.side == Side::Left {
+                    format!(": 0 < a0 < plate.width = {w}")
+                } else {
+                    String::new()
+                };
+                return Err(Error::invalid(
+                    &format!("{pre}.a0"),
+                    &format!(
+                        "a crack tip inside the plate (0, {w}) x (0, {h}){hint} (a crack from \
+                         edge to edge would cut the plate in two)"
+                    ),
+                    format!("{} (tip at ({:.6}, {:.6}))", c.a0, tip[0], tip[1]),
+                ));
+            }
+        }
+        CrackKind::Center => {
+            if !(c.x < w) {
+                return Err(Error::invalid(
+                    &format!("{pre}.x"),
+                    &format!("0 < x < plate.width = {w}"),
+                    c.x,
+                ));
+            }
+            for tip in c.polyline(d) {
+                if !inside(tip) {
+                    return Err(Error::invalid(
+                        &format!("{pre}.a0"),
+                        &format!("both tips of the centre crack inside the plate (0, {w}) x (0, {h})"),
+                        format!(
+                            "half-length {} at ({}, {}), angle {}: a tip at ({:.6}, {:.6})",
+                            c.a0, c.x, c.y, c.angle, tip[0], tip[1]
+                        ),
+                    ));
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Cracks must neither cross nor touch (junctions are not modelled).
+fn cracks_apart(p: &Problem) -> Result<()> {
+    let lines = p.crack_polylines();
+    let tol = 1e-9 * p.domain.width.hypot(p.domain.height);
+    for j in 1..lines.len() {
+        for i in 0..j {
+            let (a, b) = (&lines[i], &lines[j]);
+            if segment_distance(a[0], a[1], b[0], b[1]) <= tol {
+                return Err(Error::invalid(
+                    &crack_name(j),
+                    "cracks that neither cross nor touch each other (junctions are not modelled)",
+                    format!("{} {:?} meets {} {:?}", crack_name(j), b, crack_name(i), a),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The rules of bond-based PD and of the PD grid.
+fn peridynamics(p: &Problem, pd: &PdMethod) -> Result<()> {
+    let method = p.method.name();
+    let mat = &p.material.elastic;
+    if mat.nu != PD_NU {
+        return Err(Error::invalid(
+            "material.nu",
+            &format!("nu = {PD_NU}: bond-based peridynamics (method '{method}') fixes it"),
+            mat.nu,
+        ));
+    }
+    if mat.plane != Plane::Strain {
+        return Err(Error::invalid(
+            "material.plane",
+            &format!("'strain' (method '{method}' supports plane strain only)"),
+            "'stress'",
+        ));
+    }
+    let d = &p.domain;
+    let nodes = (d.width / pd.dx + 1.0) * (d.height / pd.dx + 1.0);
+    if nodes > schema::max_elements() as f64 {
+        return Err(Error::invalid(
+            "pd.dx",
+            &format!(
+                "a PD grid of at most {} nodes (a documented memory guard)",
+                schema::max_elements()
+            ),
+            format!("{} ({nodes:.3e} nodes)", pd.dx),
+        ));
+    }
+    for (len, axis) in [(d.width, "plate.width"), (d.height, "plate.height")] {
+        crate::coupling::grid_count(len, pd.dx, "pd.dx").map_err(|_| {
+            Error::invalid(
+                "pd.dx",
+                &format!("a grid that fits the plate: {axis} / dx an integer"),
+                format!("{} ({axis} {len} / dx = {:.6})", pd.dx, len / pd.dx),
+            )
+        })?;
+    }
+    if pd.sla.checkpoint_every > 0 && pd.sla.checkpoint_path.is_none() {
+        return Err(Error::invalid(
+            "pd.checkpoint_path",
+            &format!(
+                "a checkpoint file path (checkpoint_every = {} > 0 needs a checkpoint file)",
+                pd.sla.checkpoint_every
+            ),
+            "''",
+        ));
+    }
+    let two_h = 2.0 * pd.m as f64 * pd.dx;
+    let span = |i: usize| match pd.region {
+        Some(r) => (r[2 + i] - r[i], "pd.size"),
+        None => ([d.width, d.height][i], ["plate.width", "plate.height"][i]),
+    };
+    for (i, axis) in ["x1", "x2"].iter().enumerate() {
+        let (s, key) = span(i);
+        if s < two_h * (1.0 - 1e-9) {
+            return Err(Error::invalid(
+                key,
+                &format!(
+                    "a PD region spanning at least two horizons 2 m dx = {two_h:.6} (m = {}, dx \
+                     = {:.6}) along {axis}",
+                    pd.m, pd.dx
+                ),
+                format!("{s:.6}"),
+            ));
+        }
+    }
+    if let Some(r) = pd.region {
+        for (i, axis) in ["x1", "x2"].iter().enumerate() {
+            let len = [d.width, d.height][i];
+            if r[i] < 0.0 || r[2 + i] > len {
+                return Err(Error::invalid(
+                    "pd.center",
+                    &format!("a PD rectangle inside the plate ([0, {len}] along {axis})"),
+                    format!("the range [{:.6}, {:.6}]", r[i], r[2 + i]),
+                ));
+            }
+        }
+        if let Some(c) = p.cracks.first() {
+            if !(r[0] <= c.a0 && c.a0 <= r[2] && r[1] <= c.y && c.y <= r[3]) {
+                return Err(Error::invalid(
+                    "pd.center",
+                    &format!(
+                        "a PD rectangle [{:.6}, {:.6}] x [{:.6}, {:.6}] around the crack tip",
+                        r[0], r[2], r[1], r[3]
+                    ),
+                    format!("the tip at ({}, {})", c.a0, c.y),
+                ));
+            }
+        }
+    }
+    if let Some(c) = p.cracks.first() {
+        // a pre-crack along a row of grid nodes has no bonds to cut on one side
+        let rows = c.y / pd.dx;
+        if (rows - rows.round()).abs() <= 1e-9 * rows.max(1.0) {
+            return Err(Error::invalid(
+                "crack.y",
+                &format!(
+                    "a pre-crack line between two rows of PD nodes (dx = {:.6}), as the \
+                     paper's x2 = 10.5 with dx = 1/15",
+                    pd.dx
+                ),
+                format!("{} (node row {})", c.y, rows.round()),
+            ));
+        }
+    }
+    Ok(())
+}

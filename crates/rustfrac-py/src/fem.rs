@@ -1,0 +1,121 @@
+//! Plain Q4 FEM: the plate run's result for Python, and a grid solve with explicit conditions.
+
+use crate::arrays::{arr1, arr2, elements_i64};
+use crate::errors::detached;
+use crate::progress::Progress;
+use crate::shaped::Shaped;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use rustfrac_core::error::Error as CoreError;
+use rustfrac_core::fem::{Dirichlet, FemModel, LinearSystem};
+use rustfrac_core::material::{Elastic, Plane};
+use rustfrac_core::mesh::Mesh;
+use rustfrac_core::plate;
+use rustfrac_core::problem::Problem;
+
+/// Runs the FEM plate of `p`: fields coords, elements, u, reactions, nodal_stress,
+/// gauss_points, gauss_stress; scalars energy, residual, condition, condition_pivot_ratio; meta
+/// anchor_node, seam_y, timings.
+pub fn run<'py>(py: Python<'py>, p: &Problem, prog: &Progress) -> PyResult<Bound<'py, PyDict>> {
+    let params = p.fem_params().expect("a FEM problem");
+    let r = detached(py, "fem plate", || {
+        prog.report(0, 1, "fem: assemble + factorise + solve", true);
+        let r = plate::run(&params);
+        prog.report(1, 1, "fem: done", true);
+        r
+    });
+    if let Some(err) = prog.take_error() {
+        return Err(err);
+    }
+    let r = r?;
+    let s = Shaped::new(py, p, (r.sigma22, r.cmod, r.n_dofs, r.wall_time_s), &r.warnings)?;
+    s.fields.set_item("coords", arr2(py, r.coords))?;
+    s.fields.set_item("elements", elements_i64(py, &r.elements))?;
+    s.fields.set_item("u", arr1(py, r.u))?;
+    s.fields.set_item("reactions", arr1(py, r.reactions))?;
+    s.fields.set_item("nodal_stress", arr2(py, r.nodal_stress))?;
+    s.fields.set_item("gauss_points", arr2(py, r.gauss_points))?;
+    s.fields.set_item("gauss_stress", arr2(py, r.gauss_stress))?;
+    s.scalars.set_item("energy", r.energy)?;
+    s.scalars.set_item("residual", r.residual)?;
+    s.scalars.set_item("condition", r.condition.map(|c| c.value()))?;
+    s.scalars
+        .set_item("condition_pivot_ratio", r.condition.map(|c| c.pivot_ratio))?;
+    s.anchor(p, r.anchor_node)?;
+    s.meta.set_item("seam_y", r.seam_y)?;
+    let t = PyDict::new(py);
+    t.set_item("rust_s", r.wall_time_s)?;
+    s.meta.set_item("timings", t)?;
+    s.finish()
+}
+
+/// Solves a uniform rectangular Q4 grid (origin 0, size width x height, nx x ny elements) with
+/// explicit Dirichlet conditions `fixed_dofs` -> `fixed_values` (dof = 2 node + component) and
+/// nodal forces `forces` (length 2 (nx+1) (ny+1), or empty for none). Nodes are numbered row by
+/// row from the bottom-left corner. Too few conditions (a free rigid-body mode, named) or a
+/// numerically singular system (pivot-ratio bound above `COND_SINGULAR`) raise
+/// `SingularSystemError`.
+///
+/// Returns a dict: coords, elements, u, reactions, nodal_stress, energy, residual, n_dofs.
+#[pyfunction]
+#[pyo3(signature = (*, width, height, nx, ny, e, nu, plane = "strain", thickness = 1.0,
+                    fixed_dofs, fixed_values, forces = Vec::new()))]
+#[allow(clippy::too_many_arguments)]
+pub fn solve_fem_grid<'py>(
+    py: Python<'py>,
+    width: f64,
+    height: f64,
+    nx: usize,
+    ny: usize,
+    e: f64,
+    nu: f64,
+    plane: &str,
+    thickness: f64,
+    fixed_dofs: Vec<usize>,
+    fixed_values: Vec<f64>,
+    forces: Vec<f64>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let (model, sol) = detached(py, "fem grid", || {
+        if fixed_dofs.len() != fixed_values.len() {
+            return Err(CoreError::SizeMismatch {
+                what: "fixed_values".into(),
+                expected: fixed_dofs.len(),
+                got: fixed_values.len(),
+            });
+        }
+        let mat = Elastic::new(e, nu, Plane::parse(plane)?, thickness)?;
+        let mesh = Mesh::uniform(0.0, 0.0, width, height, nx, ny)?;
+        let model = FemModel::new(mesh, mat, 2)?;
+        let n = model.n_dofs();
+        let f = if forces.is_empty() {
+            vec![0.0; n]
+        } else if forces.len() == n {
+            forces
+        } else {
+            return Err(CoreError::SizeMismatch {
+                what: "forces".into(),
+                expected: n,
+                got: forces.len(),
+            });
+        };
+        let bc = Dirichlet {
+            dofs: fixed_dofs.into_iter().zip(fixed_values).collect(),
+        };
+        bc.check_rigid_modes(&model.mesh.coords)?;
+        let sys = LinearSystem::new(model.stiffness(), &bc)?;
+        sys.checked_condition("solve", false)?;
+        let sol = sys.solve(&f, 1.0)?;
+        Ok((model, sol))
+    })?;
+    let nodal = model.nodal_stresses(&sol.u);
+    let d = PyDict::new(py);
+    d.set_item("coords", arr2(py, model.mesh.coords.clone()))?;
+    d.set_item("elements", elements_i64(py, &model.mesh.elements))?;
+    d.set_item("n_dofs", model.n_dofs())?;
+    d.set_item("u", arr1(py, sol.u))?;
+    d.set_item("reactions", arr1(py, sol.reactions))?;
+    d.set_item("nodal_stress", arr2(py, nodal))?;
+    d.set_item("energy", sol.energy)?;
+    d.set_item("residual", sol.residual)?;
+    Ok(d)
+}

@@ -1,0 +1,186 @@
+//! Bond-based peridynamics (PD everywhere) and the splice CCM-PD coupling, solved by the
+//! sequentially linear analysis: the run's result for Python.
+//!
+//! History: one row per SLA step, recorded at the load that breaks the step's bond(s), after the
+//! unloaded origin as row 0 (so sigma22 against cmod starts from (0, 0)): step, load_factor,
+//! sigma22, cmod, u0, crack_length, bond (the critical bond), n_broken, node_i, node_j,
+//! n_detached. Fields: node_xy, u, u_final (empty when the body separated), pd_nodes,
+//! pd_node_xy, damage, broken, bond_nodes, detached_nodes (d,2) (step, node; step 0 = by the
+//! pre-crack), damage_at_steps, damage_at (k,p).
+
+use crate::arrays::{arr1, arr2, ints, pairs_i64, table};
+use crate::errors::{detached, py_error};
+use crate::progress::Progress;
+use crate::shaped::Shaped;
+use numpy::PyArray1;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use rustfrac_core::error::Error as CoreError;
+use rustfrac_core::problem::{Method, Problem};
+use rustfrac_core::sla::{self, CcmPdResult, SlaStep};
+use std::time::Instant;
+
+/// Runs the PD or CCM-PD model of `p` with its SLA and shapes the result.
+pub fn run<'py>(py: Python<'py>, p: &Problem, prog: &Progress) -> PyResult<Bound<'py, PyDict>> {
+    let params = p.pd_params().expect("a PD problem");
+    let name = p.method.name();
+    let t0 = Instant::now();
+    let r = detached(py, name, || {
+        let total = params.sla.max_steps.max(1);
+        if !prog.report(0, total, &format!("{name}: building the model"), true) {
+            return Err(CoreError::Internal {
+                detail: "cancelled".into(),
+            });
+        }
+        // a raising callback stops the run (status "cancelled", a checkpoint is written when
+        // configured); its exception is re-raised below
+        let report = |step: usize, steps: usize| {
+            prog.report(step, steps, &format!("sla: step {step}/{steps}"), false)
+        };
+        let r = sla::run(&params, &report)?;
+        let msg = format!("sla: {} after {} steps", r.status, r.history.len());
+        prog.report(total, total, &msg, true);
+        Ok(r)
+    });
+    let wall = t0.elapsed().as_secs_f64();
+    if let Some(err) = prog.take_error() {
+        return Err(err);
+    }
+    let r = r?;
+    let s = Shaped::new(py, p, (r.sigma22, r.cmod, r.n_dofs, wall), &r.warnings)?;
+    history(&s, &r, p)?;
+    fields(&s, &r)?;
+    meta(&s, &r, p, wall)?;
+    s.finish()
+}
+
+/// The unloaded origin: no load, the pre-crack's length, no bond.
+fn origin(p: &Problem) -> SlaStep {
+    SlaStep {
+        step: 0,
+        lambda: 0.0,
+        sigma22: 0.0,
+        cmod: 0.0,
+        u0: 0.0,
+        bonds: Vec::new(),
+        nodes: [usize::MAX; 2],
+        detached: Vec::new(),
+        crack_length: p.cracks.first().map_or(0.0, |c| c.a0),
+    }
+}
+
+fn history(s: &Shaped<'_>, r: &CcmPdResult, p: &Problem) -> PyResult<()> {
+    let py = s.py;
+    let o = origin(p);
+    let h: Vec<&SlaStep> = std::iter::once(&o).chain(&r.history).collect();
+    let col = |f: fn(&SlaStep) -> f64| -> Vec<f64> { h.iter().map(|x| f(x)).collect() };
+    let idx = |f: fn(&SlaStep) -> i64| {
+        PyArray1::from_vec(py, h.iter().map(|x| f(x)).collect()).into_any()
+    };
+    let node = |n: usize| if n == usize::MAX { -1 } else { n as i64 };
+    s.history.set_item("step", idx(|x| x.step as i64))?;
+    s.column("load_factor", col(|x| x.lambda))?;
+    s.column("sigma22", col(|x| x.sigma22))?;
+    s.column("cmod", col(|x| x.cmod))?;
+    s.column("u0", col(|x| x.u0))?;
+    s.column("crack_length", col(|x| x.crack_length))?;
+    s.history
+        .set_item("bond", idx(|x| x.bonds.first().map_or(-1, |&b| b as i64)))?;
+    s.history.set_item("n_broken", idx(|x| x.bonds.len() as i64))?;
+    let ni: Vec<i64> = h.iter().map(|x| node(x.nodes[0])).collect();
+    let nj: Vec<i64> = h.iter().map(|x| node(x.nodes[1])).collect();
+    s.history.set_item("node_i", PyArray1::from_vec(py, ni))?;
+    s.history.set_item("node_j", PyArray1::from_vec(py, nj))?;
+    s.history
+        .set_item("n_detached", idx(|x| x.detached.len() as i64))?;
+    Ok(())
+}
+
+fn fields(s: &Shaped<'_>, r: &CcmPdResult) -> PyResult<()> {
+    let py = s.py;
+    let f = &s.fields;
+    let p = r.damage.len();
+    f.set_item("damage_at_steps", ints(py, r.damage_at.iter().map(|(k, _)| *k)))?;
+    let snaps: Vec<f64> = r.damage_at.iter().flat_map(|(_, v)| v.clone()).collect();
+    if snaps.len() != r.damage_at.len() * p {
+        return Err(py_error(
+            py,
+            "InternalError",
+            "damage_at: snapshots of unequal length".into(),
+            None,
+        ));
+    }
+    f.set_item("damage_at", table(py, r.damage_at.len(), p, snaps))?;
+    f.set_item("node_xy", arr2(py, r.node_xy.clone()))?;
+    f.set_item("u", arr1(py, r.u.clone()))?;
+    f.set_item("u_final", arr1(py, r.u_final.clone()))?;
+    f.set_item("pd_nodes", ints(py, r.pd_nodes.iter().copied()))?;
+    f.set_item("pd_node_xy", arr2(py, r.pd_node_xy.clone()))?;
+    f.set_item("damage", arr1(py, r.damage.clone()))?;
+    f.set_item("broken", PyArray1::from_vec(py, r.broken.clone()))?;
+    f.set_item("bond_nodes", pairs_i64(py, r.bond_nodes.iter().copied()))?;
+    f.set_item(
+        "detached_nodes",
+        pairs_i64(py, r.detached_nodes.iter().map(|&(st, n)| [st, n])),
+    )?;
+    Ok(())
+}
+
+fn meta(s: &Shaped<'_>, r: &CcmPdResult, p: &Problem, wall: f64) -> PyResult<()> {
+    let py = s.py;
+    for (k, v) in [("gamma", r.gamma), ("c", r.c), ("s0", r.s0), ("delta", r.delta)] {
+        s.scalars.set_item(k, v)?;
+    }
+    let m = &s.meta;
+    let (Method::Pd(pd) | Method::CcmPd(pd)) = &p.method else {
+        return Ok(());
+    };
+    if pd.region.is_none() {
+        let d = format!("{}; on volumetric PD boundary layers", p.boundary.description());
+        m.set_item("bc_description", d)?;
+    }
+    s.anchor(p, r.anchor_node)?;
+    if m.get_item("anchor_node")?.is_some_and(|a| a.is_none()) {
+        m.set_item("anchor_xy", py.None())?;
+    } else {
+        m.set_item("anchor_xy", r.anchor_xy.to_vec())?;
+    }
+    m.set_item("status", &r.status)?;
+    m.set_item("solver", &r.solver)?;
+    m.set_item("sla_steps_done", r.history.len())?;
+    match pd.region {
+        Some(reg) => m.set_item("pd_regions", vec![reg.to_vec()])?,
+        None => m.set_item("pd_regions", "the whole plate")?,
+    }
+    let params = p.pd_params().expect("a PD problem");
+    m.set_item("precrack", params.model.precrack.clone())?;
+    m.set_item("out_of_balance", r.out_of_balance.to_vec())?;
+    m.set_item("n_refactorisations", r.n_refactorisations)?;
+    m.set_item("max_update_rank", r.max_update_rank)?;
+    m.set_item("refactor_interval", r.refactor_interval)?;
+    m.set_item("resumed_steps", r.resumed_steps)?;
+    m.set_item("n_checkpoints", r.n_checkpoints)?;
+    let path = |q: &Option<std::path::PathBuf>| q.as_ref().map(|x| x.display().to_string());
+    m.set_item("checkpoint_path", path(&pd.sla.checkpoint_path))?;
+    m.set_item("resumed_from", path(&pd.sla.resume_from))?;
+    m.set_item("peak_memory_bytes", r.peak_memory_bytes)?;
+    let counts = PyDict::new(py);
+    for (k, v) in [
+        ("n_nodes", r.n_nodes),
+        ("n_dofs", r.n_dofs),
+        ("n_pd_nodes", r.n_pd_nodes),
+        ("n_bonds", r.n_bonds),
+        ("n_precrack_bonds", r.n_precrack_bonds),
+        ("n_removed_elements", r.n_removed_elements),
+        ("bytes_per_bond", r.bytes_per_bond),
+    ] {
+        counts.set_item(k, v)?;
+    }
+    m.set_item("counts", counts)?;
+    let t = PyDict::new(py);
+    t.set_item("rust_s", wall)?;
+    t.set_item("setup_s", r.setup_seconds)?;
+    t.set_item("sla_s", r.sla_seconds)?;
+    m.set_item("timings", t)?;
+    Ok(())
+}
