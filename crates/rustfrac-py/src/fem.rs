@@ -28,17 +28,27 @@ pub fn run<'py>(py: Python<'py>, p: &Problem, prog: &Progress) -> PyResult<Bound
         return Err(err);
     }
     let r = r?;
-    let s = Shaped::new(py, p, (r.sigma22, r.cmod, r.n_dofs, r.wall_time_s), &r.warnings)?;
+    let s = Shaped::new(
+        py,
+        p,
+        (r.sigma22, r.cmod, r.n_dofs, r.wall_time_s),
+        &r.warnings,
+    )?;
     s.fields.set_item("coords", arr2(py, r.coords))?;
-    s.fields.set_item("elements", elements_i64(py, &r.elements))?;
+    s.fields
+        .set_item("elements", elements_i64(py, &r.elements))?;
     s.fields.set_item("u", arr1(py, r.u))?;
     s.fields.set_item("reactions", arr1(py, r.reactions))?;
-    s.fields.set_item("nodal_stress", arr2(py, r.nodal_stress))?;
-    s.fields.set_item("gauss_points", arr2(py, r.gauss_points))?;
-    s.fields.set_item("gauss_stress", arr2(py, r.gauss_stress))?;
+    s.fields
+        .set_item("nodal_stress", arr2(py, r.nodal_stress))?;
+    s.fields
+        .set_item("gauss_points", arr2(py, r.gauss_points))?;
+    s.fields
+        .set_item("gauss_stress", arr2(py, r.gauss_stress))?;
     s.scalars.set_item("energy", r.energy)?;
     s.scalars.set_item("residual", r.residual)?;
-    s.scalars.set_item("condition", r.condition.map(|c| c.value()))?;
+    s.scalars
+        .set_item("condition", r.condition.map(|c| c.value()))?;
     s.scalars
         .set_item("condition_pivot_ratio", r.condition.map(|c| c.pivot_ratio))?;
     s.anchor(p, r.anchor_node)?;

@@ -86,7 +86,8 @@ fn history(s: &Shaped<'_>, r: &CcmPdResult, p: &Problem) -> PyResult<()> {
     s.column("crack_length", col(|x| x.crack_length))?;
     s.history
         .set_item("bond", idx(|x| x.bonds.first().map_or(-1, |&b| b as i64)))?;
-    s.history.set_item("n_broken", idx(|x| x.bonds.len() as i64))?;
+    s.history
+        .set_item("n_broken", idx(|x| x.bonds.len() as i64))?;
     let ni: Vec<i64> = h.iter().map(|x| node(x.nodes[0])).collect();
     let nj: Vec<i64> = h.iter().map(|x| node(x.nodes[1])).collect();
     s.history.set_item("node_i", PyArray1::from_vec(py, ni))?;
@@ -100,7 +101,10 @@ fn fields(s: &Shaped<'_>, r: &CcmPdResult) -> PyResult<()> {
     let py = s.py;
     let f = &s.fields;
     let p = r.damage.len();
-    f.set_item("damage_at_steps", ints(py, r.damage_at.iter().map(|(k, _)| *k)))?;
+    f.set_item(
+        "damage_at_steps",
+        ints(py, r.damage_at.iter().map(|(k, _)| *k)),
+    )?;
     let snaps: Vec<f64> = r.damage_at.iter().flat_map(|(_, v)| v.clone()).collect();
     if snaps.len() != r.damage_at.len() * p {
         return Err(py_error(
@@ -128,7 +132,12 @@ fn fields(s: &Shaped<'_>, r: &CcmPdResult) -> PyResult<()> {
 
 fn meta(s: &Shaped<'_>, r: &CcmPdResult, p: &Problem, wall: f64) -> PyResult<()> {
     let py = s.py;
-    for (k, v) in [("gamma", r.gamma), ("c", r.c), ("s0", r.s0), ("delta", r.delta)] {
+    for (k, v) in [
+        ("gamma", r.gamma),
+        ("c", r.c),
+        ("s0", r.s0),
+        ("delta", r.delta),
+    ] {
         s.scalars.set_item(k, v)?;
     }
     let m = &s.meta;
@@ -136,7 +145,10 @@ fn meta(s: &Shaped<'_>, r: &CcmPdResult, p: &Problem, wall: f64) -> PyResult<()>
         return Ok(());
     };
     if pd.region.is_none() {
-        let d = format!("{}; on volumetric PD boundary layers", p.boundary.description());
+        let d = format!(
+            "{}; on volumetric PD boundary layers",
+            p.boundary.description()
+        );
         m.set_item("bc_description", d)?;
     }
     s.anchor(p, r.anchor_node)?;

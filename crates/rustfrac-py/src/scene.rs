@@ -76,10 +76,7 @@ pub fn check_section<'py>(
 /// method, name, every section the method reads with every key (defaults filled in) and
 /// "crack" as a list of crack dicts.
 #[pyfunction]
-pub fn check_scene<'py>(
-    py: Python<'py>,
-    scene: &Bound<'py, PyAny>,
-) -> PyResult<Bound<'py, PyAny>> {
+pub fn check_scene<'py>(py: Python<'py>, scene: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
     let t = to_table(scene).map_err(|e| core_err(py, e))?;
     let (_, tree) = Problem::checked(&t).map_err(|e| core_err(py, e))?;
     to_py(py, &Value::Table(tree))
@@ -101,4 +98,3 @@ pub fn problem_of(py: Python<'_>, scene: &Bound<'_, PyAny>, condition: bool) -> 
     p.set_condition(condition);
     Ok(p)
 }
-

@@ -59,7 +59,8 @@ fn mesh_fields(s: &Shaped<'_>, r: &XfemResult, mesh: Mesh) -> PyResult<()> {
     let py = s.py;
     let n_nodes = mesh.coords.len();
     s.fields.set_item("coords", arr2(py, mesh.coords))?;
-    s.fields.set_item("elements", elements_i64(py, &mesh.elements))?;
+    s.fields
+        .set_item("elements", elements_i64(py, &mesh.elements))?;
     s.fields.set_item("u", arr1(py, r.u[..r.n_std].to_vec()))?;
     s.fields.set_item("u_enriched", arr1(py, r.u.clone()))?;
     let mut enrichment = vec![0.0; n_nodes];
@@ -72,7 +73,8 @@ fn mesh_fields(s: &Shaped<'_>, r: &XfemResult, mesh: Mesh) -> PyResult<()> {
     s.fields.set_item("enrichment", arr1(py, enrichment))?;
     s.fields
         .set_item("heaviside_nodes", index_i64(py, &r.heaviside_nodes))?;
-    s.fields.set_item("tip_nodes", index_i64(py, &r.tip_nodes))?;
+    s.fields
+        .set_item("tip_nodes", index_i64(py, &r.tip_nodes))?;
     s.fields.set_item("crack", arr2(py, r.crack.clone()))?;
     s.fields
         .set_item("deformed_cells", quads(py, r.deformed.cells.clone()))?;
@@ -100,8 +102,10 @@ fn sif_fields(s: &Shaped<'_>, r: &XfemResult) -> PyResult<()> {
         .iter()
         .flat_map(|(p, q)| [p[0], p[1], q.k_i, q.k_ii, q.j_from_k, q.j_domain])
         .collect();
-    s.fields.set_item("tips", table(py, r.tips.len(), 6, tips))?;
-    s.fields.set_item("tip_crack", index_i64(py, &r.tip_crack))?;
+    s.fields
+        .set_item("tips", table(py, r.tips.len(), 6, tips))?;
+    s.fields
+        .set_item("tip_crack", index_i64(py, &r.tip_crack))?;
     let mut offsets: Vec<i64> = vec![0];
     let mut pts: Vec<[f64; 2]> = Vec::new();
     for c in &r.cracks {
@@ -127,8 +131,10 @@ fn growth_fields(s: &Shaped<'_>, r: &XfemResult, p: &Problem) -> PyResult<()> {
     s.fields.set_item("tip_history_K_II", tip_col(|t| t.k_ii))?;
     s.fields
         .set_item("tip_history_kink_angle", tip_col(|t| t.kink_angle))?;
-    s.fields
-        .set_item("tip_history_grows", tip_col(|t| f64::from(u8::from(t.grows))))?;
+    s.fields.set_item(
+        "tip_history_grows",
+        tip_col(|t| f64::from(u8::from(t.grows))),
+    )?;
     let mut offsets: Vec<i64> = vec![0];
     let (mut cells, mut disp) = (Vec::new(), Vec::new());
     for snap in &r.snapshots {
@@ -193,7 +199,8 @@ fn scalars_and_meta(s: &Shaped<'_>, r: &XfemResult, p: &Problem, wall: f64) -> P
         m.set_item("r_I_elements", x.r_i)?;
     }
     let lines = p.crack_polylines();
-    s.fields.set_item("crack_initial", arr2(py, lines[0].clone()))?;
+    s.fields
+        .set_item("crack_initial", arr2(py, lines[0].clone()))?;
     m.set_item("crack_initial", lines[0].clone())?;
     m.set_item("cracks_initial", lines)?;
     let t = PyDict::new(py);

@@ -208,7 +208,11 @@ pub fn method(t: &Table) -> Result<&'static str> {
             param: "method".into(),
             message: format!("missing required key 'method' ({valid})"),
         }),
-        Some(m) => Ok(schema::METHODS.iter().find(|x| **x == m).copied().unwrap_or("fem")),
+        Some(m) => Ok(schema::METHODS
+            .iter()
+            .find(|x| **x == m)
+            .copied()
+            .unwrap_or("fem")),
     }
 }
 

@@ -20,7 +20,10 @@ pub fn problem(p: &Problem) -> Result<()> {
         if !matches!(p.method, Method::Xfem(_)) && c.side != Side::Left {
             return Err(Error::invalid(
                 &format!("{}.side", crack_name(k)),
-                &format!("'left' (method '{}' starts edge cracks there)", p.method.name()),
+                &format!(
+                    "'left' (method '{}' starts edge cracks there)",
+                    p.method.name()
+                ),
                 format!("'{}'", side_name(c.side)),
             ));
         }
@@ -118,9 +121,7 @@ fn crack_geometry(c: &CrackSpec, d: &Domain, pre: &str) -> Result<()> {
                     c.angle,
                 ));
             }
-            if c.kind == CrackKind::Edge
-                && matches!(c.side, Side::Bottom | Side::Top)
-                && !(c.x < w)
+            if c.kind == CrackKind::Edge && matches!(c.side, Side::Bottom | Side::Top) && !(c.x < w)
             {
                 return Err(Error::invalid(
                     &format!("{pre}.x"),
@@ -157,7 +158,9 @@ fn crack_geometry(c: &CrackSpec, d: &Domain, pre: &str) -> Result<()> {
                 if !inside(tip) {
                     return Err(Error::invalid(
                         &format!("{pre}.a0"),
-                        &format!("both tips of the centre crack inside the plate (0, {w}) x (0, {h})"),
+                        &format!(
+                            "both tips of the centre crack inside the plate (0, {w}) x (0, {h})"
+                        ),
                         format!(
                             "half-length {} at ({}, {}), angle {}: a tip at ({:.6}, {:.6})",
                             c.a0, c.x, c.y, c.angle, tip[0], tip[1]

@@ -19,7 +19,10 @@ pub enum Value {
     List(Vec<Value>),
     Table(Table),
     /// a value of another type: (type name, short repr) for messages
-    Other { type_name: String, repr: String },
+    Other {
+        type_name: String,
+        repr: String,
+    },
 }
 
 /// A table: keys in insertion order are not needed (messages sort them), so a sorted map.
