@@ -232,6 +232,46 @@ impl Problem {
         Ok((p, c.to_tree()))
     }
 
+    /// The paper's case (section 3; every default of [`schema`]) solved by `method` ("fem",
+    /// "xfem", "pd" or "ccm_pd"): the starting point of Rust tests and examples, which then
+    /// change what they need (`p.xfem_mut().grid.nx = 88`).
+    pub fn paper(method: &str) -> Self {
+        let mut t = value::Table::new();
+        t.insert("method".into(), value::Value::Str(method.into()));
+        Self::from_scene(&t).expect("the paper's case is valid for every method")
+    }
+
+    /// The same problem under other grips (the reference load stays).
+    pub fn with_grip(mut self, grip: Grip) -> Self {
+        let Boundary::Grips(l) = &mut self.boundary;
+        l.grip = grip;
+        self
+    }
+
+    /// The FEM options (panics for another method: a programming error).
+    pub fn fem_mut(&mut self) -> &mut FemMethod {
+        match &mut self.method {
+            Method::Fem(m) => m,
+            m => panic!("fem_mut on a {} problem", m.name()),
+        }
+    }
+
+    /// The XFEM options (panics for another method: a programming error).
+    pub fn xfem_mut(&mut self) -> &mut XfemMethod {
+        match &mut self.method {
+            Method::Xfem(m) => m,
+            m => panic!("xfem_mut on a {} problem", m.name()),
+        }
+    }
+
+    /// The PD options of "pd" and "ccm_pd" (panics for another method: a programming error).
+    pub fn pd_mut(&mut self) -> &mut PdMethod {
+        match &mut self.method {
+            Method::Pd(m) | Method::CcmPd(m) => m,
+            m => panic!("pd_mut on a {} problem", m.name()),
+        }
+    }
+
     /// Whether FEM and XFEM solves compute their condition estimate (2 extra solves each; a
     /// run option, not part of the scene).
     pub fn set_condition(&mut self, on: bool) {
