@@ -103,6 +103,8 @@ def test_result_attributes_and_meta(paper_free: rf.Result) -> None:
     assert m["r_I"] == pytest.approx(res.scalars["r_I"])
     assert m["anchor_node"] == 44  # bottom-right corner
     assert "K_I" in res.summary()
+    # the summary says what ran: no SLA wording, no "None" for a method without SLA steps
+    assert "status single_solve" in res.summary() and "SLA" not in res.summary()
 
 
 @pytest.mark.parametrize("bc", ["clamped", "traction"])

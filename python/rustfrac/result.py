@@ -181,8 +181,10 @@ class Result:
             s += f", {len(next(iter(self.history.values())))} history points"
         if "bc" in self.meta:
             s += f", bc {self.meta['bc']}"
-        if "status" in self.meta:
-            s += f", SLA {self.meta['status']} after {self.meta.get('sla_steps_done')} steps"
+        if "sla_steps_done" in self.meta:
+            s += f", SLA {self.meta.get('status')} after {self.meta['sla_steps_done']} steps"
+        elif "status" in self.meta:
+            s += f", status {self.meta['status']}"
         if self.meta.get("anchor_node") is not None:
             s += f" (u1 anchor at node {self.meta['anchor_node']})"
         return s
