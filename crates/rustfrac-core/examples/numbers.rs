@@ -5,11 +5,11 @@
 //! Covers the FEM plate (every grip, uncracked and seam), XFEM (paper case, single solve and
 //! growth on 44 x 83, two cracks), CCM-PD (the paper's 500 SLA steps, fast solver) and pure PD and
 //! the oracle on a coarse grid.
-use rustfrac_core::coupling::{Method, ModelSpec};
 use rustfrac_core::loading::{Grip, PlateLoad};
 use rustfrac_core::material::{Elastic, Plane};
+use rustfrac_core::pd::sla::{self, CcmPdParams, SlaParams};
+use rustfrac_core::pd::splice::{Method, ModelSpec};
 use rustfrac_core::plate::{self, FemPlateParams};
-use rustfrac_core::sla::{self, CcmPdParams, SlaParams};
 use rustfrac_core::xfem::{self, GrowthParams, XfemParams};
 
 fn h(v: f64) -> String {
@@ -181,7 +181,9 @@ fn sla_cases() {
     clamped.sla.max_steps = 100;
     sla_case("paper clamped 100", &clamped);
     let coarse = ModelSpec {
-        dx: 0.25,
+        // dx = 1/3: the pre-crack x2 = 10.5 lies midway between node rows (dx = 0.25 or 0.5
+        // would put it on a row, which the model refuses)
+        dx: 1.0 / 3.0,
         m: 3,
         pd_regions: vec![[0.0, 8.5, 5.0, 12.5]],
         ..ModelSpec::paper()
@@ -200,7 +202,7 @@ fn sla_cases() {
     let pure = CcmPdParams {
         model: ModelSpec {
             method: Method::Pd,
-            dx: 0.5,
+            dx: 1.0 / 3.0,
             m: 3,
             load: PlateLoad {
                 grip: Grip::Traction,

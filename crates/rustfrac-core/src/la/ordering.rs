@@ -11,7 +11,7 @@
 /// Subsets at most this large are not split further (numbered in lexicographic order).
 const LEAF: usize = 48;
 
-/// Nested-dissection permutation `perm` (perm[new] = old) of the unknowns of a square matrix with
+/// Nested-dissection permutation `perm` (`perm[new] = old`) of the unknowns of a square matrix with
 /// symmetric pattern (`col_ptr`, `row_idx`, CSC), given the position of every unknown.
 pub fn nested_dissection(col_ptr: &[usize], row_idx: &[usize], xy: &[[f64; 2]]) -> Vec<usize> {
     let n = xy.len();
@@ -112,7 +112,7 @@ pub fn inverse(perm: &[usize]) -> Vec<usize> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sparse::Pattern;
+    use crate::la::Pattern;
 
     #[test]
     fn nested_dissection_is_a_permutation() {

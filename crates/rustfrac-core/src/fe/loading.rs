@@ -7,8 +7,8 @@
 //! node carries the anchor.
 
 use crate::error::{check_finite, Error, Result};
-use crate::fem::Dirichlet;
-use crate::mesh::{Mesh, Side};
+use crate::fe::dirichlet::Dirichlet;
+use crate::fe::mesh::{Mesh, Side};
 
 /// The grip condition on the loaded edges.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -1,124 +1,13 @@
-//! Compressed sparse column (CSC) matrices, the sparsity pattern built once from element (or bond)
-//! dof blocks, and race-free parallel value assembly.
+//! The sparsity pattern built once from element (or bond) dof blocks, and race-free parallel value
+//! assembly on it.
 //!
 //! Assembly colours the blocks so that two blocks of one colour share no dof; the blocks of a colour
 //! are then scattered in parallel (rayon) without locks or atomics, and the result is deterministic
 //! (each entry receives its contributions in the same order at every run).
 
+use super::csc::{column_pointers, for_column_chunks, CscMatrix};
 use crate::error::{Error, Result};
 use rayon::prelude::*;
-
-/// A square or rectangular CSC matrix with sorted, unique row indices in every column.
-#[derive(Debug, Clone, PartialEq)]
-pub struct CscMatrix {
-    pub nrows: usize,
-    pub ncols: usize,
-    pub col_ptr: Vec<usize>,
-    pub row_idx: Vec<usize>,
-    pub val: Vec<f64>,
-}
-
-impl CscMatrix {
-    /// Builds a matrix from (row, col, value) triplets; duplicates are summed, indices sorted.
-    pub fn from_triplets(nrows: usize, ncols: usize, trip: &[(usize, usize, f64)]) -> Result<Self> {
-        let mut cols: Vec<Vec<(usize, f64)>> = vec![Vec::new(); ncols];
-        for &(r, c, v) in trip {
-            if r >= nrows || c >= ncols {
-                return Err(Error::invalid(
-                    "triplet index",
-                    &format!("row < {nrows} and col < {ncols}"),
-                    format!("({r}, {c})"),
-                ));
-            }
-            cols[c].push((r, v));
-        }
-        let mut col_ptr = Vec::with_capacity(ncols + 1);
-        let mut row_idx = Vec::new();
-        let mut val = Vec::new();
-        col_ptr.push(0);
-        for col in cols.iter_mut() {
-            col.sort_by_key(|e| e.0);
-            let mut last = usize::MAX;
-            for &(r, v) in col.iter() {
-                if r == last {
-                    *val.last_mut().unwrap() += v;
-                } else {
-                    row_idx.push(r);
-                    val.push(v);
-                    last = r;
-                }
-            }
-            col_ptr.push(row_idx.len());
-        }
-        Ok(Self {
-            nrows,
-            ncols,
-            col_ptr,
-            row_idx,
-            val,
-        })
-    }
-
-    /// Number of stored entries.
-    pub fn nnz(&self) -> usize {
-        self.row_idx.len()
-    }
-
-    /// Position of entry (r, c) in `val`, if stored.
-    #[inline]
-    pub fn find(&self, r: usize, c: usize) -> Option<usize> {
-        let (a, b) = (self.col_ptr[c], self.col_ptr[c + 1]);
-        self.row_idx[a..b].binary_search(&r).ok().map(|k| a + k)
-    }
-
-    /// Entry (r, c), zero if not stored.
-    pub fn get(&self, r: usize, c: usize) -> f64 {
-        self.find(r, c).map_or(0.0, |k| self.val[k])
-    }
-
-    /// y = A x.
-    pub fn matvec(&self, x: &[f64]) -> Vec<f64> {
-        let mut y = vec![0.0; self.nrows];
-        for (c, &xc) in x.iter().enumerate().take(self.ncols) {
-            if xc == 0.0 {
-                continue;
-            }
-            for k in self.col_ptr[c]..self.col_ptr[c + 1] {
-                y[self.row_idx[k]] += self.val[k] * xc;
-            }
-        }
-        y
-    }
-
-    /// Largest |A - A^T| entry relative to the largest |A| entry (0 for a symmetric matrix).
-    pub fn asymmetry(&self) -> f64 {
-        let mut amax: f64 = 0.0;
-        let mut dmax: f64 = 0.0;
-        for c in 0..self.ncols {
-            for k in self.col_ptr[c]..self.col_ptr[c + 1] {
-                let r = self.row_idx[k];
-                amax = amax.max(self.val[k].abs());
-                dmax = dmax.max((self.val[k] - self.get(c, r)).abs());
-            }
-        }
-        if amax == 0.0 {
-            0.0
-        } else {
-            dmax / amax
-        }
-    }
-
-    /// Dense copy (tests and small systems only).
-    pub fn to_dense(&self) -> Vec<Vec<f64>> {
-        let mut d = vec![vec![0.0; self.ncols]; self.nrows];
-        for (c, w) in self.col_ptr.windows(2).enumerate() {
-            for k in w[0]..w[1] {
-                d[self.row_idx[k]][c] += self.val[k];
-            }
-        }
-        d
-    }
-}
 
 /// Sparsity pattern of a matrix assembled from dof blocks (an element's dofs, a bond's dofs),
 /// with the block colouring used for parallel assembly. Built once, reused for every re-assembly.
@@ -131,7 +20,7 @@ pub struct Pattern {
     pub n: usize,
     pub col_ptr: Vec<usize>,
     pub row_idx: Vec<usize>,
-    /// colours[c] = blocks of colour c; two blocks of one colour write no common row.
+    /// `colours[c]` = blocks of colour c; two blocks of one colour write no common row.
     pub colours: Vec<Vec<usize>>,
 }
 
@@ -237,8 +126,9 @@ impl Pattern {
 
     /// Assembles `A = sum_b scatter(block_b)` into a matrix with this pattern, in parallel.
     ///
-    /// `block(b, out)` writes the dense block of `b` into `out` (row-major, rows_of[b].len() x
-    /// cols_of[b].len()). Blocks of one colour share no row, so the parallel scatter is race-free.
+    /// `block(b, out)` writes the dense block of `b` into `out` (row-major, `rows_of[b].len()`
+    /// x `cols_of[b].len()`). Blocks of one colour share no row, so the parallel scatter is
+    /// race-free.
     pub fn assemble<F>(&self, rows_of: &[Vec<usize>], cols_of: &[Vec<usize>], block: F) -> CscMatrix
     where
         F: Fn(usize, &mut Vec<f64>) + Sync,
@@ -343,54 +233,6 @@ impl SyncPtr {
     }
 }
 
-/// Columns per parallel task when building column structures.
-const COLUMN_CHUNK: usize = 8192;
-
-/// Column pointers of an n-column matrix from the column lengths, computed in parallel over
-/// chunks of columns (`lengths(cols)` returns the lengths of the columns of one chunk).
-/// `init` makes the per-task scratch state.
-fn column_pointers<S, I, F>(n: usize, init: I, lengths: F) -> Vec<usize>
-where
-    I: Fn() -> S + Sync + Send,
-    F: Fn(&mut S, std::ops::Range<usize>) -> Vec<usize> + Sync + Send,
-{
-    let lens: Vec<Vec<usize>> = (0..n.div_ceil(COLUMN_CHUNK))
-        .into_par_iter()
-        .map_init(init, |st, k| {
-            lengths(st, k * COLUMN_CHUNK..((k + 1) * COLUMN_CHUNK).min(n))
-        })
-        .collect();
-    let mut col_ptr = Vec::with_capacity(n + 1);
-    col_ptr.push(0);
-    let mut total = 0;
-    for l in lens.iter().flatten() {
-        total += l;
-        col_ptr.push(total);
-    }
-    col_ptr
-}
-
-/// Runs `fill(cols, seg)` in parallel for the chunks of columns of [`column_pointers`], `seg`
-/// being the part of `data` (laid out by `col_ptr`) that holds those columns.
-fn for_column_chunks<T, S, I, F>(col_ptr: &[usize], data: &mut [T], init: I, fill: F)
-where
-    T: Send,
-    I: Fn() -> S + Sync + Send,
-    F: Fn(&mut S, std::ops::Range<usize>, &mut [T]) + Sync + Send,
-{
-    let n = col_ptr.len() - 1;
-    let mut segs = Vec::with_capacity(n.div_ceil(COLUMN_CHUNK));
-    let mut rest = data;
-    for k in 0..n.div_ceil(COLUMN_CHUNK) {
-        let cols = k * COLUMN_CHUNK..((k + 1) * COLUMN_CHUNK).min(n);
-        let (seg, tail) = rest.split_at_mut(col_ptr[cols.end] - col_ptr[cols.start]);
-        segs.push((cols, seg));
-        rest = tail;
-    }
-    segs.into_par_iter()
-        .for_each_init(init, |st, (cols, seg)| fill(st, cols, seg));
-}
-
 /// Greedy colouring of the blocks: a block takes the lowest colour not yet used by a block that
 /// shares one of its row dofs.
 fn colour_blocks(n: usize, rows_of: &[Vec<usize>]) -> Vec<Vec<usize>> {
@@ -433,148 +275,6 @@ fn colour_blocks(n: usize, rows_of: &[Vec<usize>]) -> Vec<Vec<usize>> {
     }
     colours
 }
-
-/// Dirichlet elimination: the free-free block K_ff of a square matrix, gathered from the full
-/// matrix through a position map built once (the constrained dofs never change within a run).
-#[derive(Debug, Clone)]
-pub struct Reduction {
-    /// full dof -> reduced index, or `usize::MAX` for a constrained dof
-    pub map: Vec<usize>,
-    /// reduced index -> full dof
-    pub free: Vec<usize>,
-    /// pattern of K_ff (values empty)
-    pub reduced: CscMatrix,
-    /// for each entry of K_ff, its position in the full matrix's `val`
-    gather: Vec<u32>,
-}
-
-impl Reduction {
-    /// `constrained[d]` is true for a prescribed dof.
-    pub fn new(full: &CscMatrix, constrained: &[bool]) -> Result<Self> {
-        if constrained.len() != full.ncols {
-            return Err(Error::SizeMismatch {
-                what: "constrained dof mask".into(),
-                expected: full.ncols,
-                got: constrained.len(),
-            });
-        }
-        let mut map = vec![usize::MAX; full.ncols];
-        let mut free = Vec::new();
-        for (d, &c) in constrained.iter().enumerate() {
-            if !c {
-                map[d] = free.len();
-                free.push(d);
-            }
-        }
-        let nf = free.len();
-        if full.nnz() > u32::MAX as usize {
-            return Err(Error::invalid(
-                "matrix for the Dirichlet elimination",
-                &format!("at most {} stored entries", u32::MAX),
-                full.nnz(),
-            ));
-        }
-        // K_ff column by column (parallel chunks, lengths first, then rows written in place);
-        // each entry remembers its position in the full matrix
-        let free_rows = |c: usize| {
-            (full.col_ptr[free[c]]..full.col_ptr[free[c] + 1])
-                .filter(|&k| map[full.row_idx[k]] != usize::MAX)
-        };
-        let col_ptr = column_pointers(
-            nf,
-            || (),
-            |_, cols| cols.map(|c| free_rows(c).count()).collect(),
-        );
-        let mut row_idx = vec![0usize; col_ptr[nf]];
-        let mut gather = vec![0u32; col_ptr[nf]];
-        for_column_chunks(
-            &col_ptr,
-            &mut row_idx,
-            || (),
-            |_, cols, seg| {
-                let mut i = 0;
-                for c in cols {
-                    for k in free_rows(c) {
-                        seg[i] = map[full.row_idx[k]];
-                        i += 1;
-                    }
-                }
-            },
-        );
-        for_column_chunks(
-            &col_ptr,
-            &mut gather,
-            || (),
-            |_, cols, seg| {
-                let mut i = 0;
-                for c in cols {
-                    for k in free_rows(c) {
-                        seg[i] = k as u32;
-                        i += 1;
-                    }
-                }
-            },
-        );
-        Ok(Self {
-            map,
-            free,
-            reduced: CscMatrix {
-                nrows: nf,
-                ncols: nf,
-                col_ptr,
-                row_idx,
-                val: Vec::new(),
-            },
-            gather,
-        })
-    }
-
-    /// K_ff values from the full matrix (same pattern as at construction).
-    pub fn reduce(&self, full: &CscMatrix) -> CscMatrix {
-        CscMatrix {
-            val: self.values(full),
-            ..self.reduced.clone()
-        }
-    }
-
-    /// The entries of K_ff, in the order of `reduced`.
-    fn values(&self, full: &CscMatrix) -> Vec<f64> {
-        self.gather
-            .par_iter()
-            .map(|&k| full.val[k as usize])
-            .collect()
-    }
-
-    /// Calls `f` with K_ff (values from `full`) without copying the reduced pattern: the values
-    /// are set in `reduced` for the duration of the call.
-    pub fn with_reduced<R>(&mut self, full: &CscMatrix, f: impl FnOnce(&CscMatrix) -> R) -> R {
-        self.reduced.val = self.values(full);
-        let r = f(&self.reduced);
-        self.reduced.val = Vec::new();
-        r
-    }
-
-    /// Right-hand side of the reduced system: f_f - K_fc u_c, with `u_c` the full vector holding
-    /// the prescribed values (anything at free dofs is ignored).
-    pub fn rhs(&self, full: &CscMatrix, f: &[f64], u_prescribed: &[f64]) -> Vec<f64> {
-        let mut uc = u_prescribed.to_vec();
-        for &d in &self.free {
-            uc[d] = 0.0;
-        }
-        let kuc = full.matvec(&uc);
-        self.free.iter().map(|&d| f[d] - kuc[d]).collect()
-    }
-
-    /// Full vector from the reduced solution and the prescribed values.
-    pub fn expand(&self, uf: &[f64], u_prescribed: &[f64]) -> Vec<f64> {
-        let mut u = u_prescribed.to_vec();
-        for (i, &d) in self.free.iter().enumerate() {
-            u[d] = uf[i];
-        }
-        u
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -603,14 +303,5 @@ mod tests {
             assert_eq!(a.get(i, i + 1), -((i + 1) as f64));
         }
         assert_eq!(a.asymmetry(), 0.0);
-    }
-
-    #[test]
-    fn triplets_sum_duplicates() {
-        let a = CscMatrix::from_triplets(2, 2, &[(0, 0, 1.0), (1, 0, 2.0), (0, 0, 3.0)]).unwrap();
-        assert_eq!(a.get(0, 0), 4.0);
-        assert_eq!(a.get(1, 0), 2.0);
-        assert_eq!(a.nnz(), 2);
-        assert!(CscMatrix::from_triplets(2, 2, &[(2, 0, 1.0)]).is_err());
     }
 }

@@ -1,0 +1,72 @@
+//! What the two direct solvers share: the checks of their input (square, finite values,
+//! right-hand side sizes) and output (finite solution), and the faer view of a [`CscMatrix`].
+
+use super::csc::CscMatrix;
+use crate::error::{Error, Result};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+
+pub(super) fn check_square(a: &CscMatrix) -> Result<()> {
+    if a.nrows != a.ncols {
+        return Err(Error::SizeMismatch {
+            what: "matrix (must be square)".into(),
+            expected: a.nrows,
+            got: a.ncols,
+        });
+    }
+    Ok(())
+}
+
+pub(super) fn faer_ref(a: &CscMatrix) -> SparseColMatRef<'_, usize, f64> {
+    faer_ref_values(a, &a.val)
+}
+
+/// The pattern of `a` with other values (same length as `a.val`).
+pub(super) fn faer_ref_values<'a>(
+    a: &'a CscMatrix,
+    val: &'a [f64],
+) -> SparseColMatRef<'a, usize, f64> {
+    let sym = SymbolicSparseColMatRef::new_checked(a.nrows, a.ncols, &a.col_ptr, None, &a.row_idx);
+    SparseColMatRef::new(sym, val)
+}
+
+pub(super) fn check_values(a: &CscMatrix) -> Result<()> {
+    if let Some(k) = a.val.iter().position(|v| !v.is_finite()) {
+        return Err(Error::invalid(
+            "matrix entry",
+            "finite values",
+            format!("{} at position {k}", a.val[k]),
+        ));
+    }
+    Ok(())
+}
+
+pub(super) fn check_rhs(n: usize, rhs: &[f64]) -> Result<usize> {
+    if n == 0 {
+        return Ok(0);
+    }
+    if rhs.len() % n != 0 {
+        return Err(Error::SizeMismatch {
+            what: "right-hand side length (multiple of n)".into(),
+            expected: n,
+            got: rhs.len(),
+        });
+    }
+    if rhs.iter().any(|v| !v.is_finite()) {
+        return Err(Error::invalid(
+            "right-hand side",
+            "finite values",
+            "NaN/inf",
+        ));
+    }
+    Ok(rhs.len() / n)
+}
+
+pub(super) fn check_solution(x: &[f64]) -> Result<()> {
+    if x.iter().all(|v| v.is_finite()) {
+        Ok(())
+    } else {
+        Err(Error::Singular {
+            detail: "the solve produced non-finite values (zero pivot)".into(),
+        })
+    }
+}

@@ -1,0 +1,180 @@
+//! Compressed sparse column (CSC) matrices: the storage of every stiffness matrix, and the parallel
+//! builders of CSC column structures (column pointers from lengths, columns filled in chunks)
+//! that [`crate::la::Pattern`] and [`crate::la::Reduction`] use.
+
+use crate::error::{Error, Result};
+use rayon::prelude::*;
+
+/// A square or rectangular CSC matrix with sorted, unique row indices in every column.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CscMatrix {
+    pub nrows: usize,
+    pub ncols: usize,
+    pub col_ptr: Vec<usize>,
+    pub row_idx: Vec<usize>,
+    pub val: Vec<f64>,
+}
+
+impl CscMatrix {
+    /// Builds a matrix from (row, col, value) triplets; duplicates are summed, indices sorted.
+    pub fn from_triplets(nrows: usize, ncols: usize, trip: &[(usize, usize, f64)]) -> Result<Self> {
+        let mut cols: Vec<Vec<(usize, f64)>> = vec![Vec::new(); ncols];
+        for &(r, c, v) in trip {
+            if r >= nrows || c >= ncols {
+                return Err(Error::invalid(
+                    "triplet index",
+                    &format!("row < {nrows} and col < {ncols}"),
+                    format!("({r}, {c})"),
+                ));
+            }
+            cols[c].push((r, v));
+        }
+        let mut col_ptr = Vec::with_capacity(ncols + 1);
+        let mut row_idx = Vec::new();
+        let mut val = Vec::new();
+        col_ptr.push(0);
+        for col in cols.iter_mut() {
+            col.sort_by_key(|e| e.0);
+            let mut last = usize::MAX;
+            for &(r, v) in col.iter() {
+                if r == last {
+                    *val.last_mut().unwrap() += v;
+                } else {
+                    row_idx.push(r);
+                    val.push(v);
+                    last = r;
+                }
+            }
+            col_ptr.push(row_idx.len());
+        }
+        Ok(Self {
+            nrows,
+            ncols,
+            col_ptr,
+            row_idx,
+            val,
+        })
+    }
+
+    /// Number of stored entries.
+    pub fn nnz(&self) -> usize {
+        self.row_idx.len()
+    }
+
+    /// Position of entry (r, c) in `val`, if stored.
+    #[inline]
+    pub fn find(&self, r: usize, c: usize) -> Option<usize> {
+        let (a, b) = (self.col_ptr[c], self.col_ptr[c + 1]);
+        self.row_idx[a..b].binary_search(&r).ok().map(|k| a + k)
+    }
+
+    /// Entry (r, c), zero if not stored.
+    pub fn get(&self, r: usize, c: usize) -> f64 {
+        self.find(r, c).map_or(0.0, |k| self.val[k])
+    }
+
+    /// y = A x.
+    pub fn matvec(&self, x: &[f64]) -> Vec<f64> {
+        let mut y = vec![0.0; self.nrows];
+        for (c, &xc) in x.iter().enumerate().take(self.ncols) {
+            if xc == 0.0 {
+                continue;
+            }
+            for k in self.col_ptr[c]..self.col_ptr[c + 1] {
+                y[self.row_idx[k]] += self.val[k] * xc;
+            }
+        }
+        y
+    }
+
+    /// Largest |A - A^T| entry relative to the largest |A| entry (0 for a symmetric matrix).
+    pub fn asymmetry(&self) -> f64 {
+        let mut amax: f64 = 0.0;
+        let mut dmax: f64 = 0.0;
+        for c in 0..self.ncols {
+            for k in self.col_ptr[c]..self.col_ptr[c + 1] {
+                let r = self.row_idx[k];
+                amax = amax.max(self.val[k].abs());
+                dmax = dmax.max((self.val[k] - self.get(c, r)).abs());
+            }
+        }
+        if amax == 0.0 {
+            0.0
+        } else {
+            dmax / amax
+        }
+    }
+
+    /// Dense copy (tests and small systems only).
+    pub fn to_dense(&self) -> Vec<Vec<f64>> {
+        let mut d = vec![vec![0.0; self.ncols]; self.nrows];
+        for (c, w) in self.col_ptr.windows(2).enumerate() {
+            for k in w[0]..w[1] {
+                d[self.row_idx[k]][c] += self.val[k];
+            }
+        }
+        d
+    }
+}
+
+/// Columns per parallel task when building column structures.
+const COLUMN_CHUNK: usize = 8192;
+
+/// Column pointers of an n-column matrix from the column lengths, computed in parallel over
+/// chunks of columns (`lengths(cols)` returns the lengths of the columns of one chunk).
+/// `init` makes the per-task scratch state.
+pub(crate) fn column_pointers<S, I, F>(n: usize, init: I, lengths: F) -> Vec<usize>
+where
+    I: Fn() -> S + Sync + Send,
+    F: Fn(&mut S, std::ops::Range<usize>) -> Vec<usize> + Sync + Send,
+{
+    let lens: Vec<Vec<usize>> = (0..n.div_ceil(COLUMN_CHUNK))
+        .into_par_iter()
+        .map_init(init, |st, k| {
+            lengths(st, k * COLUMN_CHUNK..((k + 1) * COLUMN_CHUNK).min(n))
+        })
+        .collect();
+    let mut col_ptr = Vec::with_capacity(n + 1);
+    col_ptr.push(0);
+    let mut total = 0;
+    for l in lens.iter().flatten() {
+        total += l;
+        col_ptr.push(total);
+    }
+    col_ptr
+}
+
+/// Runs `fill(cols, seg)` in parallel for the chunks of columns of [`column_pointers`], `seg`
+/// being the part of `data` (laid out by `col_ptr`) that holds those columns.
+pub(crate) fn for_column_chunks<T, S, I, F>(col_ptr: &[usize], data: &mut [T], init: I, fill: F)
+where
+    T: Send,
+    I: Fn() -> S + Sync + Send,
+    F: Fn(&mut S, std::ops::Range<usize>, &mut [T]) + Sync + Send,
+{
+    let n = col_ptr.len() - 1;
+    let mut segs = Vec::with_capacity(n.div_ceil(COLUMN_CHUNK));
+    let mut rest = data;
+    for k in 0..n.div_ceil(COLUMN_CHUNK) {
+        let cols = k * COLUMN_CHUNK..((k + 1) * COLUMN_CHUNK).min(n);
+        let (seg, tail) = rest.split_at_mut(col_ptr[cols.end] - col_ptr[cols.start]);
+        segs.push((cols, seg));
+        rest = tail;
+    }
+    segs.into_par_iter()
+        .for_each_init(init, |st, (cols, seg)| fill(st, cols, seg));
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn triplets_sum_duplicates() {
+        let a = CscMatrix::from_triplets(2, 2, &[(0, 0, 1.0), (1, 0, 2.0), (0, 0, 3.0)]).unwrap();
+        assert_eq!(a.get(0, 0), 4.0);
+        assert_eq!(a.get(1, 0), 2.0);
+        assert_eq!(a.nnz(), 2);
+        assert!(CscMatrix::from_triplets(2, 2, &[(2, 0, 1.0)]).is_err());
+    }
+}

@@ -1,0 +1,28 @@
+//! Sparse linear algebra under every model: CSC storage ([`csc`]), the sparsity pattern built
+//! once with race-free parallel assembly ([`pattern`]), the Dirichlet elimination on the matrix
+//! level ([`reduction`]), the geometric nested-dissection ordering ([`ordering`]), the direct
+//! solvers on top of faer, supernodal Cholesky for the SPD FEM/XFEM systems ([`cholesky`]) and
+//! sparse LU for the non-symmetric splice-coupled CCM-PD systems ([`lu`], DESIGN.md section 4),
+//! and the condition estimate with its thresholds ([`condition`]).
+//!
+//! Nothing here knows about elements or meshes: the finite-element layer ([`crate::fe`]) builds
+//! on it.
+
+mod checks;
+pub mod cholesky;
+pub mod condition;
+pub mod csc;
+pub mod lu;
+pub mod ordering;
+pub mod pattern;
+pub mod reduction;
+
+pub use cholesky::{Cholesky, PIVOT_TOL};
+pub use condition::{
+    check_condition, condition_warning, ConditionEstimate, CONDITION_ITERATIONS, COND_SINGULAR,
+    COND_WARN,
+};
+pub use csc::CscMatrix;
+pub use lu::Lu;
+pub use pattern::Pattern;
+pub use reduction::Reduction;
