@@ -176,7 +176,9 @@ fn sla_cases() {
     clamped.sla.max_steps = 100;
     sla_case("paper clamped 100", &clamped);
     let coarse = ModelSpec {
-        dx: 0.25,
+        // dx = 1/3: the pre-crack x2 = 10.5 lies midway between node rows (dx = 0.25 or 0.5
+        // would put it on a row, which the model refuses)
+        dx: 1.0 / 3.0,
         m: 3,
         pd_regions: vec![[0.0, 8.5, 5.0, 12.5]],
         ..ModelSpec::paper()
@@ -195,7 +197,7 @@ fn sla_cases() {
     let pure = CcmPdParams {
         model: ModelSpec {
             method: Method::Pd,
-            dx: 0.5,
+            dx: 1.0 / 3.0,
             m: 3,
             load: PlateLoad {
                 grip: Grip::Traction,
