@@ -5,11 +5,11 @@
 //! Covers the FEM plate (every grip, uncracked and seam), XFEM (paper case, single solve and
 //! growth on 44 x 83, two cracks), CCM-PD (the paper's 500 SLA steps, fast solver) and pure PD and
 //! the oracle on a coarse grid.
-use rustfrac_core::coupling::{Method, ModelSpec};
 use rustfrac_core::loading::{Grip, PlateLoad};
 use rustfrac_core::material::{Elastic, Plane};
+use rustfrac_core::pd::sla::{self, CcmPdParams, SlaParams};
+use rustfrac_core::pd::splice::{Method, ModelSpec};
 use rustfrac_core::plate::{self, FemPlateParams};
-use rustfrac_core::sla::{self, CcmPdParams, SlaParams};
 use rustfrac_core::xfem::{self, GrowthParams, XfemParams};
 
 fn h(v: f64) -> String {
@@ -84,7 +84,12 @@ fn xfem_case(name: &str, p: &XfemParams) {
         r.n_dofs
     );
     for s in &r.radii {
-        println!("  radius {} K_I {} K_II {}", h(s.factor), h(s.sifs.k_i), h(s.sifs.k_ii));
+        println!(
+            "  radius {} K_I {} K_II {}",
+            h(s.factor),
+            h(s.sifs.k_i),
+            h(s.sifs.k_ii)
+        );
     }
     for (k, s) in r.history.iter().enumerate() {
         println!(

@@ -714,8 +714,8 @@ fn solve_pd_plate<'py>(
     resume_from: Option<std::path::PathBuf>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    use rustfrac_core::coupling::ModelSpec;
-    use rustfrac_core::sla::{self, CcmPdParams, Method, SlaParams};
+    use rustfrac_core::pd::sla::{self, CcmPdParams, Method, SlaParams};
+    use rustfrac_core::pd::splice::ModelSpec;
     let prog = Progress::new(progress);
     let params = (|| {
         Ok::<_, CoreError>(CcmPdParams {
