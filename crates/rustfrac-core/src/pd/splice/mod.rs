@@ -266,8 +266,8 @@ impl SpliceModel {
     }
 
     /// Direct solve (general sparse LU) with `broken` bonds removed, at the reference load.
-    /// Nodes left without stiffness in some direction by `broken` are grounded there
-    /// ([`SpliceModel::springs_for`]).
+    /// Nodes left without stiffness in some direction by `broken` are grounded there (the
+    /// springs of `springs.rs`).
     pub fn solve(&self, broken: &[bool]) -> Result<StaticSolution> {
         let k = self.assemble_with(broken, &self.springs_for(broken));
         let red = Reduction::new(&k, &self.mask)?;

@@ -79,7 +79,7 @@ impl SpliceModel {
 
     /// Is node `n` *held*: a FEM node (its element rows tie it to the mesh), or a node with a
     /// prescribed dof or an applied force? A fragment of PD nodes connected to no held node floats
-    /// freely and carries no load (debris, see [`crate::sla`]).
+    /// freely and carries no load (debris, see [`crate::pd::sla`]).
     pub(crate) fn is_held(&self, n: usize) -> bool {
         !self.is_pd[n]
             || self.mask[2 * n]
