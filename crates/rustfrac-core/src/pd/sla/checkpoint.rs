@@ -167,7 +167,7 @@ impl Reader<'_> {
     }
 }
 
-/// Reads and validates a checkpoint written by [`write`] for the model with this `fingerprint`.
+/// Reads and validates a checkpoint written by [`write()`] for the model with this `fingerprint`.
 pub(crate) fn read(
     path: &Path,
     fingerprint: u64,
