@@ -6,7 +6,7 @@
 //!
 //! `cargo bench -p rustfrac-core --bench sla`
 
-use rustfrac_core::sla::{peak_memory_bytes, run, CcmPdParams};
+use rustfrac_core::pd::sla::{peak_memory_bytes, run, CcmPdParams};
 use std::time::Instant;
 
 fn main() {

@@ -5,7 +5,7 @@
 //!
 //! `cargo run --release -p rustfrac-core --example sla_long`
 
-use rustfrac_core::sla::{peak_memory_bytes, run, CcmPdParams};
+use rustfrac_core::pd::sla::{peak_memory_bytes, run, CcmPdParams};
 use std::time::Instant;
 
 fn rss() -> u64 {
@@ -64,7 +64,7 @@ fn main() {
         r.n_refactorisations,
         r.max_update_rank,
         r.detached_nodes.len(),
-        std::mem::size_of::<rustfrac_core::sla::SlaStep>(),
+        std::mem::size_of::<rustfrac_core::pd::sla::SlaStep>(),
         r.peak_memory_bytes.unwrap_or(0) as f64 / 1e6
     );
 }

@@ -1,16 +1,16 @@
 //! rustfrac-core: the numerical core of rustfrac.
 //!
-//! Modules follow the concepts of the paper (Tuna, Ongaro, Trovalusci, Fantuzzi): [`fe`] (Q4
-//! plane elasticity: mesh, material, element, Dirichlet conditions, plate loading), [`xfem`] and
-//! [`sif`] (section 2.1, eqs. 1-36), [`pd`], [`coupling`] and [`sla`] (section 2.2, eqs. 37-58,
-//! and the sequentially linear analysis of section 3, with [`checkpoint`] for resumable runs),
-//! with [`la`] (sparse matrices, ordering, direct solvers, condition) underneath. No Python here:
-//! the `rustfrac-py` crate binds it.
+//! Modules follow the concepts of the paper (Tuna, Ongaro, Trovalusci, Fantuzzi): [`problem`]
+//! (the one problem description every driver reads: scene schema, parsing, validation), [`fe`]
+//! (Q4 plane elasticity: mesh, material, element, Dirichlet conditions, plate loading), [`xfem`]
+//! and [`sif`] (section 2.1, eqs. 1-36), [`pd`] (section 2.2, eqs. 37-58: bonds, the splice
+//! coupling [`pd::splice`], and the sequentially linear analysis of section 3, [`pd::sla`], with
+//! [`pd::sla::checkpoint`] for resumable runs), with [`la`] (sparse matrices, ordering, direct
+//! solvers, condition) and [`geometry`] underneath. No Python here: the `rustfrac-py` crate
+//! binds it.
 //!
 //! Units are consistent but unspecified; the paper's case uses N, mm, MPa.
 
-pub mod checkpoint;
-pub mod coupling;
 pub mod error;
 pub mod fe;
 pub mod geometry;
@@ -19,7 +19,6 @@ pub mod pd;
 pub mod plate;
 pub mod problem;
 pub mod sif;
-pub mod sla;
 pub mod warning;
 pub mod xfem;
 

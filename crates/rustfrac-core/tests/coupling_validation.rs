@@ -2,8 +2,8 @@
 //! the outer boundary is reproduced everywhere, a linear strain field (error reported), and the
 //! non-symmetry of the splice matrix.
 
-use rustfrac_core::coupling::{Method, ModelSpec, SpliceModel};
 use rustfrac_core::material::{Elastic, Plane};
+use rustfrac_core::pd::splice::{Method, ModelSpec, SpliceModel};
 use rustfrac_core::solver::Lu;
 use rustfrac_core::sparse::Reduction;
 

@@ -5,9 +5,9 @@
 mod common;
 
 use common::{go_on, pd_plate, pd_strip, quiet, rel};
-use rustfrac_core::coupling::SpliceModel;
 use rustfrac_core::loading::Grip;
-use rustfrac_core::sla::{run, CcmPdParams, CcmPdResult, Method, SlaParams};
+use rustfrac_core::pd::sla::{run, CcmPdParams, CcmPdResult, Method, SlaParams};
+use rustfrac_core::pd::splice::SpliceModel;
 use rustfrac_core::xfem::{self, XfemParams};
 use rustfrac_core::Error;
 use rustfrac_core::WarningKind;

@@ -1,10 +1,10 @@
 //! Peridynamics validation: gamma from exact partial areas, constants, energy density of bulk nodes,
 //! pure PD model under linear fields.
 
-use rustfrac_core::coupling::{ModelSpec, SpliceModel};
 use rustfrac_core::material::{Elastic, Plane};
+use rustfrac_core::pd::sla::{run, CcmPdParams, Method};
+use rustfrac_core::pd::splice::{ModelSpec, SpliceModel};
 use rustfrac_core::pd::{family_stencil, find_bonds, gamma, Grid, PdConstants, BYTES_PER_BOND};
-use rustfrac_core::sla::{run, CcmPdParams, Method};
 use rustfrac_core::Error;
 
 #[test]

@@ -20,8 +20,8 @@ use rustfrac_core::fem::FemModel;
 use rustfrac_core::loading::{sigma22, Grip, PlateLoad};
 use rustfrac_core::material::{Elastic, Plane};
 use rustfrac_core::mesh::Mesh;
+use rustfrac_core::pd::sla::{self, CcmPdParams, Method, SlaParams};
 use rustfrac_core::plate::{self, FemPlateParams};
-use rustfrac_core::sla::{self, CcmPdParams, Method, SlaParams};
 use rustfrac_core::xfem::{self, GrowthParams, XfemParams};
 
 const TOL: f64 = 1e-9;

@@ -4,8 +4,8 @@
 mod common;
 
 use common::{coarse, go_on};
-use rustfrac_core::checkpoint;
-use rustfrac_core::sla::{auto_refactor_every, run, CcmPdParams, CcmPdResult};
+use rustfrac_core::pd::sla::checkpoint;
+use rustfrac_core::pd::sla::{auto_refactor_every, run, CcmPdParams, CcmPdResult};
 use rustfrac_core::Error;
 use rustfrac_core::WarningKind;
 use std::path::PathBuf;
@@ -41,7 +41,7 @@ fn long_run_keeps_the_solver_memory_bounded() {
         r.detached_nodes.len(),
         r.sla_seconds,
         r.peak_memory_bytes.unwrap_or(0) as f64 / 1e6,
-        std::mem::size_of::<rustfrac_core::sla::SlaStep>()
+        std::mem::size_of::<rustfrac_core::pd::sla::SlaStep>()
     );
     assert_eq!(r.history.len(), n, "{}", r.status);
     assert!(r.refactor_interval <= auto_refactor_every(np));

@@ -5,7 +5,7 @@ mod common;
 
 use common::{coarse, go_on, pd_strip};
 use rustfrac_core::loading::Grip;
-use rustfrac_core::sla::{run, CcmPdParams};
+use rustfrac_core::pd::sla::{run, CcmPdParams};
 
 #[test]
 fn paper_case_before_any_break() {
@@ -42,8 +42,8 @@ fn paper_case_before_any_break() {
 }
 
 fn compare(
-    a: &rustfrac_core::sla::CcmPdResult,
-    b: &rustfrac_core::sla::CcmPdResult,
+    a: &rustfrac_core::pd::sla::CcmPdResult,
+    b: &rustfrac_core::pd::sla::CcmPdResult,
     n: usize,
 ) -> f64 {
     assert!(

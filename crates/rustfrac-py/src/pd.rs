@@ -16,8 +16,8 @@ use numpy::PyArray1;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use rustfrac_core::error::Error as CoreError;
+use rustfrac_core::pd::sla::{self, CcmPdResult, SlaStep};
 use rustfrac_core::problem::{Method, Problem};
-use rustfrac_core::sla::{self, CcmPdResult, SlaStep};
 use std::time::Instant;
 
 /// Runs the PD or CCM-PD model of `p` with its SLA and shapes the result.

@@ -1,9 +1,9 @@
 //! The drivers' parameters of a [`Problem`].
 
 use super::{CrackKind, Method, Problem};
-use crate::coupling::{self, ModelSpec};
+use crate::pd::sla::CcmPdParams;
+use crate::pd::splice::{self as coupling, ModelSpec};
 use crate::plate::FemPlateParams;
-use crate::sla::CcmPdParams;
 use crate::xfem::{GrowthParams, XfemParams};
 
 impl Problem {

@@ -22,7 +22,7 @@ pub mod value;
 use crate::loading::{Grip, PlateLoad};
 use crate::material::Elastic;
 use crate::mesh::Side;
-use crate::sla::SlaParams;
+use crate::pd::sla::SlaParams;
 use crate::xfem::XfemOptions;
 
 /// The material: isotropic linear elasticity and the fracture energy.

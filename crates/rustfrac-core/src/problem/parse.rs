@@ -13,7 +13,7 @@ use crate::error::{Error, Result};
 use crate::loading::{Grip, PlateLoad};
 use crate::material::{Elastic, Plane};
 use crate::mesh::Side;
-use crate::sla::SlaParams;
+use crate::pd::sla::SlaParams;
 use crate::xfem::XfemOptions;
 use std::collections::BTreeMap;
 use std::path::PathBuf;

@@ -223,7 +223,7 @@ fn peridynamics(p: &Problem, pd: &PdMethod) -> Result<()> {
         ));
     }
     for (len, axis) in [(d.width, "plate.width"), (d.height, "plate.height")] {
-        crate::coupling::grid_count(len, pd.dx, "pd.dx").map_err(|_| {
+        crate::pd::splice::grid_count(len, pd.dx, "pd.dx").map_err(|_| {
             Error::invalid(
                 "pd.dx",
                 &format!("a grid that fits the plate: {axis} / dx an integer"),

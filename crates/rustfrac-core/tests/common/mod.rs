@@ -7,7 +7,7 @@
 use rustfrac_core::fem::{FemModel, LinearSystem, Solution};
 use rustfrac_core::loading::{plate_conditions, Grip, PlateEdges, PlateLoad};
 use rustfrac_core::material::{Elastic, Plane};
-use rustfrac_core::sla::{CcmPdParams, Method, SlaParams};
+use rustfrac_core::pd::sla::{CcmPdParams, Method, SlaParams};
 use rustfrac_core::xfem::{GrowthParams, XfemParams};
 use std::f64::consts::PI;
 

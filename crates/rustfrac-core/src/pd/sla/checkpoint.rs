@@ -1,4 +1,4 @@
-//! Checkpoints of the sequentially linear analysis ([`crate::sla`]).
+//! Checkpoints of the sequentially linear analysis ([`crate::pd::sla`]).
 //!
 //! The state of an SLA run is the sequence of bonds it broke (everything else follows from the
 //! model), so a checkpoint holds the history: per step its recorded numbers (lambda, sigma22,
@@ -16,8 +16,9 @@
 //! partial file. A checkpoint is refused with a clear error when its version, fingerprint,
 //! checksum or contents do not fit the model.
 
+use super::params::CcmPdParams;
+use super::result::SlaStep;
 use crate::error::{Error, Result};
-use crate::sla::{CcmPdParams, SlaStep};
 use std::path::Path;
 
 const MAGIC: &[u8; 8] = b"RFSLACK\0";
@@ -26,7 +27,7 @@ pub const VERSION: u32 = 1;
 
 /// FNV-1a, 64 bit: the checksum and the model fingerprint (stable across platforms and runs).
 #[derive(Debug, Clone, Copy)]
-pub struct Fnv(u64);
+pub(crate) struct Fnv(u64);
 
 impl Default for Fnv {
     fn default() -> Self {
@@ -98,7 +99,7 @@ fn io_err(path: &Path, what: &str, e: std::io::Error) -> Error {
 }
 
 /// Writes a checkpoint of `steps` atomically (temporary file + rename).
-pub fn write(path: &Path, fingerprint: u64, steps: &[SlaStep]) -> Result<()> {
+pub(crate) fn write(path: &Path, fingerprint: u64, steps: &[SlaStep]) -> Result<()> {
     let mut buf = Vec::with_capacity(64 + steps.len() * 96);
     buf.extend_from_slice(MAGIC);
     buf.extend_from_slice(&VERSION.to_le_bytes());
@@ -166,8 +167,13 @@ impl Reader<'_> {
     }
 }
 
-/// Reads and validates a checkpoint written by [`write`] for the model with this `fingerprint`.
-pub fn read(path: &Path, fingerprint: u64, n_bonds: usize, n_nodes: usize) -> Result<Vec<SlaStep>> {
+/// Reads and validates a checkpoint written by [`write()`] for the model with this `fingerprint`.
+pub(crate) fn read(
+    path: &Path,
+    fingerprint: u64,
+    n_bonds: usize,
+    n_nodes: usize,
+) -> Result<Vec<SlaStep>> {
     let b = std::fs::read(path).map_err(|e| io_err(path, "reading the checkpoint", e))?;
     let bad = |what: &str, got: String| Error::invalid("resume_from", what, got);
     if b.len() < 36 || &b[..8] != MAGIC {

@@ -1,0 +1,20 @@
+//! Bond-based peridynamics on a uniform grid (paper section 2.2, eqs. 37-58) and the sequentially
+//! linear analysis of the coupled model (section 3).
+//!
+//! * [`partial_volume`]: the family of a node, the exact partial-volume factors `beta`
+//!   (cell / disc intersection) and the family stencil.
+//! * [`constants`]: gamma (Ongaro et al.), micromodulus c (eq. 47), critical stretch s0 (eq. 48),
+//!   the linearised bond stiffness (eqs. 46, 55, 56), which materials PD can represent.
+//! * [`bonds`]: the grid, the bonds, the neighbour search and the damage index (eq. 53).
+//! * [`splice`]: the splice CCM-PD coupling (section 2.2.2, eq. 58) and the pure PD model.
+//! * [`sla`]: the sequentially linear analysis (section 3), its two solvers and checkpoints.
+
+pub mod bonds;
+pub mod constants;
+pub mod partial_volume;
+pub mod sla;
+pub mod splice;
+
+pub use bonds::{damage, find_bonds, Bond, Grid, BYTES_PER_BOND};
+pub use constants::{check_material, gamma, PdConstants};
+pub use partial_volume::{cell_fraction, family_stencil, rect_disc_area, StencilEntry};

@@ -1,0 +1,498 @@
+//! The SLA driver ([`run`], section 3): build the model and the solver, replay a checkpoint, run
+//! the steps, collect the results.
+//!
+//! Each step solves the current (linear) model once at the reference load, computes the stretch of
+//! every intact bond, takes lambda = min s0 / s over the bonds in tension, records (lambda,
+//! sigma22, CMOD, u0 = lambda u0_ref) at that load, and breaks the critical bond (or, with
+//! `tie_tol > 0`, every bond whose load factor is within that relative tolerance of lambda). Ties
+//! closer than 1e-10 (mirror bonds in mode I) are broken deterministically: the lowest bond index
+//! goes first, so two solvers that agree to round-off produce the same sequence. Before a bond
+//! breaks, its end nodes are grounded where they need it (`grounding.rs`).
+
+use super::checkpoint;
+use super::engine::{timing, Engine, Update};
+use super::fast::Fast;
+use super::grounding::{Grounding, DEBRIS_LIMIT};
+use super::memory::{keep_large_blocks_mmapped, peak_memory_bytes};
+use super::oracle::Oracle;
+use super::params::{CcmPdParams, SlaParams};
+use super::result::{CcmPdResult, SlaStep};
+use crate::error::{Error, Result};
+use crate::loading::Grip;
+use crate::pd::splice::{SpliceModel, Spring, StaticSolution};
+use crate::pd::{damage, BYTES_PER_BOND};
+use crate::sparse::CscMatrix;
+use crate::warning::{Warning, WarningKind};
+use std::path::Path;
+use std::time::Instant;
+
+/// Most free PD dofs for which the fast solver's dense condensed system is used; above, the
+/// oracle runs.
+const DENSE_LIMIT: usize = 6000;
+
+/// Runs a CCM-PD (or pure PD) model: linear solution at the reference load, then the SLA.
+/// `progress(step, max_steps)` is called after every step; returning `false` stops the run
+/// (status "cancelled", a checkpoint is written first when `checkpoint_path` is set).
+pub fn run(
+    params: &CcmPdParams,
+    progress: &(dyn Fn(usize, usize) -> bool + Sync),
+) -> Result<CcmPdResult> {
+    params.sla.validate()?;
+    keep_large_blocks_mmapped();
+    let t0 = Instant::now();
+    let model = SpliceModel::new(&params.model)?;
+    timing("model built", t0);
+    let mut st = RunState::new(&model);
+    let springs0 = st.ground_precrack(&model);
+    let k0 = model.assemble_with(&st.broken, &springs0);
+    let (mut engine, solver, refactor_interval) =
+        engine_for(&model, &params.sla, &k0, &st.broken, &springs0)?;
+    timing("engine ready", t0);
+    // reference solution before breaking (u from the engine, reactions from the full matrix)
+    let u0_full = engine.full_u()?;
+    let sol0 = model.postprocess(&k0, u0_full, 0.0);
+    drop(k0);
+    let fp = checkpoint::fingerprint(params, model.n_dofs(), model.bonds.len());
+    // resume: replay the checkpoint's steps exactly
+    let mut resumed_steps = 0;
+    if let Some(path) = &params.sla.resume_from {
+        st.replay(params, &model, engine.as_mut(), path, fp)?;
+        resumed_steps = st.history.len();
+    }
+    let setup_seconds = t0.elapsed().as_secs_f64();
+    timing("setup done", t0);
+
+    let t1 = Instant::now();
+    let n_checkpoints = st.steps(params, &model, engine.as_mut(), fp, sol0.sigma22, progress)?;
+    let u_final = if st.status == "separated" {
+        Vec::new()
+    } else {
+        engine.full_u()?
+    };
+    let sla_seconds = t1.elapsed().as_secs_f64();
+    let info = RunInfo {
+        solver,
+        refactor_interval,
+        n_refactorisations: engine.n_refactorisations(),
+        max_update_rank: engine.max_update_rank(),
+        resumed_steps,
+        n_checkpoints,
+        setup_seconds,
+        sla_seconds,
+    };
+    Ok(results(params, &model, st, sol0, u_final, info))
+}
+
+/// The solver: the fast one when asked for and its dense condensed system fits
+/// ([`DENSE_LIMIT`] free PD dofs), the oracle otherwise. Returns it, its description and the
+/// re-condensation interval (0 for the oracle).
+fn engine_for<'a>(
+    model: &'a SpliceModel,
+    sla: &SlaParams,
+    k0: &CscMatrix,
+    broken: &[bool],
+    springs0: &[Spring],
+) -> Result<(Box<dyn Engine + 'a>, String, usize)> {
+    let n_pd_free = (0..model.n_dofs())
+        .filter(|&d| !model.mask[d] && model.is_pd[d / 2])
+        .count();
+    let mut solver = String::new();
+    let mut refactor_interval = 0;
+    let engine: Box<dyn Engine + 'a> = if sla.fast && n_pd_free <= DENSE_LIMIT {
+        solver.push_str(
+            "fast (FEM condensed by Cholesky, dense PD system + Sherman-Morrison-Woodbury)",
+        );
+        let f = Fast::new(model, k0, broken, springs0, sla.refactor_every)?;
+        refactor_interval = f.refactor_every;
+        Box::new(f)
+    } else {
+        solver.push_str("oracle (sparse LU refactorised every step)");
+        if sla.fast {
+            solver.push_str(&format!(
+                "; fast path not applicable ({n_pd_free} free PD dofs > dense limit {DENSE_LIMIT})"
+            ));
+        }
+        Box::new(Oracle::new(model, broken, springs0, k0)?)
+    };
+    Ok((engine, solver, refactor_interval))
+}
+
+/// The evolving state of a run: the broken bonds (pre-crack included), the groundings, the
+/// history and the status.
+struct RunState {
+    broken: Vec<bool>,
+    grounding: Grounding,
+    /// (step, node) of every grounding; step 0 = detached by the pre-crack
+    detached_nodes: Vec<(usize, usize)>,
+    history: Vec<SlaStep>,
+    damage_at: Vec<(usize, Vec<f64>)>,
+    status: String,
+}
+
+impl RunState {
+    fn new(model: &SpliceModel) -> Self {
+        Self {
+            broken: model.precrack_broken.clone(),
+            grounding: Grounding::new(model.grid.n_nodes()),
+            detached_nodes: Vec::new(),
+            history: Vec::new(),
+            damage_at: Vec::new(),
+            status: "completed".to_string(),
+        }
+    }
+
+    /// The springs of the nodes the pre-crack already detaches (recorded as step 0).
+    fn ground_precrack(&mut self, model: &SpliceModel) -> Vec<Spring> {
+        let mut springs0 = Vec::new();
+        // only nodes with a broken bond can be loose (a fragment's nodes all lost a bond)
+        let touched: Vec<usize> = model
+            .pd_nodes
+            .iter()
+            .copied()
+            .filter(|&n| model.bonds_of(n).iter().any(|&b| self.broken[b as usize]))
+            .collect();
+        for n in touched {
+            for (m, sp) in self.grounding.springs(model, n, &self.broken) {
+                if !self.detached_nodes.contains(&(0, m)) {
+                    self.detached_nodes.push((0, m));
+                }
+                springs0.push(sp);
+            }
+        }
+        springs0
+    }
+
+    /// Replays the steps of the checkpoint at `path` (at most `max_steps`): exactly the updates of
+    /// the run that wrote it, in the same order; the recorded numbers come from their stored bits.
+    fn replay(
+        &mut self,
+        params: &CcmPdParams,
+        model: &SpliceModel,
+        engine: &mut dyn Engine,
+        path: &Path,
+        fp: u64,
+    ) -> Result<()> {
+        let steps = checkpoint::read(path, fp, model.bonds.len(), model.grid.n_nodes())?;
+        for st in steps.into_iter().take(params.sla.max_steps) {
+            if st.bonds.iter().any(|&b| self.broken[b]) {
+                return Err(Error::invalid(
+                    "resume_from",
+                    "a checkpoint breaking every bond once",
+                    format!("step {} breaks a bond twice", st.step),
+                ));
+            }
+            let (det, sep) = advance(
+                model,
+                engine,
+                &mut self.broken,
+                &mut self.grounding,
+                &st.bonds,
+            )?;
+            self.detached_nodes
+                .extend(det.iter().map(|&n| (st.step, n)));
+            self.record_damage(params, model, st.step);
+            self.history.push(st);
+            if sep {
+                self.status = "separated".into();
+                break;
+            }
+        }
+        Ok(())
+    }
+
+    /// The SLA steps after the replayed ones, up to `max_steps` or until the run ends (separated,
+    /// no bond in tension, cancelled, crack length reached). `sigma0` is the reference sigma22 of
+    /// the intact model. Returns the number of checkpoints written.
+    fn steps(
+        &mut self,
+        params: &CcmPdParams,
+        model: &SpliceModel,
+        engine: &mut dyn Engine,
+        fp: u64,
+        sigma0: f64,
+        progress: &(dyn Fn(usize, usize) -> bool + Sync),
+    ) -> Result<usize> {
+        let s0 = model.pd.s0;
+        let max_steps = params.sla.max_steps;
+        let mut n_checkpoints = 0;
+        let mut lam = vec![f64::INFINITY; model.bonds.len()];
+        let first_step = self.history.len() + 1;
+        for step in first_step..=max_steps {
+            if self.status != "completed" {
+                break;
+            }
+            let st = match engine.state() {
+                Ok(s) => s,
+                Err(Error::Separated { .. }) => {
+                    self.status = "separated".into();
+                    break;
+                }
+                Err(e) => return Err(e),
+            };
+            // under displacement grips a cut load path leaves both parts held by their own grip:
+            // the system stays regular but carries no load any more
+            if params.model.load.grip != Grip::Traction && st.sigma22.abs() <= 1e-9 * sigma0.abs() {
+                self.status = "separated".into();
+                break;
+            }
+            let tie_tol = params.sla.tie_tol;
+            let Some((lmin, sel)) =
+                critical_bonds(model, &self.broken, engine.u(), s0, tie_tol, &mut lam)
+            else {
+                self.status = "no_bond_in_tension".into();
+                break;
+            };
+            let first = sel[0];
+            let (detached, sep) =
+                advance(model, engine, &mut self.broken, &mut self.grounding, &sel)?;
+            self.detached_nodes
+                .extend(detached.iter().map(|&n| (step, n)));
+            let cl = crack_length(model, &self.broken);
+            let bf = &model.bonds[first];
+            self.history.push(SlaStep {
+                step,
+                lambda: lmin,
+                sigma22: lmin * st.sigma22,
+                cmod: lmin * st.cmod,
+                u0: lmin * params.model.load.u0,
+                bonds: sel,
+                nodes: [bf.i as usize, bf.j as usize],
+                detached,
+                crack_length: cl,
+            });
+            self.record_damage(params, model, step);
+            let every = params.sla.checkpoint_every;
+            if every > 0 && step % every == 0 {
+                self.checkpoint(params, fp, &mut n_checkpoints)?;
+            }
+            let go_on = progress(step, max_steps);
+            if sep {
+                self.status = "separated".into();
+                break;
+            }
+            if !go_on {
+                self.status = "cancelled".into();
+                self.checkpoint(params, fp, &mut n_checkpoints)?;
+                break;
+            }
+            if let Some(l) = params.sla.stop_crack_length {
+                if cl >= l {
+                    self.status = "crack_length_reached".into();
+                    break;
+                }
+            }
+        }
+        Ok(n_checkpoints)
+    }
+
+    /// Stores the damage field after `step` when it is one of `damage_at_steps`.
+    fn record_damage(&mut self, params: &CcmPdParams, model: &SpliceModel, step: usize) {
+        if params.sla.damage_at_steps.contains(&step) {
+            self.damage_at.push((
+                step,
+                damage(
+                    model.grid.n_nodes(),
+                    &model.bonds,
+                    &self.broken,
+                    &model.pd_nodes,
+                ),
+            ));
+        }
+    }
+
+    /// Writes the history so far to `checkpoint_path` (when set) and counts it in `n`.
+    fn checkpoint(&self, params: &CcmPdParams, fp: u64, n: &mut usize) -> Result<()> {
+        if let Some(path) = &params.sla.checkpoint_path {
+            checkpoint::write(path, fp, &self.history)?;
+            *n += 1;
+        }
+        Ok(())
+    }
+}
+
+/// The bonds to break in the state with displacements `u`: lambda_b = s0 / s_b for every intact
+/// bond in tension (`lam`, infinite elsewhere), lmin = min lambda, and every bond with
+/// lambda_b <= lmin (1 + max(tie_tol, 1e-10)) in index order (only the first when tie_tol = 0).
+/// None when no bond is in tension.
+fn critical_bonds(
+    model: &SpliceModel,
+    broken: &[bool],
+    u: &[f64],
+    s0: f64,
+    tie_tol: f64,
+    lam: &mut [f64],
+) -> Option<(f64, Vec<usize>)> {
+    let mut lmin = f64::INFINITY;
+    for (b, bond) in model.bonds.iter().enumerate() {
+        lam[b] = f64::INFINITY;
+        if broken[b] {
+            continue;
+        }
+        let s = bond.stretch(u);
+        if s > 0.0 {
+            lam[b] = s0 / s;
+            lmin = lmin.min(lam[b]);
+        }
+    }
+    if !lmin.is_finite() {
+        return None;
+    }
+    let tol = tie_tol.max(1e-10);
+    let mut sel: Vec<usize> = (0..model.bonds.len())
+        .filter(|&b| lam[b] <= lmin * (1.0 + tol))
+        .collect();
+    if tie_tol == 0.0 {
+        sel.truncate(1);
+    }
+    Some((lmin, sel))
+}
+
+/// Breaks the bonds `sel` of one step: for each bond in order, the grounding springs its end
+/// nodes need once it is gone, then the bond. Returns the detached nodes and whether the body
+/// separated (the remaining updates are then skipped). Used by the live run and by the replay of
+/// a checkpoint, so both apply exactly the same updates in the same order.
+fn advance(
+    model: &SpliceModel,
+    engine: &mut dyn Engine,
+    broken: &mut [bool],
+    grounding: &mut Grounding,
+    sel: &[usize],
+) -> Result<(Vec<usize>, bool)> {
+    let mut detached = Vec::new();
+    for &b in sel {
+        broken[b] = true;
+        let bond = &model.bonds[b];
+        let mut ups = Vec::new();
+        for n in [bond.i as usize, bond.j as usize] {
+            for (m, sp) in grounding.springs(model, n, broken) {
+                if !detached.contains(&m) {
+                    detached.push(m);
+                }
+                ups.push(Update::Ground(sp));
+            }
+        }
+        ups.push(Update::Break(b));
+        for u in ups {
+            match engine.apply(u) {
+                Ok(()) => {}
+                Err(Error::Separated { detail }) => {
+                    timing(&detail, Instant::now());
+                    return Ok((detached, true));
+                }
+                Err(e) => return Err(e),
+            }
+        }
+    }
+    Ok((detached, false))
+}
+
+fn crack_length(model: &SpliceModel, broken: &[bool]) -> f64 {
+    let pc = &model.spec.precrack;
+    let (p0, t, l0) = if pc.len() >= 2 {
+        let d = [pc[1][0] - pc[0][0], pc[1][1] - pc[0][1]];
+        let l = (d[0] * d[0] + d[1] * d[1]).sqrt();
+        let l0: f64 = pc
+            .windows(2)
+            .map(|s| ((s[1][0] - s[0][0]).powi(2) + (s[1][1] - s[0][1]).powi(2)).sqrt())
+            .sum();
+        (pc[0], [d[0] / l, d[1] / l], l0)
+    } else {
+        ([0.0, 0.0], [1.0, 0.0], 0.0)
+    };
+    let mut len = l0;
+    for (b, bond) in model.bonds.iter().enumerate() {
+        if broken[b] && !model.precrack_broken[b] {
+            let xi = model.grid.xy(bond.i as usize);
+            let mid = [xi[0] + 0.5 * bond.xi[0], xi[1] + 0.5 * bond.xi[1]];
+            len = len.max((mid[0] - p0[0]) * t[0] + (mid[1] - p0[1]) * t[1]);
+        }
+    }
+    len
+}
+
+/// What the driver knows of a run besides its state: the solver, its counters and the timings.
+struct RunInfo {
+    solver: String,
+    refactor_interval: usize,
+    n_refactorisations: usize,
+    max_update_rank: usize,
+    resumed_steps: usize,
+    n_checkpoints: usize,
+    setup_seconds: f64,
+    sla_seconds: f64,
+}
+
+/// The result of a run: the model's counts and constants, the reference solution `sol0`, the
+/// final displacements, the history, the damage, and a warning when nodes were grounded.
+fn results(
+    params: &CcmPdParams,
+    model: &SpliceModel,
+    st: RunState,
+    sol0: StaticSolution,
+    u_final: Vec<f64>,
+    info: RunInfo,
+) -> CcmPdResult {
+    let mut warnings = model.warnings.clone();
+    let detached_nodes = st.detached_nodes;
+    if !detached_nodes.is_empty() {
+        let n_pre = detached_nodes.iter().filter(|d| d.0 == 0).count();
+        warnings.push(Warning::new(
+            WarningKind::Discretisation,
+            format!(
+                "{} PD node(s) lost all stiffness along some direction (every bond broken, the \
+             remaining ones parallel, or a loose fragment of at most {DEBRIS_LIMIT} nodes) and \
+             were grounded there ({n_pre} by the pre-crack, the others during the SLA); they \
+             carry no force along it (see detached_nodes)",
+                detached_nodes.len()
+            ),
+        ));
+    }
+    let broken = st.broken;
+    let nn = model.grid.n_nodes();
+    CcmPdResult {
+        method: params.model.method.name().into(),
+        grip: params.model.load.grip.name().into(),
+        solver: info.solver,
+        u: sol0.u,
+        u_final,
+        node_xy: (0..nn).map(|n| model.grid.xy(n)).collect(),
+        n_nodes: nn,
+        n_dofs: model.n_dofs(),
+        n_pd_nodes: model.pd_nodes.len(),
+        n_bonds: model.bonds.len(),
+        n_precrack_bonds: model.precrack_broken.iter().filter(|&&b| b).count(),
+        n_removed_elements: model.n_removed_elements,
+        bytes_per_bond: BYTES_PER_BOND,
+        gamma: model.pd.gamma,
+        c: model.pd.c,
+        s0: model.pd.s0,
+        delta: model.pd.delta,
+        sigma22: sol0.sigma22,
+        cmod: sol0.cmod,
+        out_of_balance: sol0.out_of_balance,
+        anchor_node: model.anchor,
+        anchor_xy: model.grid.xy(model.anchor),
+        history: st.history,
+        damage: damage(nn, &model.bonds, &broken, &model.pd_nodes),
+        damage_at: st.damage_at,
+        pd_node_xy: model.pd_nodes.iter().map(|&n| model.grid.xy(n)).collect(),
+        pd_nodes: model.pd_nodes.clone(),
+        bond_nodes: model
+            .bonds
+            .iter()
+            .map(|b| [b.i as usize, b.j as usize])
+            .collect(),
+        broken,
+        status: st.status,
+        n_refactorisations: info.n_refactorisations,
+        max_update_rank: info.max_update_rank,
+        refactor_interval: info.refactor_interval,
+        detached_nodes,
+        warnings,
+        resumed_steps: info.resumed_steps,
+        n_checkpoints: info.n_checkpoints,
+        setup_seconds: info.setup_seconds,
+        sla_seconds: info.sla_seconds,
+        peak_memory_bytes: peak_memory_bytes(),
+    }
+}

@@ -1,0 +1,420 @@
+//! Condensation of the splice system onto the PD unknowns (the fast solver's setup).
+//!
+//! The dofs are fixed, free FEM (F) or free PD (P). The FEM rows never change when a bond breaks,
+//! so y = y0 - Z x with Z = K_FF^{-1} K_FP (sparse Cholesky of the SPD FEM block; one multi-RHS
+//! solve for the few PD columns touched by hybrid elements, in column blocks solved
+//! concurrently), and S x = g with S = K_PP - K_PF Z (dense, n_P x n_P). Of Z only the rows at the
+//! *ring* are kept: the F dofs coupled to PD rows and the CMOD dofs. sigma22 and CMOD are linear
+//! functionals of u, condensed once into constants plus coefficients on x. [`Fast::new`] runs
+//! these phases; `condense` builds and inverts S (also at every re-condensation).
+
+use super::{Fast, CLS_F, CLS_FIXED, CLS_P};
+use crate::error::{Error, Result};
+use crate::pd::sla::engine::{separated, timing};
+use crate::pd::sla::params::auto_refactor_every;
+use crate::pd::splice::{SpliceModel, Spring};
+use crate::solver::Cholesky;
+use crate::sparse::{CscMatrix, Reduction};
+use faer::linalg::solvers::DenseSolveCore;
+use faer::Mat;
+use rayon::prelude::*;
+use std::time::Instant;
+
+/// One column block of Z: (first column, width, ring rows (row-major |ring| x width), sigma22
+/// and CMOD functionals of its columns).
+type ZBlock = (usize, usize, Vec<f64>, Vec<f64>, Vec<f64>);
+
+/// The dof classes: `cls[d]` (fixed, F or P), `idx[d]` the index of dof d in its class, the P dofs
+/// in order and the number of F dofs.
+struct DofClasses {
+    cls: Vec<u8>,
+    idx: Vec<usize>,
+    p_dofs: Vec<usize>,
+    nf: usize,
+}
+
+/// From the pattern: `pc`, the P indices of the columns of K_FP (PD columns with FEM rows); the
+/// ring, the F dofs coupled to PD rows (K_PF columns) and the CMOD dofs, with each dof's position
+/// in it (`usize::MAX` elsewhere).
+struct Coupling {
+    pc: Vec<usize>,
+    ring: Vec<usize>,
+    ring_pos: Vec<usize>,
+}
+
+/// sigma22 = q . u with q = sum of the top y rows / (W h), CMOD = e . u, condensed: a constant
+/// (fixed and y0 parts) plus coefficients on x (the Z parts are subtracted by [`z_ring`]).
+struct Functionals {
+    q: Vec<f64>,
+    e: Vec<f64>,
+    sig_const: f64,
+    sig_coef: Vec<f64>,
+    cmod_const: f64,
+    cmod_coef: Vec<f64>,
+    is_top_y: Vec<bool>,
+    wh: f64,
+}
+
+impl<'a> Fast<'a> {
+    /// Condenses the matrix `k` of the state (`broken`, `springs`): dof classes, Cholesky of
+    /// K_FF and y0, coupling sets, functionals, Z at the ring, then S and its inverse.
+    pub(in crate::pd::sla) fn new(
+        model: &'a SpliceModel,
+        k: &CscMatrix,
+        broken: &[bool],
+        springs: &[Spring],
+        refactor_every: usize,
+    ) -> Result<Self> {
+        let dc = dof_classes(model);
+        let np = dc.p_dofs.len();
+        let t0 = Instant::now();
+        let k = k.clone();
+        let (f_red, chol, y0) = fem_block(model, &k, &dc, t0)?;
+        let cp = coupling_sets(model, &k, &dc);
+        let mut fun = functionals(model, &k, &dc, &y0);
+        let z_ring = z_ring(&k, &dc, chol.as_ref(), &f_red, &cp, &mut fun)?;
+        let mut me = Self {
+            model,
+            cls: dc.cls,
+            idx: dc.idx,
+            p_dofs: dc.p_dofs,
+            f_red,
+            chol,
+            y0,
+            pc: cp.pc,
+            ring: cp.ring,
+            ring_pos: cp.ring_pos,
+            z_ring,
+            sig_const: fun.sig_const,
+            sig_coef: fun.sig_coef,
+            cmod_const: fun.cmod_const,
+            cmod_coef: fun.cmod_coef,
+            sinv: Mat::zeros(0, 0),
+            x0: Vec::new(),
+            v: Vec::new(),
+            w: Vec::new(),
+            bt: Vec::new(),
+            cinv: Vec::new(),
+            cs: 0,
+            refactor_every: if refactor_every > 0 {
+                refactor_every
+            } else {
+                auto_refactor_every(np)
+            },
+            max_rank: 0,
+            broken: broken.to_vec(),
+            springs: springs.to_vec(),
+            n_fact: 0,
+            u_full: model.prescribed.clone(),
+            is_top_y: fun.is_top_y,
+            wh: fun.wh,
+            sig_bonds: Vec::new(),
+            k0: CscMatrix {
+                nrows: 0,
+                ncols: 0,
+                col_ptr: vec![0],
+                row_idx: Vec::new(),
+                val: Vec::new(),
+            },
+        };
+        timing("fast: Z = K_FF^-1 K_FP", t0);
+        me.condense(&k)?;
+        timing("fast: condensed and inverted", t0);
+        me.k0 = k;
+        Ok(me)
+    }
+
+    /// Builds S = K_PP - K_PF Z and g from the current matrix, inverts S, resets the SMW state.
+    pub(super) fn condense(&mut self, k: &CscMatrix) -> Result<()> {
+        let np = self.p_dofs.len();
+        let npc = self.pc.len();
+        let mut s = Mat::<f64>::zeros(np, np);
+        // particular vector: prescribed values, y0 at F
+        let mut w0 = self.model.prescribed.clone();
+        for (d, w) in w0.iter_mut().enumerate() {
+            match self.cls[d] {
+                CLS_F => *w = self.y0[self.idx[d]],
+                CLS_P => *w = 0.0,
+                _ => {}
+            }
+        }
+        let kw = k.matvec(&w0);
+        let g: Vec<f64> = self
+            .p_dofs
+            .iter()
+            .map(|&d| self.model.f[d] - kw[d])
+            .collect();
+        for (pcol, &c) in self.p_dofs.iter().enumerate() {
+            let col = s.col_as_slice_mut(pcol);
+            for kk in k.col_ptr[c]..k.col_ptr[c + 1] {
+                let r = k.row_idx[kk];
+                if self.cls[r] == CLS_P {
+                    col[self.idx[r]] += k.val[kk];
+                }
+            }
+        }
+        for &fd in &self.ring {
+            let rp = self.ring_pos[fd];
+            let zrow = &self.z_ring[rp * npc..(rp + 1) * npc];
+            for kk in k.col_ptr[fd]..k.col_ptr[fd + 1] {
+                let r = k.row_idx[kk];
+                let v = k.val[kk];
+                if self.cls[r] == CLS_P && v != 0.0 {
+                    let pr = self.idx[r];
+                    for (t, &z) in zrow.iter().enumerate() {
+                        s[(pr, self.pc[t])] -= v * z;
+                    }
+                }
+            }
+        }
+        let lu = s.partial_piv_lu();
+        let ud = lu.U().diagonal();
+        let (mut dmin, mut dmax) = (f64::INFINITY, 0.0f64);
+        for i in 0..np {
+            let a = ud[i].abs();
+            dmin = dmin.min(a);
+            dmax = dmax.max(a);
+        }
+        if np > 0 && (dmin.is_nan() || dmin <= 1e-13 * dmax) {
+            return Err(separated(format!(
+                "condensed PD matrix is singular (pivot ratio {:.3e})",
+                dmin / dmax
+            )));
+        }
+        self.sinv = lu.inverse();
+        let mut x0 = vec![0.0; np];
+        for (j, &gj) in g.iter().enumerate() {
+            if gj != 0.0 {
+                for (x, &a) in x0.iter_mut().zip(self.sinv.col_as_slice(j)) {
+                    *x += a * gj;
+                }
+            }
+        }
+        if x0.iter().any(|v| !v.is_finite()) {
+            return Err(separated("non-finite condensed solution".into()));
+        }
+        self.v = x0.clone();
+        self.x0 = x0;
+        self.w.clear();
+        self.bt.clear();
+        self.n_fact += 1;
+        Ok(())
+    }
+}
+
+/// Classifies the dofs: prescribed (fixed), free FEM (F), free PD (P).
+fn dof_classes(model: &SpliceModel) -> DofClasses {
+    let n = model.n_dofs();
+    let mut cls = vec![CLS_FIXED; n];
+    let mut idx = vec![usize::MAX; n];
+    let mut p_dofs = Vec::new();
+    let mut nf = 0;
+    for d in 0..n {
+        if model.mask[d] {
+            continue;
+        }
+        if model.is_pd[d / 2] {
+            cls[d] = CLS_P;
+            idx[d] = p_dofs.len();
+            p_dofs.push(d);
+        } else {
+            cls[d] = CLS_F;
+            idx[d] = nf;
+            nf += 1;
+        }
+    }
+    DofClasses {
+        cls,
+        idx,
+        p_dofs,
+        nf,
+    }
+}
+
+/// K_FF, its Cholesky factorisation (none without free FEM dofs) and y0 = K_FF^{-1} (f_F - K_F0 u0),
+/// the FEM displacements with the PD dofs held at zero.
+fn fem_block(
+    model: &SpliceModel,
+    k: &CscMatrix,
+    dc: &DofClasses,
+    t0: Instant,
+) -> Result<(Reduction, Option<Cholesky>, Vec<f64>)> {
+    let (n, cls, nf) = (model.n_dofs(), &dc.cls, dc.nf);
+    let mask_f: Vec<bool> = (0..n).map(|d| cls[d] != CLS_F).collect();
+    let f_red = Reduction::new(k, &mask_f)?;
+    let chol = if nf > 0 {
+        Some(
+            Cholesky::new(&f_red.reduce(k)).map_err(|e| Error::Singular {
+                detail: format!("FEM block of the splice matrix: {e}"),
+            })?,
+        )
+    } else {
+        None
+    };
+    timing("fast: Cholesky of K_FF", t0);
+    let y0 = match &chol {
+        Some(c) => c.solve(&f_red.rhs(k, &model.f, &model.prescribed))?,
+        None => Vec::new(),
+    };
+    Ok((f_red, chol, y0))
+}
+
+/// The coupling sets of the condensation, from the pattern of `k` ([`Coupling`]).
+fn coupling_sets(model: &SpliceModel, k: &CscMatrix, dc: &DofClasses) -> Coupling {
+    let (n, cls, idx, np) = (model.n_dofs(), &dc.cls, &dc.idx, dc.p_dofs.len());
+    let mut pc = Vec::new();
+    let mut pc_pos = vec![usize::MAX; np];
+    let mut ring_flag = vec![false; n];
+    for c in 0..n {
+        let rows = &k.row_idx[k.col_ptr[c]..k.col_ptr[c + 1]];
+        match cls[c] {
+            CLS_P if rows.iter().any(|&r| cls[r] == CLS_F) => {
+                pc_pos[idx[c]] = pc.len();
+                pc.push(idx[c]);
+            }
+            CLS_F if rows.iter().any(|&r| cls[r] == CLS_P) => {
+                ring_flag[c] = true;
+            }
+            _ => {}
+        }
+    }
+    if let Some((lo, hi, _)) = model.cmod_nodes {
+        for d in [2 * lo, 2 * lo + 1, 2 * hi, 2 * hi + 1] {
+            if cls[d] == CLS_F {
+                ring_flag[d] = true;
+            }
+        }
+    }
+    let ring: Vec<usize> = (0..n).filter(|&d| ring_flag[d]).collect();
+    let mut ring_pos = vec![usize::MAX; n];
+    for (r, &d) in ring.iter().enumerate() {
+        ring_pos[d] = r;
+    }
+    Coupling { pc, ring, ring_pos }
+}
+
+/// The sigma22 and CMOD functionals before the Z correction ([`Functionals`]).
+fn functionals(model: &SpliceModel, k: &CscMatrix, dc: &DofClasses, y0: &[f64]) -> Functionals {
+    let (n, cls, idx, np) = (model.n_dofs(), &dc.cls, &dc.idx, dc.p_dofs.len());
+    let wh = model.spec.width * model.spec.material.thickness;
+    let mut is_top_y = vec![false; n];
+    for &t in &model.edges.top {
+        is_top_y[2 * t + 1] = true;
+    }
+    let mut q = vec![0.0; n];
+    for (c, qc) in q.iter_mut().enumerate() {
+        for kk in k.col_ptr[c]..k.col_ptr[c + 1] {
+            if is_top_y[k.row_idx[kk]] {
+                *qc += k.val[kk] / wh;
+            }
+        }
+    }
+    let mut e = vec![0.0; n];
+    if let Some((lo, hi, nr)) = model.cmod_nodes {
+        e[2 * hi] += nr[0];
+        e[2 * hi + 1] += nr[1];
+        e[2 * lo] -= nr[0];
+        e[2 * lo + 1] -= nr[1];
+    }
+    let (mut sig_const, mut cmod_const) = (0.0, 0.0);
+    let mut sig_coef = vec![0.0; np];
+    let mut cmod_coef = vec![0.0; np];
+    for d in 0..n {
+        match cls[d] {
+            CLS_FIXED => {
+                sig_const += q[d] * model.prescribed[d];
+                cmod_const += e[d] * model.prescribed[d];
+            }
+            CLS_F => {
+                sig_const += q[d] * y0[idx[d]];
+                cmod_const += e[d] * y0[idx[d]];
+            }
+            _ => {
+                sig_coef[idx[d]] += q[d];
+                cmod_coef[idx[d]] += e[d];
+            }
+        }
+    }
+    Functionals {
+        q,
+        e,
+        sig_const,
+        sig_coef,
+        cmod_const,
+        cmod_coef,
+        is_top_y,
+        wh,
+    }
+}
+
+/// Z = K_FF^{-1} K_FP in column blocks (`RUSTFRAC_ZBLK` columns, default 32): returns its rows at
+/// the ring (row-major |ring| x |pc|) and subtracts the Z parts from the functionals'
+/// coefficients.
+fn z_ring(
+    k: &CscMatrix,
+    dc: &DofClasses,
+    chol: Option<&Cholesky>,
+    f_red: &Reduction,
+    cp: &Coupling,
+    fun: &mut Functionals,
+) -> Result<Vec<f64>> {
+    let (cls, idx, p_dofs, nf) = (&dc.cls, &dc.idx, &dc.p_dofs, dc.nf);
+    let (pc, ring) = (&cp.pc, &cp.ring);
+    let (q, e) = (&fun.q, &fun.e);
+    let (sig_coef, cmod_coef) = (&mut fun.sig_coef, &mut fun.cmod_coef);
+    let npc = pc.len();
+    let mut z_ring = vec![0.0; ring.len() * npc];
+    if let Some(ch) = chol {
+        let f_dofs = &f_red.free;
+        let blk_size: usize = std::env::var("RUSTFRAC_ZBLK")
+            .ok()
+            .and_then(|s| s.parse().ok())
+            .filter(|&b: &usize| b > 0)
+            .unwrap_or(32);
+        let starts: Vec<usize> = (0..npc).step_by(blk_size).collect();
+        // column blocks solved concurrently (the supernodal triangular solves themselves
+        // parallelise poorly); each block keeps only its ring rows and functionals
+        let blocks: Vec<Result<ZBlock>> = starts
+            .par_iter()
+            .map(|&c0| {
+                let nb = blk_size.min(npc - c0);
+                let mut blk = vec![0.0; nf * nb];
+                for t in 0..nb {
+                    let col = p_dofs[pc[c0 + t]];
+                    for kk in k.col_ptr[col]..k.col_ptr[col + 1] {
+                        let r = k.row_idx[kk];
+                        if cls[r] == CLS_F {
+                            blk[t * nf + idx[r]] = k.val[kk];
+                        }
+                    }
+                }
+                ch.solve_in_place(&mut blk)?;
+                let mut zr = vec![0.0; ring.len() * nb];
+                let mut sq = vec![0.0; nb];
+                let mut se = vec![0.0; nb];
+                for t in 0..nb {
+                    let zc = &blk[t * nf..(t + 1) * nf];
+                    for (fi, &d) in f_dofs.iter().enumerate() {
+                        sq[t] += q[d] * zc[fi];
+                        se[t] += e[d] * zc[fi];
+                    }
+                    for (r, &d) in ring.iter().enumerate() {
+                        zr[r * nb + t] = zc[idx[d]];
+                    }
+                }
+                Ok((c0, nb, zr, sq, se))
+            })
+            .collect();
+        for bl in blocks {
+            let (c0, nb, zr, sq, se) = bl?;
+            for t in 0..nb {
+                sig_coef[pc[c0 + t]] -= sq[t];
+                cmod_coef[pc[c0 + t]] -= se[t];
+                for r in 0..ring.len() {
+                    z_ring[r * npc + c0 + t] = zr[r * nb + t];
+                }
+            }
+        }
+    }
+    Ok(z_ring)
+}

@@ -1,0 +1,160 @@
+//! The fast solver (default, `fast = true`): condense once, then low-rank updates.
+//!
+//! The FEM rows never change when a bond breaks, so with y = free FEM dofs and x = PD dofs,
+//! y = y0 - Z x where Z = K_FF^{-1} K_FP (sparse Cholesky of the SPD FEM block, one multi-RHS solve
+//! for the few PD columns touched by hybrid elements), and S x = g with S = K_PP - K_PF Z, dense
+//! and small (2 x PD nodes): `condensation.rs`. S is inverted once; a broken bond is a rank-1
+//! change of S and g (a on the PD rows of its ends), handled by Sherman-Morrison-Woodbury with the
+//! capacitance inverse grown by bordering (O(k^2) per break): `smw.rs`. The Schur pivot of the
+//! bordering is the ratio det(S_k+1)/det(S_k): when it vanishes the body has separated (status
+//! "separated", never NaN). Periodic re-condensation (`refactor_every`; by default
+//! [`super::auto_refactor_every`]) bounds the stored update vectors, so a run of any length keeps
+//! its memory at O(bonds + n_P^2).
+
+mod condensation;
+mod smw;
+
+use super::engine::{separated, Engine, State, Update};
+use crate::error::Result;
+use crate::pd::splice::{SpliceModel, Spring};
+use crate::solver::Cholesky;
+use crate::sparse::{CscMatrix, Reduction};
+use faer::Mat;
+
+/// Dof classes of the condensation.
+const CLS_FIXED: u8 = 0;
+const CLS_F: u8 = 1;
+const CLS_P: u8 = 2;
+
+/// Condensation onto the PD dofs + Sherman-Morrison-Woodbury.
+pub(super) struct Fast<'a> {
+    model: &'a SpliceModel,
+    cls: Vec<u8>,
+    /// dof -> index in its class
+    idx: Vec<usize>,
+    p_dofs: Vec<usize>,
+    f_red: Reduction,
+    chol: Option<Cholesky>,
+    /// y0 at all free FEM dofs (index = F index)
+    y0: Vec<f64>,
+    /// P indices of the columns of K_FP
+    pc: Vec<usize>,
+    /// F dofs coupled to PD rows (K_PF columns) and the CMOD dofs: full dof ids
+    ring: Vec<usize>,
+    /// dof -> position in `ring`
+    ring_pos: Vec<usize>,
+    /// Z rows at the ring, row-major |ring| x |pc|
+    z_ring: Vec<f64>,
+    sig_const: f64,
+    sig_coef: Vec<f64>,
+    cmod_const: f64,
+    cmod_coef: Vec<f64>,
+    /// inverse of the base condensed matrix, n_P x n_P
+    sinv: Mat<f64>,
+    x0: Vec<f64>,
+    v: Vec<f64>,
+    // SMW state
+    w: Vec<Vec<f64>>,
+    bt: Vec<Vec<(usize, f64)>>,
+    /// capacitance inverse, k x k in row-major storage of row stride `cs` (updated in place, the
+    /// storage grows by doubling: no allocation per step)
+    cinv: Vec<f64>,
+    cs: usize,
+    pub(super) refactor_every: usize,
+    max_rank: usize,
+    /// the model state the engine represents (for re-condensation)
+    broken: Vec<bool>,
+    springs: Vec<Spring>,
+    n_fact: usize,
+    u_full: Vec<f64>,
+    /// the matrix at the start (its FEM rows never change)
+    k0: CscMatrix,
+    is_top_y: Vec<bool>,
+    wh: f64,
+    /// updates that changed rows of top-edge y dofs: sigma22 loses c (b . u) for each
+    sig_bonds: Vec<(f64, [usize; 4], [f64; 4])>,
+}
+
+impl Engine for Fast<'_> {
+    fn state(&mut self) -> Result<State> {
+        let x = self.x();
+        if x.iter().any(|v| !v.is_finite()) {
+            return Err(separated("non-finite PD displacements".into()));
+        }
+        let npc = self.pc.len();
+        for (p, &d) in self.p_dofs.iter().enumerate() {
+            self.u_full[d] = x[p];
+        }
+        let xpc: Vec<f64> = self.pc.iter().map(|&p| x[p]).collect();
+        for (r, &d) in self.ring.iter().enumerate() {
+            let zrow = &self.z_ring[r * npc..(r + 1) * npc];
+            let zx: f64 = zrow.iter().zip(&xpc).map(|(a, b)| a * b).sum();
+            self.u_full[d] = self.y0[self.idx[d]] - zx;
+        }
+        let mut sigma22 = self.sig_const + dot(&self.sig_coef, &x);
+        for (c, dofs, bv) in &self.sig_bonds {
+            let bu: f64 = (0..4).map(|t| bv[t] * self.u_full[dofs[t]]).sum();
+            sigma22 -= c * bu;
+        }
+        let cmod = self.cmod_const
+            + self
+                .cmod_coef
+                .iter()
+                .zip(&x)
+                .map(|(a, b)| a * b)
+                .sum::<f64>();
+        Ok(State { sigma22, cmod })
+    }
+
+    fn apply(&mut self, upd: Update) -> Result<()> {
+        if self.w.len() >= self.refactor_every {
+            // re-condense with the state so far, then apply this update by SMW
+            let k = self.model.assemble_with(&self.broken, &self.springs);
+            self.condense(&k)?;
+        }
+        let (a, bt, beta0) = match upd {
+            Update::Break(b) => self.bond_update(b)?,
+            Update::Ground(sp) => self.spring_update(sp),
+        };
+        self.smw_append(a, bt, beta0, upd)?;
+        match upd {
+            Update::Break(b) => self.broken[b] = true,
+            Update::Ground(sp) => self.springs.push(sp),
+        }
+        Ok(())
+    }
+
+    fn n_refactorisations(&self) -> usize {
+        self.n_fact
+    }
+    fn max_update_rank(&self) -> usize {
+        self.max_rank
+    }
+    fn u(&self) -> &[f64] {
+        &self.u_full
+    }
+
+    fn full_u(&mut self) -> Result<Vec<f64>> {
+        self.state()?;
+        let mut u = self.u_full.clone();
+        if let Some(ch) = &self.chol {
+            // y = y0 - K_FF^{-1} K_FP x
+            let k = &self.k0;
+            let mut xv = vec![0.0; u.len()];
+            for &d in &self.p_dofs {
+                xv[d] = u[d];
+            }
+            let kx = k.matvec(&xv);
+            let mut rhs: Vec<f64> = self.f_red.free.iter().map(|&d| kx[d]).collect();
+            ch.solve_in_place(&mut rhs)?;
+            for (fi, &d) in self.f_red.free.iter().enumerate() {
+                u[d] = self.y0[fi] - rhs[fi];
+            }
+        }
+        Ok(u)
+    }
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}

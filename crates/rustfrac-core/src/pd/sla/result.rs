@@ -1,0 +1,93 @@
+//! What a run records: one [`SlaStep`] per step (the history, also the content of a checkpoint)
+//! and the [`CcmPdResult`] of the whole run. A leaf module.
+
+use crate::warning::Warning;
+
+/// One SLA step, recorded at the load that breaks its bond(s).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SlaStep {
+    /// 1-based step number
+    pub step: usize,
+    /// load factor lambda = min s0 / s
+    pub lambda: f64,
+    /// sigma22 at lambda
+    pub sigma22: f64,
+    /// CMOD at lambda
+    pub cmod: f64,
+    /// grip displacement lambda u0_ref
+    pub u0: f64,
+    /// bonds broken in this step (indices into the bond list; the first is the critical one)
+    pub bonds: Vec<usize>,
+    /// end nodes of the critical bond
+    pub nodes: [usize; 2],
+    /// PD nodes that lost all stiffness along some direction in this step (every bond broken, or
+    /// the remaining ones parallel) and were grounded along it (they carry no force there)
+    pub detached: Vec<usize>,
+    /// crack length after the step
+    pub crack_length: f64,
+}
+
+/// Result of a run.
+#[derive(Debug, Clone)]
+pub struct CcmPdResult {
+    pub method: String,
+    /// grip variant that ran ("free" | "clamped" | "traction")
+    pub grip: String,
+    /// "fast (condensation + SMW)" or "oracle (refactorise every step)", with fallbacks explained
+    pub solver: String,
+    /// displacements of all grid nodes (2 per node) at the reference load before any SLA break
+    pub u: Vec<f64>,
+    /// displacements at the reference load in the final state (after the last break)
+    pub u_final: Vec<f64>,
+    pub node_xy: Vec<[f64; 2]>,
+    pub n_nodes: usize,
+    pub n_dofs: usize,
+    pub n_pd_nodes: usize,
+    pub n_bonds: usize,
+    pub n_precrack_bonds: usize,
+    pub n_removed_elements: usize,
+    pub bytes_per_bond: usize,
+    pub gamma: f64,
+    pub c: f64,
+    pub s0: f64,
+    pub delta: f64,
+    /// sigma22 and CMOD at the reference load, before any SLA break
+    pub sigma22: f64,
+    pub cmod: f64,
+    /// sum of all external nodal forces (x, y) at the reference load (splice imbalance)
+    pub out_of_balance: [f64; 2],
+    /// the node carrying u1 = 0 (grip "free") and its coordinates
+    pub anchor_node: usize,
+    pub anchor_xy: [f64; 2],
+    pub history: Vec<SlaStep>,
+    /// damage index of every PD node (order of `pd_nodes`) at the end
+    pub damage: Vec<f64>,
+    /// (step, damage of every PD node after that step) for the requested steps
+    pub damage_at: Vec<(usize, Vec<f64>)>,
+    pub pd_nodes: Vec<usize>,
+    pub pd_node_xy: Vec<[f64; 2]>,
+    /// which bonds are broken at the end (pre-crack included)
+    pub broken: Vec<bool>,
+    /// bond end nodes
+    pub bond_nodes: Vec<[usize; 2]>,
+    /// "completed" | "crack_length_reached" | "separated" | "no_bond_in_tension" | "cancelled"
+    pub status: String,
+    pub n_refactorisations: usize,
+    /// largest number of low-rank update vectors the fast solver held at once (0 for the oracle);
+    /// bounded by the re-condensation interval
+    pub max_update_rank: usize,
+    /// the re-condensation interval in use (fast solver; 0 for the oracle)
+    pub refactor_interval: usize,
+    /// (step, node) of every grounding of a detached node; step 0 = detached by the pre-crack
+    pub detached_nodes: Vec<(usize, usize)>,
+    /// accuracy warnings (e.g. m < 2, detached nodes); the run went on
+    pub warnings: Vec<Warning>,
+    /// steps replayed from `resume_from` (0 without resume)
+    pub resumed_steps: usize,
+    /// checkpoints written by this run
+    pub n_checkpoints: usize,
+    pub setup_seconds: f64,
+    pub sla_seconds: f64,
+    /// peak resident memory of the process (VmHWM), if the OS reports it
+    pub peak_memory_bytes: Option<u64>,
+}

@@ -1,0 +1,74 @@
+//! Loading of the splice model: the plate's top and bottom edges
+//! ([`crate::loading::plate_conditions`]). In the coupled model those are the edge node rows; in
+//! the pure PD model the displacement conditions act on volumetric boundary layers of m node rows
+//! (thickness m dx = delta) at the top and bottom, the usual choice that gives edge nodes a full
+//! family of prescribed neighbours. The u1 anchor of the "free" grip is the bottom-right corner
+//! node (reported).
+
+use super::ModelSpec;
+use crate::error::Result;
+use crate::fem::Dirichlet;
+use crate::loading::{plate_conditions, tributary_lengths, PlateEdges};
+use crate::pd::Grid;
+
+/// The loading of a model: the loaded node rows, the displacement conditions, the external forces
+/// (traction grip), the anchor node and the constrained dofs with their reference values.
+pub(super) struct Loading {
+    pub(super) edges: PlateEdges,
+    pub(super) bc: Dirichlet,
+    pub(super) f: Vec<f64>,
+    pub(super) anchor: usize,
+    pub(super) mask: Vec<bool>,
+    pub(super) prescribed: Vec<f64>,
+}
+
+/// The loading of the model on `grid` ([`crate::loading::plate_conditions`] on [`edges`]).
+pub(super) fn loading(spec: &ModelSpec, grid: &Grid) -> Result<Loading> {
+    let ndof = 2 * grid.n_nodes();
+    let edges = edges(spec, grid);
+    let (bc, f, anchor) = plate_conditions(&edges, &spec.load, ndof, spec.material.thickness)?;
+    let (mask, prescribed) = bc.to_mask(ndof)?;
+    Ok(Loading {
+        edges,
+        bc,
+        f,
+        anchor,
+        mask,
+        prescribed,
+    })
+}
+
+/// The loaded node rows with their tributary lengths: the edge rows (coupled), or volumetric layers
+/// of m rows (pure PD; only the outer row carries a traction length).
+fn edges(spec: &ModelSpec, grid: &Grid) -> PlateEdges {
+    let (nx, ny, dx) = (grid.nx, grid.ny, grid.dx);
+    let layers = if spec.all_pd() {
+        spec.m.min(ny / 2).max(1)
+    } else {
+        1
+    };
+    let mut top = Vec::new();
+    let mut bottom = Vec::new();
+    let mut top_len = Vec::new();
+    let mut bottom_len = Vec::new();
+    let xs: Vec<f64> = (0..=nx).map(|i| i as f64 * dx).collect();
+    let trib = tributary_lengths(&xs);
+    for j in (ny + 1 - layers)..=ny {
+        for (i, &t) in trib.iter().enumerate() {
+            top.push(grid.node(i, j));
+            top_len.push(if j == ny { t } else { 0.0 });
+        }
+    }
+    for j in (0..layers).rev() {
+        for (i, &t) in trib.iter().enumerate() {
+            bottom.push(grid.node(i, j));
+            bottom_len.push(if j == 0 { t } else { 0.0 });
+        }
+    }
+    PlateEdges {
+        top,
+        bottom,
+        top_len,
+        bottom_len,
+    }
+}

@@ -1,0 +1,303 @@
+//! Splice CCM-PD coupling on the paper's plate (section 2.2.2, eq. 58; DESIGN.md sections 3-4).
+//!
+//! Every node of one uniform `dx` grid is a FEM node or a PD node; PD nodes are those inside the
+//! given rectangles (closed, tolerance 1e-9 dx), or all nodes for the pure PD model.
+//!
+//! * FEM rows: every Q4 element (exact 2 x 2 Gauss stiffness of a dx x dx square) with at least one
+//!   FEM node writes the rows of its FEM nodes only (all 8 columns): hybrid elements included.
+//! * PD rows: every bond of a PD node (to PD or FEM nodes of its family) writes the rows of its PD
+//!   end(s) only. PD rows hold forces (the bond force density times both node volumes), so PD and
+//!   FEM rows, reactions and residuals are comparable.
+//! * The matrix is not symmetric: it is factorised with the general sparse LU (oracle path) or
+//!   condensed onto the PD unknowns ([`crate::pd::sla`]).
+//!
+//! The pre-crack (`precrack.rs`) breaks the bonds that cross it and removes the elements it cuts;
+//! the plate's edges are loaded through edge node rows or volumetric boundary layers
+//! (`boundary.rs`); PD nodes left without stiffness in some direction are grounded by springs
+//! (`springs.rs`). [`SpliceModel::new`] builds the model in named phases (`build.rs`).
+
+mod boundary;
+mod build;
+mod precrack;
+mod springs;
+
+pub(crate) use build::grid_count;
+pub use precrack::bond_crosses;
+pub(crate) use springs::Spring;
+
+use crate::error::{Error, Result};
+use crate::fem::Dirichlet;
+use crate::loading::{PlateEdges, PlateLoad};
+use crate::material::Elastic;
+use crate::pd::{Bond, Grid, PdConstants};
+use crate::solver::Lu;
+use crate::sparse::{CscMatrix, Pattern, Reduction};
+use crate::warning::Warning;
+
+/// Model choice: splice coupling with PD rectangles, or PD everywhere.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Method {
+    CcmPd,
+    Pd,
+}
+
+impl Method {
+    /// Parses "ccm_pd" | "pd".
+    pub fn parse(s: &str) -> Result<Self> {
+        match s {
+            "ccm_pd" => Ok(Method::CcmPd),
+            "pd" => Ok(Method::Pd),
+            _ => Err(Error::invalid("method", "'ccm_pd' or 'pd'", s)),
+        }
+    }
+    pub fn name(&self) -> &'static str {
+        match self {
+            Method::CcmPd => "ccm_pd",
+            Method::Pd => "pd",
+        }
+    }
+}
+
+/// Geometry, material and loading of a coupled (or pure PD) plate model (the paper's values in
+/// [`ModelSpec::paper`]).
+#[derive(Debug, Clone)]
+pub struct ModelSpec {
+    /// splice coupling with the PD rectangles, or every node PD (pure PD model with volumetric
+    /// boundary layers)
+    pub method: Method,
+    /// plate width W along x1 (the paper: 11)
+    pub width: f64,
+    /// plate height L along x2 (the paper: 21)
+    pub height: f64,
+    /// grid spacing; W / dx and L / dx must be integers (within 1e-6)
+    pub dx: f64,
+    /// horizon ratio m = delta / dx
+    pub m: usize,
+    pub material: Elastic,
+    /// critical energy release rate G0
+    pub g0: f64,
+    /// PD rectangles [x0, y0, x1, y1] (ignored by [`Method::Pd`])
+    pub pd_regions: Vec<[f64; 4]>,
+    /// pre-crack polyline (first point = crack mouth); empty for none
+    pub precrack: Vec<[f64; 2]>,
+    pub load: PlateLoad,
+}
+
+impl ModelSpec {
+    /// The paper's benchmark: W = 11, L = 21, dx = 1/15, m = 4, PD rectangle 2.73 x 1.67 centred at
+    /// (1.70, 10.5), E = 10000, nu = 0.25, G0 = 0.367, plane strain, h = 1, pre-crack a = 1.1 along
+    /// x2 = 10.5, u0 = 0.01, u1 free.
+    pub fn paper() -> Self {
+        use crate::loading::Grip;
+        use crate::material::Plane;
+        Self {
+            method: Method::CcmPd,
+            width: 11.0,
+            height: 21.0,
+            dx: 1.0 / 15.0,
+            m: 4,
+            material: Elastic {
+                e: 10000.0,
+                nu: 0.25,
+                plane: Plane::Strain,
+                thickness: 1.0,
+            },
+            g0: 0.367,
+            pd_regions: vec![[
+                1.70 - 2.73 / 2.0,
+                10.5 - 1.67 / 2.0,
+                1.70 + 2.73 / 2.0,
+                10.5 + 1.67 / 2.0,
+            ]],
+            precrack: vec![[0.0, 10.5], [1.1, 10.5]],
+            load: PlateLoad {
+                grip: Grip::Free,
+                u0: 0.01,
+                traction: 0.0,
+            },
+        }
+    }
+
+    /// Every node PD (the pure PD model)?
+    pub fn all_pd(&self) -> bool {
+        self.method == Method::Pd
+    }
+}
+
+/// The assembled description of a coupled model (everything but the matrix values).
+pub struct SpliceModel {
+    pub spec: ModelSpec,
+    pub grid: Grid,
+    pub pd: PdConstants,
+    pub is_pd: Vec<bool>,
+    /// PD node ids, ascending
+    pub pd_nodes: Vec<usize>,
+    /// FEM elements that contribute (at least one FEM node, not cut by the pre-crack)
+    pub elements: Vec<[usize; 4]>,
+    /// elements removed because the pre-crack cuts them
+    pub n_removed_elements: usize,
+    pub bonds: Vec<Bond>,
+    /// bonds broken by the pre-crack
+    pub precrack_broken: Vec<bool>,
+    /// element stiffness (all elements are the same dx x dx square), row-major 8 x 8
+    pub ke: Vec<f64>,
+    rows_of: Vec<Vec<usize>>,
+    cols_of: Vec<Vec<usize>>,
+    pattern: Pattern,
+    pub edges: PlateEdges,
+    pub bc: Dirichlet,
+    /// external forces (traction grip)
+    pub f: Vec<f64>,
+    /// node carrying the u1 = 0 anchor (bottom-right corner)
+    pub anchor: usize,
+    pub mask: Vec<bool>,
+    /// prescribed values (reference load) at constrained dofs, zero elsewhere
+    pub prescribed: Vec<f64>,
+    /// (node below, node above, unit normal) at the crack mouth, for the CMOD
+    pub cmod_nodes: Option<(usize, usize, [f64; 2])>,
+    /// bonds of each node (CSR over nodes: `node_bonds[node_bond_ptr[n]..node_bond_ptr[n + 1]]`)
+    node_bond_ptr: Vec<usize>,
+    node_bonds: Vec<u32>,
+    /// accuracy warnings about the discretisation (e.g. m < 2: too few bonds per node)
+    pub warnings: Vec<Warning>,
+}
+
+/// A static solution of the coupled model.
+#[derive(Debug, Clone)]
+pub struct StaticSolution {
+    pub u: Vec<f64>,
+    /// K u - f at every dof
+    pub reactions: Vec<f64>,
+    pub sigma22: f64,
+    pub cmod: f64,
+    /// sum over all nodes of the external forces (reactions + applied) per component: zero for a
+    /// balanced model, small but not zero for the splice coupling
+    pub out_of_balance: [f64; 2],
+    /// relative residual of the free equations
+    pub residual: f64,
+}
+
+impl SpliceModel {
+    pub fn n_dofs(&self) -> usize {
+        2 * self.grid.n_nodes()
+    }
+
+    /// Bond rank-1 data: alpha and the unit vector n; the bond adds alpha a b^T to the matrix with
+    /// a = [n at dofs(i); -n at dofs(j) if j is PD] and b = [n at dofs(i); -n at dofs(j)].
+    pub(crate) fn bond_alpha_n(&self, b: usize) -> (f64, [f64; 2]) {
+        let bond = &self.bonds[b];
+        let l = bond.length();
+        (self.pd.bond_alpha(bond), [bond.xi[0] / l, bond.xi[1] / l])
+    }
+
+    /// Bonds of node `n` (indices into `bonds`).
+    pub(crate) fn bonds_of(&self, n: usize) -> &[u32] {
+        &self.node_bonds[self.node_bond_ptr[n]..self.node_bond_ptr[n + 1]]
+    }
+
+    /// Assembles the splice matrix (PD rows scaled by node volume) with `broken` bonds removed.
+    pub fn assemble(&self, broken: &[bool]) -> CscMatrix {
+        let ne = self.elements.len();
+        self.pattern
+            .assemble(&self.rows_of, &self.cols_of, |blk, out| {
+                if blk < ne {
+                    let e = &self.elements[blk];
+                    for (a, &n) in e.iter().enumerate() {
+                        if !self.is_pd[n] {
+                            out.extend_from_slice(&self.ke[(2 * a) * 8..(2 * a + 1) * 8]);
+                            out.extend_from_slice(&self.ke[(2 * a + 1) * 8..(2 * a + 2) * 8]);
+                        }
+                    }
+                } else {
+                    let b = blk - ne;
+                    let nr = self.rows_of[blk].len();
+                    if broken[b] {
+                        out.resize(nr * 4, 0.0);
+                        return;
+                    }
+                    let (alpha, n) = self.bond_alpha_n(b);
+                    let bvec = [n[0], n[1], -n[0], -n[1]];
+                    for r in 0..nr {
+                        let ar = alpha * if r < 2 { n[r] } else { -n[r - 2] };
+                        for bv in bvec {
+                            out.push(ar * bv);
+                        }
+                    }
+                }
+            })
+    }
+
+    /// sigma22 from the full displacement vector: (sum over top nodes of (K u)_2) / (W h).
+    pub(crate) fn sigma22_from(&self, ku: &[f64]) -> f64 {
+        let fy: f64 = self.edges.top.iter().map(|&n| ku[2 * n + 1]).sum();
+        fy / (self.spec.width * self.spec.material.thickness)
+    }
+
+    /// Crack-mouth opening (u_above - u_below) . n, zero without a pre-crack.
+    pub(crate) fn cmod_from(&self, u: &[f64]) -> f64 {
+        match self.cmod_nodes {
+            Some((lo, hi, n)) => {
+                (u[2 * hi] - u[2 * lo]) * n[0] + (u[2 * hi + 1] - u[2 * lo + 1]) * n[1]
+            }
+            None => 0.0,
+        }
+    }
+
+    /// Prescribed values at load factor `scale`.
+    pub fn prescribed_at(&self, scale: f64) -> Vec<f64> {
+        self.prescribed.iter().map(|v| v * scale).collect()
+    }
+
+    /// Post-processing of a full displacement vector with the matrix `k` used to compute it.
+    pub(crate) fn postprocess(&self, k: &CscMatrix, u: Vec<f64>, residual: f64) -> StaticSolution {
+        let ku = k.matvec(&u);
+        let reactions: Vec<f64> = ku.iter().zip(&self.f).map(|(a, b)| a - b).collect();
+        let mut oob = [0.0; 2];
+        for (d, v) in ku.iter().enumerate() {
+            oob[d % 2] += v;
+        }
+        StaticSolution {
+            sigma22: self.sigma22_from(&ku),
+            cmod: self.cmod_from(&u),
+            u,
+            reactions,
+            out_of_balance: oob,
+            residual,
+        }
+    }
+
+    /// Direct solve (general sparse LU) with `broken` bonds removed, at the reference load.
+    /// Nodes left without stiffness in some direction by `broken` are grounded there (the
+    /// springs of `springs.rs`).
+    pub fn solve(&self, broken: &[bool]) -> Result<StaticSolution> {
+        let k = self.assemble_with(broken, &self.springs_for(broken));
+        let red = Reduction::new(&k, &self.mask)?;
+        let kff = red.reduce(&k);
+        let lu = Lu::new(&kff)?;
+        solve_with(self, &k, &red, &lu)
+    }
+}
+
+/// Solve with an existing factorisation of the reduced matrix.
+pub(crate) fn solve_with(
+    model: &SpliceModel,
+    k: &CscMatrix,
+    red: &Reduction,
+    lu: &Lu,
+) -> Result<StaticSolution> {
+    let rhs = red.rhs(k, &model.f, &model.prescribed);
+    let uf = lu.solve(&rhs)?;
+    let u = red.expand(&uf, &model.prescribed);
+    let ku = k.matvec(&u);
+    let (mut rn, mut bn) = (0.0f64, 0.0f64);
+    for (i, &d) in red.free.iter().enumerate() {
+        rn += (ku[d] - model.f[d]).powi(2);
+        bn += rhs[i] * rhs[i];
+    }
+    let res = if bn > 0.0 {
+        (rn / bn).sqrt()
+    } else {
+        rn.sqrt()
+    };
+    Ok(model.postprocess(k, u, res))
+}

@@ -1,0 +1,181 @@
+//! The pre-crack of the splice model (DESIGN.md section 4).
+//!
+//! A polyline: a bond is broken when its end nodes lie strictly on opposite sides of a
+//! crack segment and the crossing point lies on the *closed* segment (the tip counts), decided in
+//! grid units with tolerance 1e-9 x bond length; the pre-crack must not pass through a grid node
+//! (refused). In the FEM part the crack is a real discontinuity by *removed elements*: every element
+//! whose interior the crack cuts is dropped. On the paper's grid the crack x2 = 10.5 lies midway
+//! between node rows, so this removes one row of elements (a slit one cell high), which is exactly
+//! the set of material the broken PD bonds disconnect: nodes on rows x2 = 10.467 and 10.533 are
+//! coupled neither by bonds nor by elements across the crack. (Duplicated nodes would need the
+//! crack on a grid line, i.e. a different grid than the paper's.)
+//!
+//! Here: the validation of the polyline (in grid units), the cells it cuts, the bonds it breaks,
+//! and the crack-mouth nodes of the CMOD.
+
+use super::ModelSpec;
+use crate::error::{check_finite, Error, Result};
+use crate::pd::{Bond, Grid};
+
+fn orient(a: [f64; 2], b: [f64; 2], p: [f64; 2]) -> f64 {
+    (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0])
+}
+
+/// Does the bond p-q cross the segment a-b (grid units)? Strict sides for the nodes, closed segment.
+pub fn bond_crosses(p: [f64; 2], q: [f64; 2], a: [f64; 2], b: [f64; 2]) -> bool {
+    let lab = ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2)).sqrt();
+    let lpq = ((q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2)).sqrt();
+    let t1 = 1e-9 * lab;
+    let o1 = orient(a, b, p);
+    let o2 = orient(a, b, q);
+    if !((o1 > t1 && o2 < -t1) || (o1 < -t1 && o2 > t1)) {
+        return false;
+    }
+    let t2 = 1e-9 * lpq;
+    let o3 = orient(p, q, a);
+    let o4 = orient(p, q, b);
+    (o3 <= t2 && o4 >= -t2) || (o3 >= -t2 && o4 <= t2)
+}
+
+/// Length of the part of segment a-b inside the open box [x0, x1] x [y0, y1] (Liang-Barsky).
+fn clipped_length(a: [f64; 2], b: [f64; 2], bx: [f64; 4]) -> f64 {
+    let d = [b[0] - a[0], b[1] - a[1]];
+    let (mut t0, mut t1) = (0.0f64, 1.0f64);
+    let checks = [
+        (-d[0], a[0] - bx[0]),
+        (d[0], bx[2] - a[0]),
+        (-d[1], a[1] - bx[1]),
+        (d[1], bx[3] - a[1]),
+    ];
+    for (p, q) in checks {
+        if p == 0.0 {
+            if q <= 0.0 {
+                return 0.0;
+            }
+        } else {
+            let r = q / p;
+            if p < 0.0 {
+                t0 = t0.max(r);
+            } else {
+                t1 = t1.min(r);
+            }
+        }
+    }
+    if t1 > t0 {
+        (t1 - t0) * (d[0] * d[0] + d[1] * d[1]).sqrt()
+    } else {
+        0.0
+    }
+}
+
+/// The pre-crack polyline in grid units, validated: none or at least 2 points, every point inside
+/// the plate, segments of positive length, no grid node on a segment.
+pub(super) fn in_grid_units(spec: &ModelSpec, grid: &Grid) -> Result<Vec<[f64; 2]>> {
+    let (nx, ny, dx) = (grid.nx, grid.ny, grid.dx);
+    let crack: Vec<[f64; 2]> = spec
+        .precrack
+        .iter()
+        .map(|p| [p[0] / dx, p[1] / dx])
+        .collect();
+    if spec.precrack.len() == 1 {
+        return Err(Error::invalid(
+            "precrack",
+            "a polyline of at least 2 points (or none)",
+            1,
+        ));
+    }
+    for (k, p) in spec.precrack.iter().enumerate() {
+        check_finite(&format!("precrack[{k}][0]"), p[0])?;
+        check_finite(&format!("precrack[{k}][1]"), p[1])?;
+        let tol = 1e-9 * dx;
+        if p[0] < -tol || p[0] > spec.width + tol || p[1] < -tol || p[1] > spec.height + tol {
+            return Err(Error::invalid(
+                &format!("precrack[{k}]"),
+                "a point inside the plate",
+                format!("{p:?}"),
+            ));
+        }
+    }
+    for s in crack.windows(2) {
+        let (a, b) = (s[0], s[1]);
+        let l = ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2)).sqrt();
+        if l < 1e-9 {
+            return Err(Error::invalid(
+                "precrack",
+                "segments of positive length",
+                format!("{a:?}"),
+            ));
+        }
+        // no grid node on the segment
+        let (i0, i1) = (a[0].min(b[0]).floor() as i64, a[0].max(b[0]).ceil() as i64);
+        let (j0, j1) = (a[1].min(b[1]).floor() as i64, a[1].max(b[1]).ceil() as i64);
+        for j in j0.max(0)..=j1.min(ny as i64) {
+            for i in i0.max(0)..=i1.min(nx as i64) {
+                let p = [i as f64, j as f64];
+                let t = (((p[0] - a[0]) * (b[0] - a[0]) + (p[1] - a[1]) * (b[1] - a[1])) / (l * l))
+                    .clamp(0.0, 1.0);
+                let c = [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
+                if ((p[0] - c[0]).powi(2) + (p[1] - c[1]).powi(2)).sqrt() < 1e-9 {
+                    return Err(Error::invalid(
+                        "precrack",
+                        "a polyline passing between grid nodes (as the paper's x2 = 10.5)",
+                        format!("it passes through node ({}, {})", p[0] * dx, p[1] * dx),
+                    ));
+                }
+            }
+        }
+    }
+    Ok(crack)
+}
+
+/// Does the pre-crack cut the interior of grid cell (i, j) (the element there is removed)?
+pub(super) fn cuts_cell(crack: &[[f64; 2]], i: usize, j: usize) -> bool {
+    let bx = [i as f64, j as f64, i as f64 + 1.0, j as f64 + 1.0];
+    crack
+        .windows(2)
+        .any(|s| clipped_length(s[0], s[1], bx) > 1e-9)
+}
+
+/// The bonds the pre-crack breaks (crossing test in grid units, [`bond_crosses`]).
+pub(super) fn broken_bonds(crack: &[[f64; 2]], grid: &Grid, bonds: &[Bond]) -> Vec<bool> {
+    bonds
+        .iter()
+        .map(|b| {
+            let (pi, pj) = (grid.ij(b.i as usize), grid.ij(b.j as usize));
+            let p = [pi.0 as f64, pi.1 as f64];
+            let q = [pj.0 as f64, pj.1 as f64];
+            crack.windows(2).any(|s| bond_crosses(p, q, s[0], s[1]))
+        })
+        .collect()
+}
+
+/// (node below, node above, unit normal) at the crack mouth (the first point of the polyline): the
+/// nearest grid node on each side of the first segment, for the CMOD; None without a pre-crack.
+pub(super) fn mouth_nodes(crack: &[[f64; 2]], grid: &Grid) -> Option<(usize, usize, [f64; 2])> {
+    let (nx, ny) = (grid.nx, grid.ny);
+    if crack.len() >= 2 {
+        let (a, b) = (crack[0], crack[1]);
+        let l = ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2)).sqrt();
+        let nrm = [-(b[1] - a[1]) / l, (b[0] - a[0]) / l];
+        let mut best = [(f64::INFINITY, usize::MAX); 2];
+        let (ic, jc) = (a[0].round() as i64, a[1].round() as i64);
+        for j in (jc - 2).max(0)..=(jc + 2).min(ny as i64) {
+            for i in (ic - 2).max(0)..=(ic + 2).min(nx as i64) {
+                let p = [i as f64, j as f64];
+                let side = (p[0] - a[0]) * nrm[0] + (p[1] - a[1]) * nrm[1];
+                let d = (p[0] - a[0]).powi(2) + (p[1] - a[1]).powi(2);
+                let k = usize::from(side > 0.0);
+                if d < best[k].0 {
+                    best[k] = (d, grid.node(i as usize, j as usize));
+                }
+            }
+        }
+        if best[0].1 != usize::MAX && best[1].1 != usize::MAX {
+            Some((best[0].1, best[1].1, nrm))
+        } else {
+            None
+        }
+    } else {
+        None
+    }
+}
