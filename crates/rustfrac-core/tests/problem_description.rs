@@ -122,7 +122,6 @@ fn refusals_name_the_scene_key() {
         ("fem", vec![("plate", "width", f(-1.0))], "plate.width"),
         ("fem", vec![("load", "bc", s("glued"))], "load.bc"),
         ("fem", vec![("mesh", "nx", i(0))], "mesh.nx"),
-        ("xfem", vec![("mesh", "nx", i(1))], "mesh.nx"),
         (
             "fem",
             vec![("mesh", "nx", i(3000)), ("mesh", "ny", i(3000))],

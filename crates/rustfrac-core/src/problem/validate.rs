@@ -45,11 +45,6 @@ pub fn problem(p: &Problem) -> Result<()> {
     }
     match &p.method {
         Method::Xfem(x) => {
-            for (n, key) in [(x.grid.nx, "mesh.nx"), (x.grid.ny, "mesh.ny")] {
-                if n < 2 {
-                    return Err(Error::invalid(key, "an integer >= 2 for XFEM", n));
-                }
-            }
             if let Some(g) = &x.growth {
                 let a0 = p.cracks.iter().map(|c| c.a0).fold(0.0, f64::max);
                 if !(g.a_stop > a0) {
@@ -226,7 +221,7 @@ fn peridynamics(p: &Problem, pd: &PdMethod) -> Result<()> {
         crate::pd::splice::grid_count(len, pd.dx, "pd.dx").map_err(|_| {
             Error::invalid(
                 "pd.dx",
-                &format!("a grid that fits the plate: {axis} / dx an integer"),
+                &format!("a dx that makes the grid fit the plate: {axis} / dx an integer"),
                 format!("{} ({axis} {len} / dx = {:.6})", pd.dx, len / pd.dx),
             )
         })?;
