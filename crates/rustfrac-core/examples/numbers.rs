@@ -1,0 +1,223 @@
+//! Prints the numbers the restructurings must not change, as exact bit patterns (hex of each f64),
+//! so that two commits can be compared with `diff`:
+//! `cargo run --release -p rustfrac-core --example numbers > numbers.txt`.
+//!
+//! Covers the FEM plate (every grip, uncracked and seam), XFEM (paper case, single solve and
+//! growth on 44 x 83, two cracks), CCM-PD (the paper's 500 SLA steps, fast solver) and pure PD and
+//! the oracle on a coarse grid.
+use rustfrac_core::coupling::{Method, ModelSpec};
+use rustfrac_core::loading::{Grip, PlateLoad};
+use rustfrac_core::material::{Elastic, Plane};
+use rustfrac_core::plate::{self, FemPlateParams};
+use rustfrac_core::sla::{self, CcmPdParams, SlaParams};
+use rustfrac_core::xfem::{self, GrowthParams, XfemParams};
+
+fn h(v: f64) -> String {
+    format!("{:016x}", v.to_bits())
+}
+
+fn hs(v: &[f64]) -> String {
+    // a digest of a long vector: the bits of every entry, folded (FNV-1a)
+    let mut x: u64 = 0xcbf29ce484222325;
+    for &e in v {
+        x ^= e.to_bits();
+        x = x.wrapping_mul(0x100000001b3);
+    }
+    format!("{x:016x}[{}]", v.len())
+}
+
+fn paper_material() -> Elastic {
+    Elastic {
+        e: 10000.0,
+        nu: 0.25,
+        plane: Plane::Strain,
+        thickness: 1.0,
+    }
+}
+
+fn fem() {
+    for grip in [Grip::Free, Grip::Clamped, Grip::Traction] {
+        for seam in [None, Some((1.1, 10.5))] {
+            let p = FemPlateParams {
+                width: 11.0,
+                height: 21.0,
+                nx: 44,
+                ny: 84,
+                material: paper_material(),
+                load: PlateLoad {
+                    grip,
+                    u0: 0.01,
+                    traction: 9.993,
+                },
+                seam,
+                gauss: 2,
+                condition: true,
+            };
+            let r = plate::run(&p).unwrap();
+            println!(
+                "fem {} seam={:?}: sigma22 {} cmod {} energy {} u {} anchor {} cond {:?}",
+                grip.name(),
+                seam.is_some(),
+                h(r.sigma22),
+                h(r.cmod),
+                h(r.energy),
+                hs(&r.u),
+                r.anchor_node,
+                r.condition.map(|c| h(c.value()))
+            );
+        }
+    }
+}
+
+fn xfem_case(name: &str, p: &XfemParams) {
+    let r = xfem::run(p, &|_, _| {}).unwrap();
+    println!(
+        "xfem {name}: K_I {} K_II {} J {} Jd {} sigma22 {} cmod {} u {} status {} n_dofs {}",
+        h(r.k_i),
+        h(r.k_ii),
+        h(r.j_from_k),
+        h(r.j_domain),
+        h(r.sigma22),
+        h(r.cmod),
+        hs(&r.u),
+        r.status,
+        r.n_dofs
+    );
+    for s in &r.radii {
+        println!("  radius {} K_I {} K_II {}", h(s.factor), h(s.sifs.k_i), h(s.sifs.k_ii));
+    }
+    for (k, s) in r.history.iter().enumerate() {
+        println!(
+            "  step {k}: lambda {} s22 {} cmod {} a {} K_I {} K_II {} kink {} tip {} {}",
+            h(s.lambda),
+            h(s.sigma22),
+            h(s.cmod),
+            h(s.a),
+            h(s.k_i),
+            h(s.k_ii),
+            h(s.kink_angle),
+            h(s.tip[0]),
+            h(s.tip[1])
+        );
+    }
+}
+
+fn xfem_cases() {
+    for grip in [Grip::Free, Grip::Clamped, Grip::Traction] {
+        xfem_case(grip.name(), &XfemParams::paper(grip));
+    }
+    let mut g = XfemParams::paper(Grip::Free);
+    g.growth = Some(GrowthParams {
+        g0: 0.367,
+        da: None,
+        a_stop: 0.7 * 11.0,
+        max_steps: 1000,
+    });
+    xfem_case("growth", &g);
+    let mut inclined = XfemParams::paper(Grip::Clamped);
+    inclined.crack = vec![[0.0, 10.0], [1.5, 10.8]];
+    inclined.growth = Some(GrowthParams {
+        g0: 0.367,
+        da: None,
+        a_stop: 4.0,
+        max_steps: 20,
+    });
+    xfem_case("inclined growth", &inclined);
+    let mut two = XfemParams::paper(Grip::Free);
+    two.extra_cracks = vec![vec![[11.0, 10.5], [9.9, 10.5]]];
+    two.growth = Some(GrowthParams {
+        g0: 0.367,
+        da: None,
+        a_stop: 3.0,
+        max_steps: 10,
+    });
+    xfem_case("two cracks", &two);
+}
+
+fn sla_case(name: &str, p: &CcmPdParams) {
+    let r = sla::run(p, &|_, _| true).unwrap();
+    println!(
+        "sla {name}: gamma {} c {} s0 {} sigma22 {} cmod {} u {} ufinal {} status {} n_dofs {} bonds {}",
+        h(r.gamma),
+        h(r.c),
+        h(r.s0),
+        h(r.sigma22),
+        h(r.cmod),
+        hs(&r.u),
+        hs(&r.u_final),
+        r.status,
+        r.n_dofs,
+        r.n_bonds
+    );
+    let lam: Vec<f64> = r.history.iter().map(|s| s.lambda).collect();
+    let s22: Vec<f64> = r.history.iter().map(|s| s.sigma22).collect();
+    let cm: Vec<f64> = r.history.iter().map(|s| s.cmod).collect();
+    let cl: Vec<f64> = r.history.iter().map(|s| s.crack_length).collect();
+    let bonds: Vec<f64> = r
+        .history
+        .iter()
+        .flat_map(|s| s.bonds.iter().map(|&b| b as f64))
+        .collect();
+    println!(
+        "  history lambda {} s22 {} cmod {} crack {} bonds {} damage {}",
+        hs(&lam),
+        hs(&s22),
+        hs(&cm),
+        hs(&cl),
+        hs(&bonds),
+        hs(&r.damage)
+    );
+}
+
+fn sla_cases() {
+    sla_case("paper 500", &CcmPdParams::paper());
+    let mut clamped = CcmPdParams::paper();
+    clamped.model.load.grip = Grip::Clamped;
+    clamped.sla.max_steps = 100;
+    sla_case("paper clamped 100", &clamped);
+    let coarse = ModelSpec {
+        dx: 0.25,
+        m: 3,
+        pd_regions: vec![[0.0, 8.5, 5.0, 12.5]],
+        // the paper's x2 = 10.5 is a grid line for dx = 0.25 and 0.5: the pre-crack must pass
+        // between nodes
+        precrack: vec![[0.0, 10.4], [1.1, 10.4]],
+        ..ModelSpec::paper()
+    };
+    for fast in [true, false] {
+        let p = CcmPdParams {
+            model: coarse.clone(),
+            sla: SlaParams {
+                max_steps: 60,
+                fast,
+                ..SlaParams::default()
+            },
+        };
+        sla_case(&format!("coarse fast={fast}"), &p);
+    }
+    let pure = CcmPdParams {
+        model: ModelSpec {
+            method: Method::Pd,
+            dx: 0.5,
+            m: 3,
+            load: PlateLoad {
+                grip: Grip::Traction,
+                u0: 0.0,
+                traction: 9.993,
+            },
+            precrack: vec![[0.0, 10.4], [1.1, 10.4]],
+            ..ModelSpec::paper()
+        },
+        sla: SlaParams {
+            max_steps: 40,
+            ..SlaParams::default()
+        },
+    };
+    sla_case("pure pd traction", &pure);
+}
+
+fn main() {
+    fem();
+    xfem_cases();
+    sla_cases();
+}
