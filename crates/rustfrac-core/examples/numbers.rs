@@ -84,7 +84,12 @@ fn xfem_case(name: &str, p: &XfemParams) {
         r.n_dofs
     );
     for s in &r.radii {
-        println!("  radius {} K_I {} K_II {}", h(s.factor), h(s.sifs.k_i), h(s.sifs.k_ii));
+        println!(
+            "  radius {} K_I {} K_II {}",
+            h(s.factor),
+            h(s.sifs.k_i),
+            h(s.sifs.k_ii)
+        );
     }
     for (k, s) in r.history.iter().enumerate() {
         println!(
