@@ -1,7 +1,7 @@
 //! rustfrac-core: the numerical core of rustfrac.
 //!
 //! Modules follow the concepts of the paper (Tuna, Ongaro, Trovalusci, Fantuzzi): [`mesh`] and
-//! [`fem`] (Q4 plane elasticity), [`xfem`] and [`sif`] (section 2.1, eqs. 1-36), [`pd`],
+//! [`fem`] (Q4 plane elasticity), [`xfem`] (section 2.1, eqs. 1-36), [`pd`],
 //! [`coupling`] and [`sla`] (section 2.2, eqs. 37-58, and the sequentially linear analysis of
 //! section 3, with [`checkpoint`] for resumable runs), with [`sparse`] and [`solver`] underneath. No Python here: the `rustfrac-py` crate
 //! binds it.
@@ -12,6 +12,7 @@ pub mod checkpoint;
 pub mod coupling;
 pub mod error;
 pub mod fem;
+pub(crate) mod geometry;
 pub mod loading;
 pub mod material;
 pub mod mesh;
@@ -19,7 +20,6 @@ pub mod ordering;
 pub mod pd;
 pub mod plate;
 pub mod quadrature;
-pub mod sif;
 pub mod sla;
 pub mod solver;
 pub mod sparse;
