@@ -66,7 +66,7 @@ def test_native_matches_run_on_paper_case(paper_free: rf.Result) -> None:
         assert getattr(res, k) == out[k]
     assert (res.sigma22, res.cmod, res.n_dofs) == (out["sigma22"], out["cmod"], out["n_dofs"])
     np.testing.assert_array_equal(res.fields["u_enriched"], out["u_enriched"])
-    # the core's documented values for this case (xfem.rs module docs, 44 x 83, free grips)
+    # the core's documented values for this case (xfem/mod.rs module docs, 44 x 83, free grips)
     assert out["K_I"] == pytest.approx(20.755, rel=5e-4)
     assert out["cmod"] == pytest.approx(0.005853, rel=5e-4)
     assert out["sigma22"] == pytest.approx(9.959, rel=5e-4)

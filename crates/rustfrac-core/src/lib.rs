@@ -3,7 +3,7 @@
 //! Modules follow the concepts of the paper (Tuna, Ongaro, Trovalusci, Fantuzzi): [`problem`]
 //! (the one problem description every driver reads: scene schema, parsing, validation), [`fe`]
 //! (Q4 plane elasticity: mesh, material, element, Dirichlet conditions, plate loading), [`xfem`]
-//! and [`sif`] (section 2.1, eqs. 1-36), [`pd`] (section 2.2, eqs. 37-58: bonds, the splice
+//! (section 2.1, eqs. 1-36: crack level sets, enrichment, integration, SIFs, growth), [`pd`] (section 2.2, eqs. 37-58: bonds, the splice
 //! coupling [`pd::splice`], and the sequentially linear analysis of section 3, [`pd::sla`], with
 //! [`pd::sla::checkpoint`] for resumable runs), with [`la`] (sparse matrices, ordering, direct
 //! solvers, condition) and [`geometry`] underneath. No Python here: the `rustfrac-py` crate
@@ -18,7 +18,6 @@ pub mod la;
 pub mod pd;
 pub mod plate;
 pub mod problem;
-pub mod sif;
 pub mod warning;
 pub mod xfem;
 

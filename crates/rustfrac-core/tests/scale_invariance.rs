@@ -333,7 +333,7 @@ fn xfem_critical_load_scales_with_sqrt_g0() {
         let gg = base.growth.unwrap().g0 * g;
         let kic = (gg * base.material.e_prime()).sqrt();
         for h in &r.history[1..] {
-            let keq = rustfrac_core::sif::k_equivalent(h.k_i, h.k_ii);
+            let keq = rustfrac_core::xfem::k_equivalent(h.k_i, h.k_ii);
             check("K_eq = K_Ic", keq, kic, kic, &mut worst);
         }
     }

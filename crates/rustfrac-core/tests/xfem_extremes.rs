@@ -12,9 +12,9 @@ use nalgebra::DMatrix;
 use rustfrac_core::fem::{Dirichlet, FemModel, LinearSystem};
 use rustfrac_core::material::{Elastic, Plane};
 use rustfrac_core::mesh::{Mesh, Side};
-use rustfrac_core::sif::williams_displacement;
 use rustfrac_core::solver::{Cholesky, ConditionEstimate};
 use rustfrac_core::sparse::CscMatrix;
+use rustfrac_core::xfem::williams_displacement;
 use rustfrac_core::xfem::{branch_functions, XfemModel, XfemOptions};
 use std::sync::Arc;
 
@@ -772,7 +772,7 @@ fn exact_williams(k: (f64, f64), tip: [f64; 2], n: usize, r_enr: f64) -> (XfemMo
 
 /// A tip within one element of the plate boundary: the q-domain (r_I = 1.5 .. 3.5 element
 /// lengths) is clipped by the boundary, and the boundary term of the interaction integral
-/// (sif::DomainIntegral::add_boundary) keeps K exact. The field is the exact Williams field
+/// (xfem::DomainIntegral::add_boundary) keeps K exact. The field is the exact Williams field
 /// (K = 1) represented exactly by the enrichment, so any error is the integral's own: the clipped
 /// domains give K to 2e-5, like the unclipped ones (without the boundary term: 0.28 .. 0.79).
 #[test]

@@ -9,7 +9,7 @@ use rustfrac_core::fem::{Dirichlet, FemModel, LinearSystem};
 use rustfrac_core::loading::{plate_conditions, sigma22, Grip, PlateEdges, PlateLoad};
 use rustfrac_core::material::{Elastic, Plane};
 use rustfrac_core::mesh::{Mesh, Side};
-use rustfrac_core::sif::williams_displacement;
+use rustfrac_core::xfem::williams_displacement;
 use rustfrac_core::xfem::{run, GrowthParams, XfemModel, XfemOptions, XfemParams};
 use rustfrac_core::Error;
 use std::sync::Arc;

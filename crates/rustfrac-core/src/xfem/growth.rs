@@ -1,0 +1,427 @@
+//! Quasi-static LEFM crack growth (paper section 2.1.3): the maximum circumferential stress
+//! criterion (Erdogan and Sih) for the kink angle and the equivalent SIF, and the growth loop of
+//! the plate driver ([`crate::xfem::run`] with `growth = Some(..)`).
+//!
+//! Proportional loading; lambda is set by the most critical tip: for the current cracks solve
+//! once at the reference load and take, at every tip, K_I and K_II at r_I (r_I_factor times that
+//! tip's element size), the Erdogan-Sih kink angle theta_c and K_eq. The tip's critical load
+//! factor is lambda_t = K_Ic / K_eq (K_Ic = sqrt(G0 E'); tips with K_eq <= 0 never become
+//! critical) and the step's load factor is lambda = min_t lambda_t. The linear solution scaled by
+//! lambda is the critical state, recorded as (lambda, lambda sigma22, lambda CMOD, lambda u0, a,
+//! lambda K_I, lambda K_II, theta_c, tip) of the most critical tip (the first one in tip order on
+//! ties), with every tip's state in `tip_history`. Every tip with lambda_t <= lambda (1 + 1e-6)
+//! then advances (so symmetric tips grow together) by `da` (or its own tip element's chord) in
+//! the direction theta_c from its current direction; the other tips stay. The run stops with
+//! `status` "a_stop reached" once the next length `a` of a crack would exceed `a_stop`, "ligament
+//! used up" when a new tip would come closer to the plate boundary than [`MIN_TIP_CLEARANCE`]
+//! element lengths (the mesh no longer resolves the remaining ligament), "cracks meet" when the
+//! grown cracks would cross or touch each other or put tips of two cracks in one element, or
+//! another crack would enter a tip's SIF domain (coalescence is not modelled), "max_steps
+//! reached", or "crack closes (K_eq <= 0)".
+
+use super::crack::Crack;
+use super::interaction_integral::DomainSifs;
+use super::model::XfemModel;
+use super::patch::DeformedPatch;
+use super::plate::{PlateProblem, PlateSolve, MIN_TIP_CLEARANCE};
+use crate::error::{Error, Result};
+use crate::loading::Grip;
+use crate::solver::condition_warning;
+use crate::warning::Warning;
+
+/// Kink angle of the maximum circumferential stress criterion (Erdogan and Sih), in the tip frame:
+/// theta_c = 2 atan[(K_I - sqrt(K_I^2 + 8 K_II^2)) / (4 K_II)], written in the cancellation-free
+/// form 2 atan[-2 K_II / (K_I + sqrt(K_I^2 + 8 K_II^2))]; 0 when K_II = 0. A positive K_II turns
+/// the crack clockwise (negative angle).
+pub fn kink_angle(k_i: f64, k_ii: f64) -> f64 {
+    if k_ii == 0.0 {
+        return 0.0;
+    }
+    // K_II != 0 makes the root exceed |K_I|, so the denominator is positive
+    let s = (k_i * k_i + 8.0 * k_ii * k_ii).sqrt();
+    2.0 * (-2.0 * k_ii / (k_i + s)).atan()
+}
+
+/// Equivalent mode I SIF in the kink direction:
+/// K_eq = cos(theta/2) [K_I cos^2(theta/2) - 3/2 K_II sin(theta)].
+pub fn k_equivalent(k_i: f64, k_ii: f64) -> f64 {
+    let t = kink_angle(k_i, k_ii);
+    let c = (0.5 * t).cos();
+    c * (k_i * c * c - 1.5 * k_ii * t.sin())
+}
+
+/// Quasi-static LEFM growth parameters.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GrowthParams {
+    /// fracture energy G0 (K_Ic = sqrt(G0 E'))
+    pub g0: f64,
+    /// crack extension per step; None = one element length (the tip element's chord along the
+    /// crack direction)
+    pub da: Option<f64>,
+    /// stop once the crack length `a` (see [`Crack::a`]) would exceed this
+    pub a_stop: f64,
+    /// maximum number of growth steps (critical states recorded)
+    pub max_steps: usize,
+}
+
+/// One point of the load path: the critical state of one crack configuration (or the origin).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GrowthStep {
+    /// load factor on the reference load (0 for the origin point)
+    pub lambda: f64,
+    pub sigma22: f64,
+    pub cmod: f64,
+    /// prescribed displacement lambda u0_ref (displacement grips), 0 under traction
+    pub u0: f64,
+    /// applied traction lambda t_ref (traction), 0 under displacement grips
+    pub traction: f64,
+    /// length (see [`Crack::a`]) of the crack of the most critical tip (the primary crack at
+    /// the origin)
+    pub a: f64,
+    /// SIFs of the most critical tip at the critical load (every tip: `tip_history`)
+    pub k_i: f64,
+    pub k_ii: f64,
+    /// kink angle of the most critical tip's extension (radians, tip frame)
+    pub kink_angle: f64,
+    /// position of the most critical tip (first in global tip order on ties)
+    pub tip: [f64; 2],
+    /// condition estimate of this step's solve ([`crate::solver::ConditionEstimate::value`]; 0 for the origin;
+    /// None when not computed, [`crate::xfem::XfemParams::condition`])
+    pub condition: Option<f64>,
+}
+
+/// The state of one tip at one point of the load path (see [`crate::xfem::XfemResult::tip_history`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TipStep {
+    /// tip position at that critical state (before the extension that follows)
+    pub pos: [f64; 2],
+    /// SIFs at the critical load
+    pub k_i: f64,
+    pub k_ii: f64,
+    /// kink angle (radians, tip frame) of the Erdogan-Sih criterion
+    pub kink_angle: f64,
+    /// whether this tip was critical (within a relative 1e-6 of the step's load factor) and grew
+    pub grows: bool,
+}
+
+/// Why a growth run stopped (the names are [`crate::xfem::XfemResult::status`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Stop {
+    /// the next length `a` of a crack would exceed `a_stop`
+    AStopReached,
+    /// a new tip would come closer to the boundary than [`MIN_TIP_CLEARANCE`] element lengths
+    LigamentUsedUp,
+    MaxStepsReached,
+    /// the cracks would cross or touch, or another crack would enter a tip's SIF domain
+    CracksMeet,
+    /// no tip has K_eq > 0
+    CrackCloses,
+}
+
+impl Stop {
+    pub(super) fn name(self) -> &'static str {
+        match self {
+            Stop::AStopReached => "a_stop reached",
+            Stop::LigamentUsedUp => "ligament used up",
+            Stop::MaxStepsReached => "max_steps reached",
+            Stop::CracksMeet => "cracks meet",
+            Stop::CrackCloses => "crack closes (K_eq <= 0)",
+        }
+    }
+}
+
+/// What a growth run produces (the growth fields of [`crate::xfem::XfemResult`]).
+pub(super) struct Growth {
+    pub(super) history: Vec<GrowthStep>,
+    pub(super) tip_history: Vec<Vec<TipStep>>,
+    pub(super) snapshots: Vec<DeformedPatch>,
+    /// warnings of the growth steps' solves
+    pub(super) warnings: Vec<Warning>,
+    /// None only if the loop ran out without a stop (it cannot: the last step stops with
+    /// [`Stop::MaxStepsReached`])
+    pub(super) status: Option<Stop>,
+    /// final polylines of all cracks
+    pub(super) cracks: Vec<Vec<[f64; 2]>>,
+}
+
+/// The state of every tip of one crack configuration at the reference load: the tip element
+/// sizes, the SIFs at r_I, the critical load factors and the kink angles.
+struct TipStates {
+    sizes: Vec<f64>,
+    sifs: Vec<DomainSifs>,
+    lams: Vec<f64>,
+    kinks: Vec<f64>,
+}
+
+impl TipStates {
+    fn new(
+        model: &XfemModel,
+        u: &[f64],
+        sizes: Vec<f64>,
+        r_i_factor: f64,
+        kic: f64,
+    ) -> Result<Self> {
+        let n_tips = model.tips.len();
+        let mut sifs = Vec::with_capacity(n_tips);
+        let mut lams = Vec::with_capacity(n_tips);
+        for (t, &h_t) in sizes.iter().enumerate() {
+            let s = model.sifs(u, t, r_i_factor * h_t)?;
+            let keq = k_equivalent(s.k_i, s.k_ii);
+            lams.push(if keq > 0.0 { kic / keq } else { f64::INFINITY });
+            sifs.push(s);
+        }
+        let kinks: Vec<f64> = sifs.iter().map(|s| kink_angle(s.k_i, s.k_ii)).collect();
+        Ok(Self {
+            sizes,
+            sifs,
+            lams,
+            kinks,
+        })
+    }
+
+    /// The most critical tip (first on ties) and the load factor it sets, or None when no tip
+    /// can become critical (K_eq <= 0 everywhere); with the tips that grow.
+    fn critical(&self) -> Option<Critical> {
+        let lams = &self.lams;
+        let t = (0..lams.len()).fold(0, |b, t| if lams[t] < lams[b] { t } else { b });
+        let lam = lams[t];
+        if !lam.is_finite() {
+            return None;
+        }
+        let grows: Vec<bool> = lams.iter().map(|&l| l <= lam * (1.0 + 1e-6)).collect();
+        Some(Critical { t, lam, grows })
+    }
+}
+
+/// The critical state of one step: the most critical tip `t`, the load factor `lam` it sets and
+/// the tips that grow (lambda_t <= lambda (1 + 1e-6)).
+struct Critical {
+    t: usize,
+    lam: f64,
+    grows: Vec<bool>,
+}
+
+/// The cracks after one extension of the critical tips.
+struct Extension {
+    polylines: Vec<Vec<[f64; 2]>>,
+    /// the next length `a` of every crack
+    next_a: Vec<f64>,
+    /// a new tip comes too close to the plate boundary
+    ligament: bool,
+}
+
+/// Extends every tip with `grows` by `da` (or its tip element's chord) in its kink direction.
+fn extend_tips(
+    model: &XfemModel,
+    st: &TipStates,
+    grows: &[bool],
+    da: Option<f64>,
+    plate: &PlateProblem,
+) -> Extension {
+    let (x_max, y_max) = (plate.width, plate.height);
+    let mut polylines: Vec<Vec<[f64; 2]>> = model.cracks.iter().map(|c| c.points.clone()).collect();
+    let mut next_a: Vec<f64> = model.cracks.iter().map(Crack::a).collect();
+    let mut ligament = false;
+    for (k, tip) in model.tips.iter().enumerate() {
+        if !grows[k] {
+            continue;
+        }
+        let c = model.tip_crack[k];
+        let da = da.unwrap_or_else(|| model.tip_element_length(k));
+        let (cs, sn) = (st.kinks[k].cos(), st.kinks[k].sin());
+        let d = [
+            tip.dir[0] * cs - tip.dir[1] * sn,
+            tip.dir[0] * sn + tip.dir[1] * cs,
+        ];
+        let p = [tip.pos[0] + da * d[0], tip.pos[1] + da * d[1]];
+        // the next tip must stay resolvable (the q-domain may be clipped by the boundary)
+        let margin = MIN_TIP_CLEARANCE * st.sizes[k];
+        if p[0] < margin || p[0] > x_max - margin || p[1] < margin || p[1] > y_max - margin {
+            ligament = true;
+        }
+        if tip.at_start {
+            polylines[c].insert(0, p);
+        } else {
+            polylines[c].push(p);
+        }
+        next_a[c] += if model.cracks[c].mouth { da } else { 0.5 * da };
+    }
+    Extension {
+        polylines,
+        next_a,
+        ligament,
+    }
+}
+
+impl Growth {
+    /// A run at its origin: history[0] is the unloaded initial crack (lambda = 0, all loads
+    /// zero), so the initial loading branch from (0, 0) is part of the curve.
+    fn origin(model: &XfemModel, first: &PlateSolve) -> Self {
+        let history = vec![GrowthStep {
+            lambda: 0.0,
+            sigma22: 0.0,
+            cmod: 0.0,
+            u0: 0.0,
+            traction: 0.0,
+            a: model.cracks[0].a(),
+            k_i: 0.0,
+            k_ii: 0.0,
+            kink_angle: 0.0,
+            tip: model.tips[0].pos,
+            condition: first.condition.map(|_| 0.0),
+        }];
+        let tip_history = vec![model
+            .tips
+            .iter()
+            .map(|t| TipStep {
+                pos: t.pos,
+                k_i: 0.0,
+                k_ii: 0.0,
+                kink_angle: 0.0,
+                grows: false,
+            })
+            .collect()];
+        Self {
+            history,
+            tip_history,
+            snapshots: Vec::new(),
+            warnings: Vec::new(),
+            status: None,
+            cracks: Vec::new(),
+        }
+    }
+
+    /// Records the critical state `crit` of one step (the solution `sol` scaled by its load
+    /// factor; `refs` = (u0, traction) of the reference load) and its deformed patch.
+    fn record(
+        &mut self,
+        model: &XfemModel,
+        sol: &PlateSolve,
+        st: &TipStates,
+        crit: &Critical,
+        (u0_ref, t_ref): (f64, f64),
+    ) -> Result<()> {
+        let (t, lam, grows) = (crit.t, crit.lam, &crit.grows);
+        let s = st.sifs[t];
+        self.history.push(GrowthStep {
+            lambda: lam,
+            sigma22: lam * sol.sigma22,
+            cmod: lam * sol.cmod,
+            u0: lam * u0_ref,
+            traction: lam * t_ref,
+            a: model.cracks[model.tip_crack[t]].a(),
+            k_i: lam * s.k_i,
+            k_ii: lam * s.k_ii,
+            kink_angle: st.kinks[t],
+            tip: model.tips[t].pos,
+            condition: sol.condition.map(|c| c.value()),
+        });
+        self.tip_history.push(
+            (0..model.tips.len())
+                .map(|k| TipStep {
+                    pos: model.tips[k].pos,
+                    k_i: lam * st.sifs[k].k_i,
+                    k_ii: lam * st.sifs[k].k_ii,
+                    kink_angle: st.kinks[k],
+                    grows: grows[k],
+                })
+                .collect(),
+        );
+        let mut snap = model.deformed_near_tip(&sol.u, t, 5.0 * st.sizes[t], 4)?;
+        for d in snap.disp.iter_mut().flatten().flatten() {
+            *d *= lam;
+        }
+        self.snapshots.push(snap);
+        Ok(())
+    }
+}
+
+/// The growth loop (see the module documentation) from the initial model and its solve `first`
+/// at the reference load of `plate`; `progress(step, max_steps)` is called after each step.
+pub(super) fn grow(
+    mut model: XfemModel,
+    first: PlateSolve,
+    plate: &PlateProblem,
+    g: &GrowthParams,
+    r_i_factor: f64,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<Growth> {
+    let kic = (g.g0 * model.material.e_prime()).sqrt();
+    let refs = match plate.load.grip {
+        Grip::Traction => (0.0, plate.load.traction),
+        _ => (plate.load.u0, 0.0),
+    };
+    let mut out = Growth::origin(&model, &first);
+    let mut sol = first;
+    for step in 0..g.max_steps {
+        if step > 0 {
+            let what = format!("growth step {step}");
+            sol = plate.solve(&model, &what)?;
+            out.warnings.extend(
+                sol.condition
+                    .as_ref()
+                    .and_then(|c| condition_warning(&what, c)),
+            );
+        }
+        let n_tips = model.tips.len();
+        let sizes: Vec<f64> = (0..n_tips).map(|t| model.tip_element_size(t)).collect();
+        if (0..n_tips).any(|t| {
+            model
+                .other_crack_in_domain(t, r_i_factor * sizes[t])
+                .is_some()
+        }) {
+            out.status = Some(Stop::CracksMeet);
+            break;
+        }
+        let st = TipStates::new(&model, &sol.u, sizes, r_i_factor, kic)?;
+        let Some(crit) = st.critical() else {
+            out.status = Some(Stop::CrackCloses);
+            break;
+        };
+        out.record(&model, &sol, &st, &crit, refs)?;
+        progress(step + 1, g.max_steps);
+        let ext = extend_tips(&model, &st, &crit.grows, g.da, plate);
+        if ext.ligament {
+            out.status = Some(Stop::LigamentUsedUp);
+            break;
+        }
+        if ext.next_a.iter().any(|&a| a > g.a_stop * (1.0 + 1e-12)) {
+            out.status = Some(Stop::AStopReached);
+            break;
+        }
+        if step + 1 == g.max_steps {
+            out.status = Some(Stop::MaxStepsReached);
+            break;
+        }
+        model = match model.with_cracks(ext.polylines) {
+            Err(Error::InvalidInput { param, .. }) if param == "cracks" => {
+                out.status = Some(Stop::CracksMeet);
+                break;
+            }
+            m => m?,
+        };
+    }
+    out.cracks = model.cracks.iter().map(|c| c.points.clone()).collect();
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn criterion_limits() {
+        assert_eq!(kink_angle(1.0, 0.0), 0.0);
+        assert!((k_equivalent(2.0, 0.0) - 2.0).abs() < 1e-15);
+        // pure mode II: theta = -2 atan(1/sqrt 2) = -70.53 deg
+        let t = kink_angle(0.0, 1.0);
+        assert!(
+            (t.to_degrees() + 70.528_779).abs() < 1e-5,
+            "{}",
+            t.to_degrees()
+        );
+        // K_IIc = (sqrt 3 / 2) K_Ic
+        assert!((k_equivalent(0.0, 1.0) - 2.0 / 3f64.sqrt()).abs() < 1e-12);
+        assert!(kink_angle(1.0, -0.3) > 0.0);
+    }
+}
