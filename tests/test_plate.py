@@ -2,10 +2,9 @@
 
 from __future__ import annotations
 
-from typing import Any
-
 import threading
 import time
+from typing import Any
 
 import numpy as np
 import pytest

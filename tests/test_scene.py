@@ -213,3 +213,41 @@ def test_scene_from_keywords_and_dicts() -> None:
         Scene(material={"G": 1.0})
     with pytest.raises(rf.InvalidTypeError, match="material"):
         Scene(material=3)  # type: ignore[arg-type]
+
+
+# ----------------------------------------------------------------------------------------------
+# the core owns every scene rule
+
+
+def test_sections_are_the_cores_schema() -> None:
+    """Every key of the core's schema is a field of its section class with the core's default,
+    and the section docstrings show each key's range and meaning."""
+    from rustfrac import _core
+    from rustfrac.scene import _SECTIONS, keys
+
+    schema = _core.scene_schema()
+    assert keys() == schema and {k["section"] for k in schema} == set(_SECTIONS)
+    for k in schema:
+        cls = _SECTIONS[k["section"]]
+        default = getattr(cls(), k["key"])
+        want = tuple(k["default"]) if isinstance(k["default"], list) else k["default"]
+        assert default == want, (k["section"], k["key"])
+        assert k["valid"] in (cls.__doc__ or ""), (k["section"], k["key"])
+
+
+def test_core_errors_carry_the_scene_key() -> None:
+    """No message parsing: the error's param is the core's scene key, for sections built alone,
+    whole scenes, and the cross-parameter checks (a PD pre-crack along a node row names
+    crack.y, not crack.a0)."""
+    with pytest.raises(rf.InvalidParameterError) as e:
+        rf.scene.XfemOptions(r_I=0.1)
+    assert e.value.param == "xfem.r_I"
+    with pytest.raises(rf.InvalidParameterError) as e:
+        rf.scenes.edge_crack_plate("ccm_pd", crack_y=10.0)
+    assert e.value.param == "crack.y" and "node" in str(e.value)
+    with pytest.raises(rf.UnknownParameterError) as e:
+        rf.Scene.from_dict({"method": "fem", "mesh": {"nxx": 4}})
+    assert e.value.param == "mesh.nxx"
+    with pytest.raises(rf.InvalidTypeError) as e:
+        rf.Scene.from_dict({"method": "fem", "plate": {"width": "wide"}})
+    assert e.value.param == "plate.width"

@@ -403,7 +403,7 @@ def test_native_entry_points_refuse_by_name() -> None:
         with pytest.raises(rf.InvalidParameterError, match=f"invalid {name}") as e:
             _core.run(scene)
         assert e.value.param.startswith(name)
-    with pytest.raises(rf.InvalidParameterError, match="invalid material.G0") as e:
+    with pytest.raises(rf.InvalidParameterError, match=r"invalid material\.G0") as e:
         _core.run(
             {
                 "method": "pd",

@@ -3,8 +3,6 @@
 ranges, cross-parameter checks) lives in the core: :func:`scene_schema` lists it, :func:`check_scene`
 applies it, :func:`run` runs a scene dict."""
 
-import os
-from collections.abc import Sequence
 from typing import Any, Callable
 
 import numpy as np
