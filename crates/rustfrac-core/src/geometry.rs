@@ -174,3 +174,44 @@ pub(crate) fn positive_area(poly: &[[f64; 2]], a: [f64; 2], b: [f64; 2]) -> f64 
     }
     0.5 * area.abs()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn orientation_and_distances() {
+        let (a, b) = ([0.0, 0.0], [2.0, 0.0]);
+        assert!(orient(a, b, [1.0, 1.0]) > 0.0 && orient(a, b, [1.0, -1.0]) < 0.0);
+        assert_eq!(orient(a, b, [5.0, 0.0]), 0.0);
+        assert_eq!(point_segment_distance([1.0, 3.0], a, b), 3.0);
+        assert_eq!(point_segment_distance([5.0, 4.0], a, b), 5.0);
+        assert_eq!(segment_distance(a, b, [1.0, -1.0], [1.0, 1.0]), 0.0);
+        assert_eq!(segment_distance(a, b, [3.0, 0.0], [3.0, 1.0]), 1.0);
+        assert_eq!(polyline_distance(&[a, b, [2.0, 2.0]], [3.0, 1.0]), 1.0);
+    }
+
+    #[test]
+    fn bonds_crossing_and_clipping() {
+        let (a, b) = ([0.0, 0.5], [1.0, 0.5]);
+        assert!(bond_crosses([0.5, 0.0], [0.5, 1.0], a, b));
+        // the tip counts (closed segment), a node on the crack line does not cross
+        assert!(bond_crosses([1.0, 0.0], [1.0, 1.0], a, b));
+        assert!(!bond_crosses([1.5, 0.0], [1.5, 1.0], a, b));
+        assert!(!bond_crosses([0.5, 0.5], [0.5, 1.0], a, b));
+        assert_eq!(
+            clipped_length([-1.0, 0.5], [3.0, 0.5], [0.0, 0.0, 2.0, 1.0]),
+            2.0
+        );
+        assert_eq!(
+            clipped_length([0.0, 0.0], [2.0, 0.0], [0.0, 0.0, 2.0, 1.0]),
+            0.0
+        );
+        assert_eq!(
+            seg_box([-1.0, 0.5], [3.0, 0.5], [0.0, 0.0], [2.0, 1.0], 0.0),
+            Some((0.25, 0.75))
+        );
+        let square = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+        assert_eq!(positive_area(&square, [0.0, 0.25], [1.0, 0.25]), 0.75);
+    }
+}
