@@ -6,19 +6,28 @@
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use rustfrac_core::fem::{FemModel, LinearSystem};
-use rustfrac_core::loading::{plate_conditions, Grip, PlateEdges, PlateLoad};
-use rustfrac_core::material::{Elastic, Plane};
+use rustfrac_core::fem_driver::run;
+use rustfrac_core::loading::{plate_conditions, PlateEdges};
 use rustfrac_core::mesh::Mesh;
-use rustfrac_core::plate::{run, FemPlateParams};
+use rustfrac_core::problem::{FeGrid, Problem};
 use std::time::Duration;
 
 /// (nx, ny) giving about 1e4, 1e5, 1e6 unknowns with the paper's aspect ratio.
 const SIZES: [(usize, usize); 3] = [(50, 98), (160, 310), (510, 980)];
 
-fn model(nx: usize, ny: usize) -> (FemModel, PlateEdges) {
-    let mesh = Mesh::uniform(0.0, 0.0, 11.0, 21.0, nx, ny).unwrap();
-    let mat = Elastic::new(10000.0, 0.25, Plane::Strain, 1.0).unwrap();
-    let model = FemModel::new(mesh, mat, 2).unwrap();
+/// The paper's uncracked plate under free grips on nx x ny elements.
+fn paper_plate(nx: usize, ny: usize) -> Problem {
+    let mut p = Problem::paper("fem");
+    p.fem_mut().grid = FeGrid { nx, ny };
+    p.cracks.clear();
+    p
+}
+
+/// The plate's Q4 model (2 x 2 Gauss points) and its edges.
+fn model(p: &Problem, nx: usize, ny: usize) -> (FemModel, PlateEdges) {
+    let d = &p.domain;
+    let mesh = Mesh::uniform(0.0, 0.0, d.width, d.height, nx, ny).unwrap();
+    let model = FemModel::new(mesh, p.material.elastic, 2).unwrap();
     let m = &model.mesh;
     let edges = PlateEdges::of_mesh(m);
     (model, edges)
@@ -27,14 +36,11 @@ fn model(nx: usize, ny: usize) -> (FemModel, PlateEdges) {
 fn bench(c: &mut Criterion) {
     let mut g = c.benchmark_group("plate");
     g.sample_size(10).measurement_time(Duration::from_secs(8));
-    let load = PlateLoad {
-        grip: Grip::Free,
-        u0: 0.01,
-        traction: 0.0,
-    };
     for (nx, ny) in SIZES {
         let ndof = 2 * (nx + 1) * (ny + 1);
-        let (m, edges) = model(nx, ny);
+        let p = paper_plate(nx, ny);
+        let load = p.boundary.plate_load();
+        let (m, edges) = model(&p, nx, ny);
         g.bench_with_input(BenchmarkId::new("assemble", ndof), &m, |b, m| {
             b.iter(|| m.stiffness())
         });
@@ -47,17 +53,6 @@ fn bench(c: &mut Criterion) {
         g.bench_with_input(BenchmarkId::new("solve", ndof), &sys, |b, s| {
             b.iter(|| s.solve(&f, 1.0).unwrap())
         });
-        let p = FemPlateParams {
-            width: 11.0,
-            height: 21.0,
-            nx,
-            ny,
-            material: m.material,
-            load,
-            seam: None,
-            gauss: 2,
-            condition: true,
-        };
         g.bench_with_input(BenchmarkId::new("end_to_end", ndof), &p, |b, p| {
             b.iter(|| run(p).unwrap())
         });

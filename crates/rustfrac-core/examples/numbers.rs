@@ -5,11 +5,11 @@
 //! Covers the FEM plate (every grip, uncracked and seam), XFEM (paper case, single solve and
 //! growth on 44 x 83, two cracks), CCM-PD (the paper's 500 SLA steps, fast solver) and pure PD and
 //! the oracle on a coarse grid.
+use rustfrac_core::fem_driver;
 use rustfrac_core::loading::{Grip, PlateLoad};
-use rustfrac_core::material::{Elastic, Plane};
 use rustfrac_core::pd::sla::{self, CcmPdParams, SlaParams};
 use rustfrac_core::pd::splice::{Method, ModelSpec};
-use rustfrac_core::plate::{self, FemPlateParams};
+use rustfrac_core::problem::Problem;
 use rustfrac_core::xfem::{self, GrowthParams, XfemParams};
 
 fn h(v: f64) -> String {
@@ -26,38 +26,19 @@ fn hs(v: &[f64]) -> String {
     format!("{x:016x}[{}]", v.len())
 }
 
-fn paper_material() -> Elastic {
-    Elastic {
-        e: 10000.0,
-        nu: 0.25,
-        plane: Plane::Strain,
-        thickness: 1.0,
-    }
-}
-
 fn fem() {
     for grip in [Grip::Free, Grip::Clamped, Grip::Traction] {
-        for seam in [None, Some((1.1, 10.5))] {
-            let p = FemPlateParams {
-                width: 11.0,
-                height: 21.0,
-                nx: 44,
-                ny: 84,
-                material: paper_material(),
-                load: PlateLoad {
-                    grip,
-                    u0: 0.01,
-                    traction: 9.993,
-                },
-                seam,
-                gauss: 2,
-                condition: true,
-            };
-            let r = plate::run(&p).unwrap();
+        for seam in [false, true] {
+            let mut p = Problem::paper("fem").with_grip(grip);
+            p.fem_mut().grid.ny = 84;
+            if !seam {
+                p.cracks.clear();
+            }
+            let r = fem_driver::run(&p).unwrap();
             println!(
                 "fem {} seam={:?}: sigma22 {} cmod {} energy {} u {} anchor {} cond {:?}",
                 grip.name(),
-                seam.is_some(),
+                seam,
                 h(r.sigma22),
                 h(r.cmod),
                 h(r.energy),

@@ -1,8 +1,8 @@
 //! Phase timings of the FEM plate pipeline: `cargo run --release --example plate_phases -- NX NY`.
 use rustfrac_core::fem::FemModel;
-use rustfrac_core::loading::{plate_conditions, Grip, PlateEdges, PlateLoad};
-use rustfrac_core::material::{Elastic, Plane};
+use rustfrac_core::loading::{plate_conditions, PlateEdges};
 use rustfrac_core::mesh::Mesh;
+use rustfrac_core::problem::Problem;
 use rustfrac_core::solver::Cholesky;
 use rustfrac_core::sparse::Reduction;
 use std::time::Instant;
@@ -15,20 +15,18 @@ fn main() {
     let (nx, ny) = (a[0], a[1]);
     let t = Instant::now();
     let lap = |s: &str, t: &Instant| println!("{s:>12}: {:.3} s", t.elapsed().as_secs_f64());
-    let mesh = Mesh::uniform(0.0, 0.0, 11.0, 21.0, nx, ny).unwrap();
-    let mat = Elastic::new(10000.0, 0.25, Plane::Strain, 1.0).unwrap();
-    let model = FemModel::new(mesh, mat, 2).unwrap();
+    // the paper's uncracked plate under free grips, phase by phase as the FEM driver runs it
+    let p = Problem::paper("fem");
+    let d = &p.domain;
+    let mesh = Mesh::uniform(0.0, 0.0, d.width, d.height, nx, ny).unwrap();
+    let model = FemModel::new(mesh, p.material.elastic, 2).unwrap();
     lap("pattern", &t);
     let t = Instant::now();
     let k = model.stiffness();
     lap("assemble", &t);
     let m = &model.mesh;
     let edges = PlateEdges::of_mesh(m);
-    let load = PlateLoad {
-        grip: Grip::Free,
-        u0: 0.01,
-        traction: 0.0,
-    };
+    let load = p.boundary.plate_load();
     let (bc, f, _) = plate_conditions(&edges, &load, model.n_dofs(), 1.0).unwrap();
     let t = Instant::now();
     let (mask, up) = bc.to_mask(k.ncols).unwrap();

@@ -1,7 +1,6 @@
 //! Times one FEM plate solve: `cargo run --release --example plate_timing -- NX NY`.
-use rustfrac_core::loading::{Grip, PlateLoad};
-use rustfrac_core::material::{Elastic, Plane};
-use rustfrac_core::plate::{run, FemPlateParams};
+use rustfrac_core::fem_driver::run;
+use rustfrac_core::problem::{FeGrid, Problem};
 
 fn main() {
     let a: Vec<usize> = std::env::args()
@@ -12,21 +11,10 @@ fn main() {
         a.first().copied().unwrap_or(44),
         a.get(1).copied().unwrap_or(83),
     );
-    let p = FemPlateParams {
-        width: 11.0,
-        height: 21.0,
-        nx,
-        ny,
-        material: Elastic::new(10000.0, 0.25, Plane::Strain, 1.0).unwrap(),
-        load: PlateLoad {
-            grip: Grip::Free,
-            u0: 0.01,
-            traction: 0.0,
-        },
-        seam: None,
-        gauss: 2,
-        condition: true,
-    };
+    // the paper's uncracked plate under free grips
+    let mut p = Problem::paper("fem");
+    p.fem_mut().grid = FeGrid { nx, ny };
+    p.cracks.clear();
     let r = run(&p).unwrap();
     println!(
         "ndofs {} sigma22 {:.10} time {:.3} s",

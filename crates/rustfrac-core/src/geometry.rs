@@ -1,41 +1,51 @@
-//! Plain 2D geometry on `[f64; 2]` points: vector arithmetic, distances between points, segments
-//! and polylines, clipping of a segment by a box (Liang-Barsky) and of a convex polygon by a line.
+//! Plane geometry on `[f64; 2]` points, one copy for the whole crate: vector arithmetic, the
+//! orientation test, distances between points, segments and polylines, whether a segment crosses
+//! another (the PD pre-crack's broken bonds), and clipping: a segment by a box (Liang-Barsky) and
+//! a convex polygon by a line (the XFEM small-area rule).
 //!
-//! One copy for the whole crate (the crack level sets, the enrichment sets and the SIF domains of
-//! [`crate::xfem`] use it). No tolerances are applied here unless an argument says so.
+//! Users: the crack level sets, enrichment sets and SIF domains of [`crate::xfem`], the pre-crack
+//! of [`crate::pd::splice`] and the cross-parameter checks of [`crate::problem::validate`]. No
+//! tolerance is applied unless an argument or the doc says so.
 
 /// a - b
 #[inline]
-pub fn sub(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
+pub(crate) fn sub(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
     [a[0] - b[0], a[1] - b[1]]
 }
 
 /// Scalar product a . b.
 #[inline]
-pub fn dot(a: [f64; 2], b: [f64; 2]) -> f64 {
+pub(crate) fn dot(a: [f64; 2], b: [f64; 2]) -> f64 {
     a[0] * b[0] + a[1] * b[1]
 }
 
 /// 2D cross product a x b = a_1 b_2 - a_2 b_1 (positive when b lies counter-clockwise of a).
 #[inline]
-pub fn cross(a: [f64; 2], b: [f64; 2]) -> f64 {
+pub(crate) fn cross(a: [f64; 2], b: [f64; 2]) -> f64 {
     a[0] * b[1] - a[1] * b[0]
 }
 
-/// Euclidean length |a| (hypot, no overflow).
+/// Euclidean length |a| (hypot: no overflow).
 #[inline]
-pub fn norm(a: [f64; 2]) -> f64 {
+pub(crate) fn norm(a: [f64; 2]) -> f64 {
     a[0].hypot(a[1])
 }
 
 /// a / |a| (not defined for a = 0).
 #[inline]
-pub fn unit(a: [f64; 2]) -> [f64; 2] {
+pub(crate) fn unit(a: [f64; 2]) -> [f64; 2] {
     let n = norm(a);
     [a[0] / n, a[1] / n]
 }
 
-/// Distance from `x` to the segment a-b.
+/// Orientation of `p` against the directed line a -> b: (b - a) x (p - a), positive when p lies
+/// on its left, zero on the line (twice the signed area of the triangle a, b, p).
+#[inline]
+pub(crate) fn orient(a: [f64; 2], b: [f64; 2], p: [f64; 2]) -> f64 {
+    cross(sub(b, a), sub(p, a))
+}
+
+/// Distance from the point `x` to the segment a-b.
 pub fn point_segment_distance(x: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
     let d = sub(b, a);
     let t = (dot(sub(x, a), d) / dot(d, d)).clamp(0.0, 1.0);
@@ -44,8 +54,8 @@ pub fn point_segment_distance(x: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
 
 /// Smallest distance between the segments a-b and c-d (0 when they cross).
 pub fn segment_distance(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2]) -> f64 {
-    let (d1, d2) = (cross(sub(b, a), sub(c, a)), cross(sub(b, a), sub(d, a)));
-    let (d3, d4) = (cross(sub(d, c), sub(a, c)), cross(sub(d, c), sub(b, c)));
+    let (d1, d2) = (orient(a, b, c), orient(a, b, d));
+    let (d3, d4) = (orient(c, d, a), orient(c, d, b));
     if d1 * d2 < 0.0 && d3 * d4 < 0.0 {
         return 0.0;
     }
@@ -56,15 +66,33 @@ pub fn segment_distance(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2]) -> f
 }
 
 /// Distance from `x` to a polyline.
-pub fn polyline_distance(points: &[[f64; 2]], x: [f64; 2]) -> f64 {
+pub(crate) fn polyline_distance(points: &[[f64; 2]], x: [f64; 2]) -> f64 {
     points
         .windows(2)
         .map(|s| point_segment_distance(x, s[0], s[1]))
         .fold(f64::INFINITY, f64::min)
 }
 
-/// Liang-Barsky: parameter interval of segment a-b inside the box [lo, hi] grown by `tol`.
-pub fn seg_box(
+/// Does the bond p-q cross the segment a-b? Its end nodes strictly on opposite sides of a-b
+/// (tolerance 1e-9 |a - b|), the crossing point on the closed segment (tolerance 1e-9 |p - q|: a
+/// tip on the bond counts). The splice pre-crack calls it in grid units.
+pub fn bond_crosses(p: [f64; 2], q: [f64; 2], a: [f64; 2], b: [f64; 2]) -> bool {
+    let lab = ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2)).sqrt();
+    let lpq = ((q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2)).sqrt();
+    let t1 = 1e-9 * lab;
+    let o1 = orient(a, b, p);
+    let o2 = orient(a, b, q);
+    if !((o1 > t1 && o2 < -t1) || (o1 < -t1 && o2 > t1)) {
+        return false;
+    }
+    let t2 = 1e-9 * lpq;
+    let o3 = orient(p, q, a);
+    let o4 = orient(p, q, b);
+    (o3 <= t2 && o4 >= -t2) || (o3 >= -t2 && o4 <= t2)
+}
+
+/// Liang-Barsky: parameter interval of segment a-b inside the closed box [lo, hi] grown by `tol`.
+pub(crate) fn seg_box(
     a: [f64; 2],
     b: [f64; 2],
     lo: [f64; 2],
@@ -91,9 +119,41 @@ pub fn seg_box(
     Some((t0, t1))
 }
 
+/// Length of the part of segment a-b inside the open box [x0, x1] x [y0, y1] given as
+/// `bx = [x0, y0, x1, y1]` (Liang-Barsky; a segment along the box's boundary has length 0).
+pub(crate) fn clipped_length(a: [f64; 2], b: [f64; 2], bx: [f64; 4]) -> f64 {
+    let d = [b[0] - a[0], b[1] - a[1]];
+    let (mut t0, mut t1) = (0.0f64, 1.0f64);
+    let checks = [
+        (-d[0], a[0] - bx[0]),
+        (d[0], bx[2] - a[0]),
+        (-d[1], a[1] - bx[1]),
+        (d[1], bx[3] - a[1]),
+    ];
+    for (p, q) in checks {
+        if p == 0.0 {
+            if q <= 0.0 {
+                return 0.0;
+            }
+        } else {
+            let r = q / p;
+            if p < 0.0 {
+                t0 = t0.max(r);
+            } else {
+                t1 = t1.min(r);
+            }
+        }
+    }
+    if t1 > t0 {
+        (t1 - t0) * (d[0] * d[0] + d[1] * d[1]).sqrt()
+    } else {
+        0.0
+    }
+}
+
 /// Area of the part of a convex polygon with cross(b - a, x - a) > 0 (the polygon clipped by the
 /// line through a and b, keeping its left side).
-pub fn positive_area(poly: &[[f64; 2]], a: [f64; 2], b: [f64; 2]) -> f64 {
+pub(crate) fn positive_area(poly: &[[f64; 2]], a: [f64; 2], b: [f64; 2]) -> f64 {
     let d = sub(b, a);
     let f = |x: [f64; 2]| cross(d, sub(x, a));
     let mut out: Vec<[f64; 2]> = Vec::with_capacity(poly.len() + 2);
@@ -113,4 +173,45 @@ pub fn positive_area(poly: &[[f64; 2]], a: [f64; 2], b: [f64; 2]) -> f64 {
         area += cross(out[k], out[(k + 1) % out.len()]);
     }
     0.5 * area.abs()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn orientation_and_distances() {
+        let (a, b) = ([0.0, 0.0], [2.0, 0.0]);
+        assert!(orient(a, b, [1.0, 1.0]) > 0.0 && orient(a, b, [1.0, -1.0]) < 0.0);
+        assert_eq!(orient(a, b, [5.0, 0.0]), 0.0);
+        assert_eq!(point_segment_distance([1.0, 3.0], a, b), 3.0);
+        assert_eq!(point_segment_distance([5.0, 4.0], a, b), 5.0);
+        assert_eq!(segment_distance(a, b, [1.0, -1.0], [1.0, 1.0]), 0.0);
+        assert_eq!(segment_distance(a, b, [3.0, 0.0], [3.0, 1.0]), 1.0);
+        assert_eq!(polyline_distance(&[a, b, [2.0, 2.0]], [3.0, 1.0]), 1.0);
+    }
+
+    #[test]
+    fn bonds_crossing_and_clipping() {
+        let (a, b) = ([0.0, 0.5], [1.0, 0.5]);
+        assert!(bond_crosses([0.5, 0.0], [0.5, 1.0], a, b));
+        // the tip counts (closed segment), a node on the crack line does not cross
+        assert!(bond_crosses([1.0, 0.0], [1.0, 1.0], a, b));
+        assert!(!bond_crosses([1.5, 0.0], [1.5, 1.0], a, b));
+        assert!(!bond_crosses([0.5, 0.5], [0.5, 1.0], a, b));
+        assert_eq!(
+            clipped_length([-1.0, 0.5], [3.0, 0.5], [0.0, 0.0, 2.0, 1.0]),
+            2.0
+        );
+        assert_eq!(
+            clipped_length([0.0, 0.0], [2.0, 0.0], [0.0, 0.0, 2.0, 1.0]),
+            0.0
+        );
+        assert_eq!(
+            seg_box([-1.0, 0.5], [3.0, 0.5], [0.0, 0.0], [2.0, 1.0], 0.0),
+            Some((0.25, 0.75))
+        );
+        let square = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+        assert_eq!(positive_area(&square, [0.0, 0.25], [1.0, 0.25]), 0.75);
+    }
 }

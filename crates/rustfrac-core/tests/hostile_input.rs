@@ -10,12 +10,13 @@ mod common;
 use common::{go_on, pd_plate, quiet};
 use proptest::prelude::*;
 use rustfrac_core::error::{Error, MAG_MAX, MAG_MIN};
+use rustfrac_core::fem_driver;
 use rustfrac_core::loading::{Grip, PlateLoad};
 use rustfrac_core::material::{Elastic, Plane};
 use rustfrac_core::mesh::{Mesh, MAX_ELEMENTS};
 use rustfrac_core::pd::sla::{self, Method, SlaParams};
 use rustfrac_core::pd::PdConstants;
-use rustfrac_core::plate::{self, FemPlateParams};
+use rustfrac_core::problem::{Boundary, Domain, FeGrid, Problem};
 use rustfrac_core::solver::{Cholesky, Lu};
 use rustfrac_core::sparse::CscMatrix;
 use rustfrac_core::xfem::{self, GrowthParams, XfemOptions, XfemParams};
@@ -156,7 +157,7 @@ proptest! {
     #![proptest_config(ProptestConfig { cases: 256, failure_persistence: None, ..ProptestConfig::default() })]
 
     /// The FEM plate driver with a material built literally (bypassing `Elastic::new`): bad
-    /// values are refused by name, good ones give finite results.
+    /// values are refused naming their scene key, good ones give finite results.
     #[test]
     fn fem_plate_refuses_or_is_finite(
         e in mostly(1e-3..1e6), nu in mostly(-0.99..0.4999), t in mostly(0.1..10.0), p in plane(),
@@ -164,18 +165,17 @@ proptest! {
         nx in 1usize..8, ny in 1usize..8,
         seam in prop::option::of((mostly(0.05..0.5), mostly(0.1..1.9))), gauss in 0usize..7,
     ) {
-        let params = FemPlateParams {
-            width: w,
-            height: 2.0,
-            nx,
-            ny,
-            material: Elastic { e, nu, plane: p, thickness: t },
-            load: PlateLoad { grip: g, u0, traction: tr },
-            seam,
-            gauss,
-            condition: true,
-        };
-        match plate::run(&params) {
+        let mut problem = Problem::paper("fem");
+        problem.domain = Domain { width: w, height: 2.0 };
+        problem.fem_mut().grid = FeGrid { nx, ny };
+        problem.fem_mut().gauss = gauss;
+        problem.material.elastic = Elastic { e, nu, plane: p, thickness: t };
+        problem.boundary = Boundary::Grips(PlateLoad { grip: g, u0, traction: tr });
+        match seam {
+            Some((a, y)) => (problem.cracks[0].a0, problem.cracks[0].y) = (a, y),
+            None => problem.cracks.clear(),
+        }
+        match fem_driver::run(&problem) {
             Ok(r) => {
                 prop_assert!(valid_material(e, nu, t));
                 prop_assert!(r.sigma22.is_finite() && r.cmod.is_finite(), "{} {}", r.sigma22, r.cmod);
@@ -186,7 +186,10 @@ proptest! {
                 FEM_OK.fetch_add(1, Ordering::Relaxed);
             }
             Err(err) => prop_assert!(
-                matches!(err, Error::InvalidInput { .. } | Error::Singular { .. } | Error::NotPositiveDefinite { .. }),
+                refused_naming(&err, &[
+                    "plate.width", "material.E", "material.nu", "material.thickness", "load.u0",
+                    "load.traction", "crack.a0", "crack.y", "mesh.gauss",
+                ]) || matches!(err, Error::Singular { .. } | Error::NotPositiveDefinite { .. }),
                 "{err}"
             ),
         }
@@ -410,22 +413,20 @@ proptest! {
 /// cases ran their valid path, when run after them: `--test-threads=1 --nocapture`.)
 #[test]
 fn zz_extreme_valid_fem_case_is_finite_and_warns() {
-    let r = plate::run(&FemPlateParams {
+    let mut p = Problem::paper("fem");
+    p.domain = Domain {
         width: 2.0,
         height: 2.0,
-        nx: 4,
-        ny: 4,
-        material: Elastic::new(1e30, 0.4999, Plane::Strain, 1e-30).unwrap(),
-        load: PlateLoad {
-            grip: Grip::Clamped,
-            u0: 1e-30,
-            traction: 0.0,
-        },
-        seam: Some((1.0, 1.0)),
-        gauss: 2,
-        condition: true,
-    })
-    .unwrap();
+    };
+    p.fem_mut().grid = FeGrid { nx: 4, ny: 4 };
+    p.material.elastic = Elastic::new(1e30, 0.4999, Plane::Strain, 1e-30).unwrap();
+    p.boundary = Boundary::Grips(PlateLoad {
+        grip: Grip::Clamped,
+        u0: 1e-30,
+        traction: 0.0,
+    });
+    (p.cracks[0].a0, p.cracks[0].y) = (1.0, 1.0);
+    let r = fem_driver::run(&p).unwrap();
     assert!(r.sigma22.is_finite() && r.cmod.is_finite() && r.sigma22 > 0.0);
     assert_eq!(r.warnings.len(), 1, "locking warning expected");
     eprintln!(

@@ -5,9 +5,10 @@
 mod common;
 
 use common::{quiet, tada_f};
+use rustfrac_core::fem_driver;
 use rustfrac_core::loading::{Grip, PlateLoad};
 use rustfrac_core::material::{Elastic, Plane, NU_LOCKING_WARN};
-use rustfrac_core::plate::{self, FemPlateParams};
+use rustfrac_core::problem::{Boundary, Domain, FeGrid, Problem};
 use rustfrac_core::xfem::{self, XfemParams};
 use std::f64::consts::PI;
 
@@ -69,22 +70,20 @@ fn locking_is_measured_and_warned_about() {
 fn uniform_tension_is_exact_at_any_nu() {
     for nu in [0.3, 0.49, 0.499, 0.4999, 0.49999] {
         let mat = Elastic::new(1.0, nu, Plane::Strain, 1.0).unwrap();
-        let r = plate::run(&FemPlateParams {
+        let mut p = Problem::paper("fem");
+        p.domain = Domain {
             width: 10.0,
             height: 40.0,
-            nx: 20,
-            ny: 80,
-            material: mat,
-            load: PlateLoad {
-                grip: Grip::Free,
-                u0: 0.01,
-                traction: 0.0,
-            },
-            seam: None,
-            gauss: 2,
-            condition: true,
-        })
-        .unwrap();
+        };
+        p.fem_mut().grid = FeGrid { nx: 20, ny: 80 };
+        p.material.elastic = mat;
+        p.boundary = Boundary::Grips(PlateLoad {
+            grip: Grip::Free,
+            u0: 0.01,
+            traction: 0.0,
+        });
+        p.cracks.clear();
+        let r = fem_driver::run(&p).unwrap();
         let exact = mat.e_prime() * 2.0 * 0.01 / 40.0;
         let err = (r.sigma22 / exact - 1.0).abs();
         println!("nu {nu}: uncracked sigma22 error {err:.1e}");

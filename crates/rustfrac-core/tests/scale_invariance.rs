@@ -17,11 +17,12 @@ mod common;
 
 use common::{go_on, grips, quiet, solve_fem_plate};
 use rustfrac_core::fem::FemModel;
+use rustfrac_core::fem_driver::{self, FemPlateResult};
 use rustfrac_core::loading::{sigma22, Grip, PlateLoad};
 use rustfrac_core::material::{Elastic, Plane};
 use rustfrac_core::mesh::Mesh;
 use rustfrac_core::pd::sla::{self, CcmPdParams, Method, SlaParams};
-use rustfrac_core::plate::{self, FemPlateParams};
+use rustfrac_core::problem::{Boundary, Domain, Problem};
 use rustfrac_core::xfem::{self, GrowthParams, XfemParams};
 
 const TOL: f64 = 1e-9;
@@ -80,23 +81,22 @@ fn material(e: f64, nu: f64, t: f64) -> Elastic {
 // ---------------------------------------------------------------------------------------------
 // FEM
 
-fn fem_case(l: f64, e: f64, t: f64, grip: Grip) -> plate::FemPlateResult {
-    plate::run(&FemPlateParams {
+fn fem_case(l: f64, e: f64, t: f64, grip: Grip) -> FemPlateResult {
+    let mut p = Problem::paper("fem");
+    p.domain = Domain {
         width: 11.0 * l,
         height: 21.0 * l,
-        nx: 44,
-        ny: 84,
-        material: material(e, 0.25, t),
-        load: PlateLoad {
-            grip,
-            u0: 0.01 * l,
-            traction: 9.993 * e,
-        },
-        seam: Some((1.1 * l, 10.5 * l)),
-        gauss: 2,
-        condition: true,
-    })
-    .unwrap()
+    };
+    p.fem_mut().grid.ny = 84;
+    p.material.elastic = material(e, 0.25, t);
+    p.boundary = Boundary::Grips(PlateLoad {
+        grip,
+        u0: 0.01 * l,
+        traction: 9.993 * e,
+    });
+    let seam = &mut p.cracks[0];
+    (seam.a0, seam.y, seam.x) = (1.1 * l, 10.5 * l, 5.5 * l);
+    fem_driver::run(&p).unwrap()
 }
 
 #[test]

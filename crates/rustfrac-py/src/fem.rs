@@ -8,19 +8,18 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use rustfrac_core::error::Error as CoreError;
 use rustfrac_core::fem::{Dirichlet, FemModel, LinearSystem};
+use rustfrac_core::fem_driver;
 use rustfrac_core::material::{Elastic, Plane};
 use rustfrac_core::mesh::Mesh;
-use rustfrac_core::plate;
 use rustfrac_core::problem::Problem;
 
 /// Runs the FEM plate of `p`: fields coords, elements, u, reactions, nodal_stress,
 /// gauss_points, gauss_stress; scalars energy, residual, condition, condition_pivot_ratio; meta
 /// anchor_node, seam_y, timings.
 pub fn run<'py>(py: Python<'py>, p: &Problem, prog: &Progress) -> PyResult<Bound<'py, PyDict>> {
-    let params = p.fem_params().expect("a FEM problem");
     let r = detached(py, "fem plate", || {
         prog.report(0, 1, "fem: assemble + factorise + solve", true);
-        let r = plate::run(&params);
+        let r = fem_driver::run(p);
         prog.report(1, 1, "fem: done", true);
         r
     });

@@ -3,32 +3,9 @@
 use super::{CrackKind, Method, Problem};
 use crate::pd::sla::CcmPdParams;
 use crate::pd::splice::{self as coupling, ModelSpec};
-use crate::plate::FemPlateParams;
 use crate::xfem::{GrowthParams, XfemParams};
 
 impl Problem {
-    /// FEM plate parameters (method "fem").
-    pub fn fem_params(&self) -> Option<FemPlateParams> {
-        let Method::Fem(m) = &self.method else {
-            return None;
-        };
-        Some(FemPlateParams {
-            width: self.domain.width,
-            height: self.domain.height,
-            nx: m.grid.nx,
-            ny: m.grid.ny,
-            material: self.material.elastic,
-            load: self.boundary.plate_load(),
-            seam: self
-                .cracks
-                .iter()
-                .find(|c| c.kind == CrackKind::Seam)
-                .map(|c| (c.a0, c.y)),
-            gauss: m.gauss,
-            condition: m.condition,
-        })
-    }
-
     /// XFEM plate parameters (method "xfem").
     pub fn xfem_params(&self) -> Option<XfemParams> {
         let Method::Xfem(x) = &self.method else {

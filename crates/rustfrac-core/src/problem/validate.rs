@@ -1,11 +1,13 @@
 //! Cross-parameter checks of a [`Problem`], run before anything is built: cracks inside the
 //! plate and apart from each other, a load that is not zero, the PD grid fitting the plate, the
 //! PD rectangle inside the plate and around the crack tip, a pre-crack between node rows. Each
-//! error names the scene key to change.
+//! error names the scene key to change. A problem built in Rust rather than read from a scene
+//! first meets the [`schema`] ranges of the values it states (plate, material, load, cracks, the
+//! FEM grid), the same rules a scene meets.
 
 use super::parse::crack_name;
-use super::schema::{self, PD_NU};
-use super::{CrackKind, CrackSpec, Domain, Method, PdMethod, Problem};
+use super::schema::{self, Val, PD_NU};
+use super::{Boundary, CrackKind, CrackSpec, Domain, Method, PdMethod, Problem};
 use crate::error::{Error, Result};
 use crate::geometry::segment_distance;
 use crate::loading::Grip;
@@ -14,6 +16,7 @@ use crate::mesh::Side;
 
 /// Every cross-parameter rule of a problem.
 pub fn problem(p: &Problem) -> Result<()> {
+    schema_ranges(p)?;
     let d = &p.domain;
     for (k, c) in p.cracks.iter().enumerate() {
         crack_geometry(c, d, &crack_name(k))?;
@@ -60,6 +63,52 @@ pub fn problem(p: &Problem) -> Result<()> {
         }
         Method::Pd(pd) | Method::CcmPd(pd) => peridynamics(p, pd)?,
         Method::Fem(_) => {}
+    }
+    Ok(())
+}
+
+/// The schema's range of `section.key` (its `ok` rule and `valid` words) for a value of the
+/// problem; `name` is the section's scene name (`crack[1]` for the second crack).
+fn in_range(section: &str, name: &str, key: &str, v: Val) -> Result<()> {
+    let spec = schema::spec(section, key).expect("a key of the schema");
+    if (spec.ok)(&v) {
+        Ok(())
+    } else {
+        Err(Error::InvalidInput {
+            param: format!("{name}.{key}"),
+            expected: spec.valid.clone(),
+            got: v.repr(),
+        })
+    }
+}
+
+/// The values a problem states within the ranges a scene's keys have (a problem read from a
+/// scene meets them already; one built in Rust is checked here).
+fn schema_ranges(p: &Problem) -> Result<()> {
+    let (d, m) = (&p.domain, &p.material);
+    let Boundary::Grips(load) = &p.boundary;
+    for (section, key, v) in [
+        ("plate", "width", d.width),
+        ("plate", "height", d.height),
+        ("material", "E", m.elastic.e),
+        ("material", "nu", m.elastic.nu),
+        ("material", "thickness", m.elastic.thickness),
+        ("material", "G0", m.g0),
+        ("load", "u0", load.u0),
+        ("load", "traction", load.traction),
+    ] {
+        in_range(section, section, key, Val::Float(v))?;
+    }
+    for (k, c) in p.cracks.iter().enumerate() {
+        for (key, v) in [("a0", c.a0), ("y", c.y), ("angle", c.angle), ("x", c.x)] {
+            in_range("crack", &crack_name(k), key, Val::Float(v))?;
+        }
+    }
+    if let Method::Fem(f) = &p.method {
+        for (key, n) in [("nx", f.grid.nx), ("ny", f.grid.ny), ("gauss", f.gauss)] {
+            let n = Val::Int(i64::try_from(n).unwrap_or(i64::MAX));
+            in_range("mesh", "mesh", key, n)?;
+        }
     }
     Ok(())
 }

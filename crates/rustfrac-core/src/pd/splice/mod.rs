@@ -21,8 +21,8 @@ mod build;
 mod precrack;
 mod springs;
 
+pub use crate::geometry::bond_crosses;
 pub(crate) use build::grid_count;
-pub use precrack::bond_crosses;
 pub(crate) use springs::Spring;
 
 use crate::error::{Error, Result};

@@ -15,58 +15,8 @@
 
 use super::ModelSpec;
 use crate::error::{check_finite, Error, Result};
+use crate::geometry::{bond_crosses, clipped_length};
 use crate::pd::{Bond, Grid};
-
-fn orient(a: [f64; 2], b: [f64; 2], p: [f64; 2]) -> f64 {
-    (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0])
-}
-
-/// Does the bond p-q cross the segment a-b (grid units)? Strict sides for the nodes, closed segment.
-pub fn bond_crosses(p: [f64; 2], q: [f64; 2], a: [f64; 2], b: [f64; 2]) -> bool {
-    let lab = ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2)).sqrt();
-    let lpq = ((q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2)).sqrt();
-    let t1 = 1e-9 * lab;
-    let o1 = orient(a, b, p);
-    let o2 = orient(a, b, q);
-    if !((o1 > t1 && o2 < -t1) || (o1 < -t1 && o2 > t1)) {
-        return false;
-    }
-    let t2 = 1e-9 * lpq;
-    let o3 = orient(p, q, a);
-    let o4 = orient(p, q, b);
-    (o3 <= t2 && o4 >= -t2) || (o3 >= -t2 && o4 <= t2)
-}
-
-/// Length of the part of segment a-b inside the open box [x0, x1] x [y0, y1] (Liang-Barsky).
-fn clipped_length(a: [f64; 2], b: [f64; 2], bx: [f64; 4]) -> f64 {
-    let d = [b[0] - a[0], b[1] - a[1]];
-    let (mut t0, mut t1) = (0.0f64, 1.0f64);
-    let checks = [
-        (-d[0], a[0] - bx[0]),
-        (d[0], bx[2] - a[0]),
-        (-d[1], a[1] - bx[1]),
-        (d[1], bx[3] - a[1]),
-    ];
-    for (p, q) in checks {
-        if p == 0.0 {
-            if q <= 0.0 {
-                return 0.0;
-            }
-        } else {
-            let r = q / p;
-            if p < 0.0 {
-                t0 = t0.max(r);
-            } else {
-                t1 = t1.min(r);
-            }
-        }
-    }
-    if t1 > t0 {
-        (t1 - t0) * (d[0] * d[0] + d[1] * d[1]).sqrt()
-    } else {
-        0.0
-    }
-}
 
 /// The pre-crack polyline in grid units, validated: none or at least 2 points, every point inside
 /// the plate, segments of positive length, no grid node on a segment.

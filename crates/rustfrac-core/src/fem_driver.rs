@@ -1,0 +1,165 @@
+//! The FEM plate driver: the paper's edge-cracked plate (section 3) solved with plain Q4 FEM
+//! (eqs. 4-14), uncracked or with a seam crack (duplicated nodes along a grid line) as an
+//! independent reference for XFEM.
+//!
+//! It reads one [`Problem`] of method "fem": the domain, the material, the grips
+//! ([`Boundary::plate_load`](crate::problem::Boundary::plate_load)), the seam (the first crack of
+//! kind [`CrackKind::Seam`]; none: uncracked) and the [`FemMethod`] options.
+
+use crate::error::{Error, Result};
+use crate::fem::{FemModel, LinearSystem};
+use crate::loading::{plate_conditions, sigma22, PlateEdges};
+use crate::mesh::Mesh;
+use crate::problem::parse::crack_name;
+use crate::problem::{validate, CrackKind, FemMethod, Method, Problem};
+use crate::solver::{condition_warning, ConditionEstimate};
+use crate::warning::Warning;
+use std::time::Instant;
+
+/// Results of a FEM plate run.
+#[derive(Debug, Clone)]
+pub struct FemPlateResult {
+    pub coords: Vec<[f64; 2]>,
+    pub elements: Vec<[usize; 4]>,
+    pub u: Vec<f64>,
+    pub reactions: Vec<f64>,
+    pub nodal_stress: Vec<[f64; 3]>,
+    pub gauss_points: Vec<[f64; 2]>,
+    pub gauss_stress: Vec<[f64; 3]>,
+    pub sigma22: f64,
+    /// crack mouth opening (upper minus lower u2 at x1 = 0); 0 when uncracked
+    pub cmod: f64,
+    pub energy: f64,
+    pub residual: f64,
+    pub n_dofs: usize,
+    /// node carrying the u1 = 0 anchor (free grips and traction)
+    pub anchor_node: usize,
+    /// y of the seam actually used (grid line nearest to the requested one)
+    pub seam_y: Option<f64>,
+    pub wall_time_s: f64,
+    /// condition estimate of the solve (see [`ConditionEstimate`]); None when not computed
+    /// ([`FemMethod::condition`] false: without it only the free pivot-ratio bound guards
+    /// against [`crate::solver::COND_SINGULAR`])
+    pub condition: Option<ConditionEstimate>,
+    /// numerical and accuracy warnings (a condition estimate above [`crate::solver::COND_WARN`],
+    /// volumetric locking near nu = 0.5, [`crate::material::Elastic::locking_warning`])
+    pub warnings: Vec<Warning>,
+}
+
+/// The plate's mesh, with the seam crack cut into it.
+struct SeamedMesh {
+    mesh: Mesh,
+    /// the (lower, upper) node pair at the crack mouth
+    mouth: Option<(usize, usize)>,
+    /// y of the grid line the seam lies on
+    seam_y: Option<f64>,
+}
+
+/// Builds and solves the FEM plate of `p` (method "fem").
+pub fn run(p: &Problem) -> Result<FemPlateResult> {
+    let t0 = Instant::now();
+    validate::problem(p)?;
+    validate::reference_load(p)?;
+    let Method::Fem(method) = &p.method else {
+        return Err(Error::invalid(
+            "method",
+            "'fem' (the FEM plate driver)",
+            format!("'{}'", p.method.name()),
+        ));
+    };
+    let material = p.material.elastic;
+    let SeamedMesh {
+        mesh,
+        mouth,
+        seam_y,
+    } = seamed_mesh(p, method)?;
+    let model = FemModel::new(mesh, material, method.gauss)?;
+    let edges = PlateEdges::of_mesh(&model.mesh);
+    let load = p.boundary.plate_load();
+    let (bc, f, anchor) = plate_conditions(&edges, &load, model.n_dofs(), material.thickness)?;
+    bc.check_rigid_modes(&model.mesh.coords)?;
+    let sys = LinearSystem::with_positions(model.stiffness(), &bc, Some(&model.dof_positions()))?;
+    let condition = sys.checked_condition("solve", method.condition)?;
+    let sol = sys.solve(&f, 1.0)?;
+    let s22 = sigma22(
+        &edges,
+        &sol.reactions,
+        &f,
+        p.domain.width,
+        material.thickness,
+    );
+    let cmod = mouth.map_or(0.0, |(lo, up)| sol.u[2 * up + 1] - sol.u[2 * lo + 1]);
+    let (gauss_points, gauss_stress) = model.gauss_stresses(&sol.u);
+    let nodal_stress = model.nodal_stresses(&sol.u);
+    Ok(FemPlateResult {
+        coords: model.mesh.coords.clone(),
+        elements: model.mesh.elements.clone(),
+        n_dofs: model.n_dofs(),
+        nodal_stress,
+        gauss_points,
+        gauss_stress,
+        sigma22: s22,
+        cmod,
+        energy: sol.energy,
+        residual: sol.residual,
+        u: sol.u,
+        reactions: sol.reactions,
+        anchor_node: anchor,
+        seam_y,
+        wall_time_s: t0.elapsed().as_secs_f64(),
+        condition,
+        warnings: material
+            .locking_warning()
+            .into_iter()
+            .chain(
+                condition
+                    .as_ref()
+                    .and_then(|c| condition_warning("solve", c)),
+            )
+            .collect(),
+    })
+}
+
+/// The uniform grid over the plate; with a seam crack, its nodes duplicated along the grid line
+/// nearest the crack's y, from x1 = 0 to a0. The refusals that need the grid name the crack's
+/// scene keys.
+fn seamed_mesh(p: &Problem, method: &FemMethod) -> Result<SeamedMesh> {
+    let (d, grid) = (&p.domain, method.grid);
+    let mesh = Mesh::uniform(0.0, 0.0, d.width, d.height, grid.nx, grid.ny)?;
+    let Some((k, c)) = p
+        .cracks
+        .iter()
+        .enumerate()
+        .find(|(_, c)| c.kind == CrackKind::Seam)
+    else {
+        return Ok(SeamedMesh {
+            mesh,
+            mouth: None,
+            seam_y: None,
+        });
+    };
+    let (j, _) = Mesh::nearest_line(&mesh.ys, c.y);
+    if j == 0 || j >= grid.ny {
+        return Err(Error::invalid(
+            &format!("{}.y", crack_name(k)),
+            &format!(
+                "a seam nearer an interior grid line than the bottom and top edges (mesh.ny = {})",
+                grid.ny
+            ),
+            c.y,
+        ));
+    }
+    let (m, pairs) = mesh.with_seam(j, c.a0).map_err(|e| match e {
+        Error::InvalidInput { expected, got, .. } => Error::InvalidInput {
+            param: format!("{}.a0", crack_name(k)),
+            expected: format!("a seam crack of {expected}"),
+            got,
+        },
+        e => e,
+    })?;
+    Ok(SeamedMesh {
+        seam_y: Some(m.ys[j]),
+        mouth: Some(pairs[0]),
+        mesh: m,
+    })
+}
