@@ -4,7 +4,6 @@ use super::{CrackKind, Method, Problem};
 use crate::pd::sla::CcmPdParams;
 use crate::pd::splice::{self as coupling, ModelSpec};
 use crate::plate::FemPlateParams;
-use crate::xfem::{GrowthParams, XfemParams};
 
 impl Problem {
     /// FEM plate parameters (method "fem").
@@ -26,38 +25,6 @@ impl Problem {
                 .map(|c| (c.a0, c.y)),
             gauss: m.gauss,
             condition: m.condition,
-        })
-    }
-
-    /// XFEM plate parameters (method "xfem").
-    pub fn xfem_params(&self) -> Option<XfemParams> {
-        let Method::Xfem(x) = &self.method else {
-            return None;
-        };
-        let mut lines = self.crack_polylines();
-        let crack = lines.remove(0);
-        Some(XfemParams {
-            width: self.domain.width,
-            height: self.domain.height,
-            nx: x.grid.nx,
-            ny: x.grid.ny,
-            material: self.material.elastic,
-            crack,
-            extra_cracks: lines,
-            load: self.boundary.plate_load(),
-            nsub: x.options.nsub,
-            tip_nsub: x.options.tip_nsub,
-            r_i_factor: x.r_i,
-            extra_radius_factors: x.extra_radii.clone(),
-            fixed_area_radius: x.options.fixed_area_radius,
-            area_threshold: x.options.area_threshold,
-            growth: x.growth.map(|g| GrowthParams {
-                g0: self.material.g0,
-                da: g.da,
-                a_stop: g.a_stop,
-                max_steps: g.max_steps,
-            }),
-            condition: x.condition,
         })
     }
 

@@ -5,11 +5,11 @@
 
 use super::parse::crack_name;
 use super::schema::{self, PD_NU};
-use super::{CrackKind, CrackSpec, Domain, Method, PdMethod, Problem};
-use crate::error::{Error, Result};
+use super::{CrackKind, CrackSpec, Domain, Method, PdMethod, Problem, XfemMethod};
+use crate::error::{check_finite, check_positive, Error, Result};
 use crate::geometry::segment_distance;
 use crate::loading::Grip;
-use crate::material::Plane;
+use crate::material::{Elastic, Plane};
 use crate::mesh::Side;
 
 /// Every cross-parameter rule of a problem.
@@ -45,6 +45,7 @@ pub fn problem(p: &Problem) -> Result<()> {
     }
     match &p.method {
         Method::Xfem(x) => {
+            xfem_ranges(p, x)?;
             if let Some(g) = &x.growth {
                 let a0 = p.cracks.iter().map(|c| c.a0).fold(0.0, f64::max);
                 if !(g.a_stop > a0) {
@@ -60,6 +61,61 @@ pub fn problem(p: &Problem) -> Result<()> {
         }
         Method::Pd(pd) | Method::CcmPd(pd) => peridynamics(p, pd)?,
         Method::Fem(_) => {}
+    }
+    Ok(())
+}
+
+/// The scene's ranges of the values an XFEM run reads, for a [`Problem`] built in Rust (a
+/// scene's values passed them in [`super::parse`] already): material, load, r_I and the extra
+/// radii, the enrichment options, the growth options.
+fn xfem_ranges(p: &Problem, x: &XfemMethod) -> Result<()> {
+    let in_section = |sec: &str, e: Error| match e {
+        Error::InvalidInput {
+            param,
+            expected,
+            got,
+        } => Error::InvalidInput {
+            param: format!("{sec}.{param}"),
+            expected,
+            got,
+        },
+        e => e,
+    };
+    let m = &p.material.elastic;
+    Elastic::new(m.e, m.nu, m.plane, m.thickness).map_err(|e| in_section("material", e))?;
+    let l = p.boundary.plate_load();
+    check_finite("load.u0", l.u0)?;
+    check_finite("load.traction", l.traction)?;
+    if !(x.r_i.is_finite() && x.r_i >= 0.5 && x.r_i <= 20.0) {
+        return Err(Error::invalid(
+            "xfem.r_I",
+            "0.5 <= r_I <= 20 element lengths",
+            x.r_i,
+        ));
+    }
+    for &f in &x.extra_radii {
+        if !(f.is_finite() && (0.5..=20.0).contains(&f)) {
+            return Err(Error::invalid(
+                "xfem.extra_radii",
+                "values in 0.5..=20 element lengths",
+                f,
+            ));
+        }
+    }
+    x.options.validate().map_err(|e| in_section("xfem", e))?;
+    if let Some(g) = &x.growth {
+        check_positive("material.G0", p.material.g0)?;
+        if let Some(da) = g.da {
+            check_positive("xfem.da", da)?;
+        }
+        check_positive("xfem.a_stop", g.a_stop)?;
+        if g.max_steps == 0 || g.max_steps > schema::MAX_GROWTH_STEPS {
+            return Err(Error::invalid(
+                "xfem.growth_steps",
+                &format!("1..={}", schema::MAX_GROWTH_STEPS),
+                g.max_steps,
+            ));
+        }
     }
     Ok(())
 }
