@@ -7,10 +7,10 @@
 //! the oracle on a coarse grid.
 use rustfrac_core::loading::{Grip, PlateLoad};
 use rustfrac_core::material::{Elastic, Plane};
+use rustfrac_core::mesh::Side;
 use rustfrac_core::pd::sla::{self, CcmPdParams, SlaParams};
 use rustfrac_core::pd::splice::{Method, ModelSpec};
 use rustfrac_core::plate::{self, FemPlateParams};
-use rustfrac_core::mesh::Side;
 use rustfrac_core::problem::{CrackSpec, Growth, Problem};
 use rustfrac_core::xfem;
 
@@ -134,7 +134,10 @@ fn xfem_cases() {
         angle: 28.07248693585296,
         ..inclined.cracks[0]
     };
-    assert_eq!(inclined.crack_polylines()[0], vec![[0.0, 10.0], [1.5, 10.8]]);
+    assert_eq!(
+        inclined.crack_polylines()[0],
+        vec![[0.0, 10.0], [1.5, 10.8]]
+    );
     inclined.xfem_mut().growth = growth(4.0, 20);
     xfem_case("inclined growth", &inclined);
     // 11 - 9.9 is exact, so the second crack's tip is exactly at x1 = 9.9

@@ -217,7 +217,7 @@ pub(super) fn on_face(tip: &Tip, xl: [f64; 2], snap: f64) -> [f64; 2] {
     }
 }
 
-/// What a refusal of cracks that meet expects (the growth loop stops on it: "cracks meet").
+/// What a refusal of cracks that meet expects (the growth loop stops on it: `cracks_meet`).
 pub(crate) const CRACKS_APART: &str =
     "cracks that neither cross nor touch each other (crack junctions and coalescence are not \
      modelled)";

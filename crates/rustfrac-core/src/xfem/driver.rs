@@ -148,12 +148,7 @@ fn build(p: &Problem) -> Result<(&XfemMethod, XfemModel, PlateProblem)> {
     let x = checked(p)?;
     let d = &p.domain;
     let mesh = Arc::new(Mesh::uniform(
-        0.0,
-        0.0,
-        d.width,
-        d.height,
-        x.grid.nx,
-        x.grid.ny,
+        0.0, 0.0, d.width, d.height, x.grid.nx, x.grid.ny,
     )?);
     let edges = PlateEdges::of_mesh(&mesh);
     let model = XfemModel::new_multi(

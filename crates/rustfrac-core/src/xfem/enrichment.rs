@@ -369,7 +369,7 @@ fn tip_sets(cells: &Cells, tip: &Tip, fixed_area_radius: Option<f64>) -> (Vec<us
 }
 
 /// What a refusal of two cracks' tips in one element expects (the growth loop stops on it:
-/// "cracks meet").
+/// `cracks_meet`).
 pub(crate) const TIPS_APART: &str =
     "the tips of different cracks in different elements (one element cannot resolve two \
      crack-tip singularities, and the SIF domain of either tip would contain the other; refine \

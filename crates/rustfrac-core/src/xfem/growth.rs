@@ -122,6 +122,12 @@ impl GrowthStatus {
     }
 }
 
+impl std::fmt::Display for GrowthStatus {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
 /// What a growth run produces (the growth fields of [`crate::xfem::XfemResult`]).
 pub(super) struct Growth {
     pub(super) history: Vec<GrowthStep>,

@@ -29,7 +29,7 @@
 //! Several cracks: another crack entering the support of a tip's q-function would add face terms
 //! the domain form lacks (the auxiliary field is traction-free on the tip's own crack only), so
 //! such a radius is refused (`r_I`, [`XfemModel::other_crack_in_domain`]); growth stops with
-//! status "cracks meet" instead.
+//! status `cracks_meet` instead.
 
 use super::auxiliary::williams_gradient;
 use super::crack::{on_face, Crack, Tip};
