@@ -7,14 +7,15 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use rustfrac_core::fem::{FemModel, LinearSystem};
 use rustfrac_core::loading::{plate_conditions, Grip, PlateEdges, PlateLoad};
 use rustfrac_core::mesh::Mesh;
-use rustfrac_core::xfem::{run, GrowthParams, XfemParams};
+use rustfrac_core::problem::{Growth, Problem};
+use rustfrac_core::xfem::run;
 use std::hint::black_box;
 use std::time::Duration;
 
 fn fem_uncracked(nx: usize, ny: usize) -> f64 {
-    let p = XfemParams::paper(Grip::Free);
+    let p = Problem::paper("xfem");
     let mesh = Mesh::uniform(0.0, 0.0, 11.0, 21.0, nx, ny).unwrap();
-    let model = FemModel::new(mesh, p.material, 2).unwrap();
+    let model = FemModel::new(mesh, p.material.elastic, 2).unwrap();
     let edges = PlateEdges::of_mesh(&model.mesh);
     let load = PlateLoad {
         grip: Grip::Free,
@@ -29,11 +30,11 @@ fn fem_uncracked(nx: usize, ny: usize) -> f64 {
     sol.energy
 }
 
-fn growth_params() -> XfemParams {
-    let mut p = XfemParams::paper(Grip::Free);
-    p.extra_radius_factors = vec![];
-    p.growth = Some(GrowthParams {
-        g0: 0.367,
+fn growth_params() -> Problem {
+    let mut p = Problem::paper("xfem");
+    let x = p.xfem_mut();
+    x.extra_radii = vec![];
+    x.growth = Some(Growth {
         da: None,
         a_stop: 0.7 * 11.0,
         max_steps: 1000,
@@ -41,11 +42,12 @@ fn growth_params() -> XfemParams {
     p
 }
 
-fn single_params(nx: usize, ny: usize) -> XfemParams {
-    let mut p = XfemParams::paper(Grip::Free);
-    p.nx = nx;
-    p.ny = ny;
-    p.extra_radius_factors = vec![];
+fn single_params(nx: usize, ny: usize) -> Problem {
+    let mut p = Problem::paper("xfem");
+    let x = p.xfem_mut();
+    x.grid.nx = nx;
+    x.grid.ny = ny;
+    x.extra_radii = vec![];
     p
 }
 

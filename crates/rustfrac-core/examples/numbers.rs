@@ -7,10 +7,11 @@
 //! the oracle on a coarse grid.
 use rustfrac_core::fem_driver;
 use rustfrac_core::loading::{Grip, PlateLoad};
+use rustfrac_core::mesh::Side;
 use rustfrac_core::pd::sla::{self, CcmPdParams, SlaParams};
 use rustfrac_core::pd::splice::{Method, ModelSpec};
-use rustfrac_core::problem::Problem;
-use rustfrac_core::xfem::{self, GrowthParams, XfemParams};
+use rustfrac_core::problem::{CrackSpec, Growth, Problem};
+use rustfrac_core::xfem;
 
 fn h(v: f64) -> String {
     format!("{:016x}", v.to_bits())
@@ -50,7 +51,7 @@ fn fem() {
     }
 }
 
-fn xfem_case(name: &str, p: &XfemParams) {
+fn xfem_case(name: &str, p: &Problem) {
     let r = xfem::run(p, &|_, _| {}).unwrap();
     println!(
         "xfem {name}: K_I {} K_II {} J {} Jd {} sigma22 {} cmod {} u {} status {} n_dofs {}",
@@ -61,7 +62,7 @@ fn xfem_case(name: &str, p: &XfemParams) {
         h(r.sigma22),
         h(r.cmod),
         hs(&r.u),
-        r.status,
+        r.status.name(),
         r.n_dofs
     );
     for s in &r.radii {
@@ -88,35 +89,46 @@ fn xfem_case(name: &str, p: &XfemParams) {
     }
 }
 
+/// Growth with the paper's G0 and one element length per step.
+fn growth(a_stop: f64, max_steps: usize) -> Option<Growth> {
+    Some(Growth {
+        max_steps,
+        da: None,
+        a_stop,
+    })
+}
+
 fn xfem_cases() {
+    let paper = |grip| Problem::paper("xfem").with_grip(grip);
     for grip in [Grip::Free, Grip::Clamped, Grip::Traction] {
-        xfem_case(grip.name(), &XfemParams::paper(grip));
+        xfem_case(grip.name(), &paper(grip));
     }
-    let mut g = XfemParams::paper(Grip::Free);
-    g.growth = Some(GrowthParams {
-        g0: 0.367,
-        da: None,
-        a_stop: 0.7 * 11.0,
-        max_steps: 1000,
-    });
+    let mut g = paper(Grip::Free);
+    g.xfem_mut().growth = growth(0.7 * 11.0, 1000);
     xfem_case("growth", &g);
-    let mut inclined = XfemParams::paper(Grip::Clamped);
-    inclined.crack = vec![[0.0, 10.0], [1.5, 10.8]];
-    inclined.growth = Some(GrowthParams {
-        g0: 0.367,
-        da: None,
-        a_stop: 4.0,
-        max_steps: 20,
-    });
+    // a0 and the angle put the tip exactly at (1.5, 10.8), the polyline of earlier commits
+    let mut inclined = paper(Grip::Clamped);
+    inclined.cracks[0] = CrackSpec {
+        a0: 1.7,
+        y: 10.0,
+        angle: 28.07248693585296,
+        ..inclined.cracks[0]
+    };
+    assert_eq!(
+        inclined.crack_polylines()[0],
+        vec![[0.0, 10.0], [1.5, 10.8]]
+    );
+    inclined.xfem_mut().growth = growth(4.0, 20);
     xfem_case("inclined growth", &inclined);
-    let mut two = XfemParams::paper(Grip::Free);
-    two.extra_cracks = vec![vec![[11.0, 10.5], [9.9, 10.5]]];
-    two.growth = Some(GrowthParams {
-        g0: 0.367,
-        da: None,
-        a_stop: 3.0,
-        max_steps: 10,
+    // 11 - 9.9 is exact, so the second crack's tip is exactly at x1 = 9.9
+    let mut two = paper(Grip::Free);
+    two.cracks.push(CrackSpec {
+        side: Side::Right,
+        a0: 11.0 - 9.9,
+        ..two.cracks[0]
     });
+    assert_eq!(two.crack_polylines()[1], vec![[11.0, 10.5], [9.9, 10.5]]);
+    two.xfem_mut().growth = growth(3.0, 10);
     xfem_case("two cracks", &two);
 }
 

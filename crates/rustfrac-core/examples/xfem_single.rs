@@ -1,7 +1,7 @@
 //! One XFEM single solve + SIFs on the paper plate (the `xfem` bench's 352 x 664 case), timed:
 //! `cargo run --release --example xfem_single -- [NX NY [REPEATS]]`.
-use rustfrac_core::loading::Grip;
-use rustfrac_core::xfem::{run, XfemParams};
+use rustfrac_core::problem::Problem;
+use rustfrac_core::xfem::run;
 use std::time::Instant;
 
 fn main() {
@@ -14,10 +14,11 @@ fn main() {
         a.get(1).copied().unwrap_or(664),
     );
     let reps = a.get(2).copied().unwrap_or(3);
-    let mut p = XfemParams::paper(Grip::Free);
-    p.nx = nx;
-    p.ny = ny;
-    p.extra_radius_factors = vec![];
+    let mut p = Problem::paper("xfem");
+    let x = p.xfem_mut();
+    x.grid.nx = nx;
+    x.grid.ny = ny;
+    x.extra_radii = vec![];
     for _ in 0..reps {
         let t = Instant::now();
         let r = run(&p, &|_, _| {}).unwrap();

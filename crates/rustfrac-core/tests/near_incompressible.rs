@@ -4,12 +4,12 @@
 
 mod common;
 
+use common::XfemCase;
 use common::{quiet, tada_f};
 use rustfrac_core::fem_driver;
 use rustfrac_core::loading::{Grip, PlateLoad};
 use rustfrac_core::material::{Elastic, Plane, NU_LOCKING_WARN};
 use rustfrac_core::problem::{Boundary, Domain, FeGrid, Problem};
-use rustfrac_core::xfem::{self, XfemParams};
 use std::f64::consts::PI;
 
 /// Tada's V(a/b) of CMOD = 4 sigma a V / E'.
@@ -22,7 +22,7 @@ fn tada_v(x: f64) -> f64 {
 /// under unit traction on 40 x 160 elements.
 fn strip(nu: f64) -> (f64, f64, usize) {
     let (w, l, a) = (10.0, 40.0, 3.05);
-    let mut p = XfemParams::paper(Grip::Traction);
+    let mut p = XfemCase::paper(Grip::Traction);
     p.width = w;
     p.height = l;
     p.nx = 40;
@@ -31,7 +31,7 @@ fn strip(nu: f64) -> (f64, f64, usize) {
     p.crack = vec![[0.0, l / 2.0 + 0.013], [a, l / 2.0 + 0.013]];
     p.load.traction = 1.0;
     p.extra_radius_factors = vec![];
-    let r = xfem::run(&p, &quiet).unwrap();
+    let r = common::run(&p, &quiet).unwrap();
     let k = (PI * a).sqrt() * tada_f(a / w);
     let cmod = 4.0 * a * tada_v(a / w) / p.material.e_prime();
     (r.k_i / k - 1.0, r.cmod / cmod - 1.0, r.warnings.len())

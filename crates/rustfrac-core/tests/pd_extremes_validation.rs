@@ -4,11 +4,11 @@
 
 mod common;
 
+use common::XfemCase;
 use common::{go_on, pd_plate, pd_strip, quiet, rel};
 use rustfrac_core::loading::Grip;
 use rustfrac_core::pd::sla::{run, CcmPdParams, CcmPdResult, Method, SlaParams};
 use rustfrac_core::pd::splice::SpliceModel;
-use rustfrac_core::xfem::{self, XfemParams};
 use rustfrac_core::Error;
 use rustfrac_core::WarningKind;
 
@@ -17,10 +17,10 @@ use rustfrac_core::WarningKind;
 /// the first SLA step. m = 1 runs with a warning (8 bonds per node).
 #[test]
 fn horizon_factors_1_to_8() {
-    let mut xp = XfemParams::paper(Grip::Free);
+    let mut xp = XfemCase::paper(Grip::Free);
     xp.nx = 176;
     xp.ny = 333;
-    let x = xfem::run(&xp, &quiet).unwrap();
+    let x = common::run(&xp, &quiet).unwrap();
     println!(
         "XFEM 176 x 333 (reference): sigma22 = {:.4}, CMOD = {:.6}",
         x.sigma22, x.cmod
@@ -205,10 +205,10 @@ fn pd_regions_on_the_boundary_and_pure_pd_match_the_continuum() {
     }
     // cracked: the paper's plate with the PD rectangle extended to the crack mouth (left edge)
     // against the paper's rectangle and XFEM 176 x 333
-    let mut xp = XfemParams::paper(Grip::Free);
+    let mut xp = XfemCase::paper(Grip::Free);
     xp.nx = 176;
     xp.ny = 333;
-    let x = xfem::run(&xp, &quiet).unwrap();
+    let x = common::run(&xp, &quiet).unwrap();
     let mut p = CcmPdParams::paper();
     p.sla.max_steps = 3;
     let inner = run(&p, &go_on).unwrap();

@@ -16,6 +16,7 @@
 mod common;
 
 use common::{go_on, grips, quiet, solve_fem_plate};
+use common::{GrowthParams, XfemCase};
 use rustfrac_core::fem::FemModel;
 use rustfrac_core::fem_driver::{self, FemPlateResult};
 use rustfrac_core::loading::{sigma22, Grip, PlateLoad};
@@ -23,7 +24,6 @@ use rustfrac_core::material::{Elastic, Plane};
 use rustfrac_core::mesh::Mesh;
 use rustfrac_core::pd::sla::{self, CcmPdParams, Method, SlaParams};
 use rustfrac_core::problem::{Boundary, Domain, Problem};
-use rustfrac_core::xfem::{self, GrowthParams, XfemParams};
 
 const TOL: f64 = 1e-9;
 
@@ -158,8 +158,8 @@ fn fem_linear_system_is_scale_invariant() {
 // ---------------------------------------------------------------------------------------------
 // XFEM
 
-fn xfem_params(l: f64, e: f64, t: f64, grip: Grip, crack: &[[f64; 2]], growth: bool) -> XfemParams {
-    let mut p = XfemParams::paper(grip);
+fn xfem_params(l: f64, e: f64, t: f64, grip: Grip, crack: &[[f64; 2]], growth: bool) -> XfemCase {
+    let mut p = XfemCase::paper(grip);
     p.width *= l;
     p.height *= l;
     p.material = material(e, 0.25, t);
@@ -178,7 +178,13 @@ fn xfem_params(l: f64, e: f64, t: f64, grip: Grip, crack: &[[f64; 2]], growth: b
     p
 }
 
-fn compare_xfem(r: &xfem::XfemResult, r0: &xfem::XfemResult, l: f64, e: f64, tag: &str) -> f64 {
+fn compare_xfem(
+    r: &rustfrac_core::xfem::XfemResult,
+    r0: &rustfrac_core::xfem::XfemResult,
+    l: f64,
+    e: f64,
+    tag: &str,
+) -> f64 {
     let mut worst = 0.0f64;
     let ks = e * l.sqrt();
     let kref = r0.k_i.hypot(r0.k_ii);
@@ -282,9 +288,9 @@ fn xfem_single_solve_is_scale_invariant() {
                 p.ny = ny;
                 p
             };
-            let r0 = xfem::run(&params(1.0, 1.0, 1.0), &quiet).unwrap();
+            let r0 = common::run(&params(1.0, 1.0, 1.0), &quiet).unwrap();
             for &(l, e, t) in &SCALES {
-                let r = xfem::run(&params(l, e, t), &quiet).unwrap();
+                let r = common::run(&params(l, e, t), &quiet).unwrap();
                 let tag = format!("XFEM {grip:?} {crack:?} l={l:e} e={e:e} t={t:e}");
                 worst = worst.max(compare_xfem(&r, &r0, l, e, &tag));
             }
@@ -298,10 +304,10 @@ fn xfem_growth_is_scale_invariant() {
     let mut worst = 0.0f64;
     // mixed mode: the inclined crack kinks, so the path itself is compared
     let crack: &[[f64; 2]] = &[[0.0, 10.5], [1.1, 10.9]];
-    let r0 = xfem::run(&xfem_params(1.0, 1.0, 1.0, Grip::Free, crack, true), &quiet).unwrap();
+    let r0 = common::run(&xfem_params(1.0, 1.0, 1.0, Grip::Free, crack, true), &quiet).unwrap();
     assert_eq!(r0.history.len(), 5, "status {}", r0.status);
     for &(l, e, t) in &SCALES[..4] {
-        let r = xfem::run(&xfem_params(l, e, t, Grip::Free, crack, true), &quiet).unwrap();
+        let r = common::run(&xfem_params(l, e, t, Grip::Free, crack, true), &quiet).unwrap();
         let tag = format!("XFEM growth l={l:e} e={e:e} t={t:e}");
         worst = worst.max(compare_xfem(&r, &r0, l, e, &tag));
     }
@@ -314,12 +320,12 @@ fn xfem_growth_is_scale_invariant() {
 fn xfem_critical_load_scales_with_sqrt_g0() {
     let crack: &[[f64; 2]] = &[[0.0, 10.5], [1.1, 10.9]];
     let base = xfem_params(1.0, 1.0, 1.0, Grip::Free, crack, true);
-    let r0 = xfem::run(&base, &quiet).unwrap();
+    let r0 = common::run(&base, &quiet).unwrap();
     let mut worst = 0.0f64;
     for g in [1e-8, 1e6] {
         let mut p = base.clone();
         p.growth.as_mut().unwrap().g0 *= g;
-        let r = xfem::run(&p, &quiet).unwrap();
+        let r = common::run(&p, &quiet).unwrap();
         assert_eq!(r.history.len(), r0.history.len());
         for (a, b) in r.history.iter().zip(&r0.history).skip(1) {
             let sg = g.sqrt();

@@ -195,8 +195,9 @@ fn condition_estimate_matches_dense_exact_values() {
 // ------------------------------------------------------------------------------------------------
 // XFEM crack geometry extremes
 
+use common::{run, XfemCase};
 use rustfrac_core::loading::{plate_conditions, Grip, PlateEdges, PlateLoad};
-use rustfrac_core::xfem::{run, XfemParams, XfemResult};
+use rustfrac_core::xfem::XfemResult;
 use rustfrac_core::Error;
 
 /// Relative error of K_I against Tada for a straight edge crack of length a (W = 1, sigma = 1).
@@ -485,7 +486,7 @@ fn tip_sweep_across_one_element_is_smooth() {
     assert!(tada_worst < 0.015);
 }
 
-fn refused_as_unresolved(p: &XfemParams) -> String {
+fn refused_as_unresolved(p: &XfemCase) -> String {
     match run(p, &quiet) {
         Err(e @ Error::InvalidInput { .. }) => {
             let m = e.to_string();
@@ -637,7 +638,7 @@ fn a_million_unknowns_deep_crack() {
 #[ignore]
 fn condition_estimate_cost_on_the_352_x_665_plate() {
     use rustfrac_core::loading::{plate_conditions, PlateEdges};
-    let p = XfemParams::paper(Grip::Free);
+    let p = XfemCase::paper(Grip::Free);
     let mesh = Arc::new(Mesh::uniform(0.0, 0.0, p.width, p.height, 352, 665).unwrap());
     let model = XfemModel::new(
         mesh.clone(),

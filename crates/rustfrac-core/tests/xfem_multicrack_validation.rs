@@ -6,11 +6,12 @@
 mod common;
 
 use common::{paper_growth, quiet, tall_strip};
+use common::{run, XfemCase};
 use rustfrac_core::fem::LinearSystem;
 use rustfrac_core::loading::{plate_conditions, Grip, PlateEdges, PlateLoad};
 use rustfrac_core::material::{Elastic, Plane};
 use rustfrac_core::mesh::Mesh;
-use rustfrac_core::xfem::{run, XfemModel, XfemOptions, XfemParams};
+use rustfrac_core::xfem::{GrowthStatus, XfemModel, XfemOptions};
 use rustfrac_core::Error;
 use std::f64::consts::PI;
 use std::sync::Arc;
@@ -297,7 +298,7 @@ fn dent_f(x: f64) -> (f64, f64) {
     (f1, f2)
 }
 
-fn dent_params(a: f64, nx: usize, ny: usize) -> XfemParams {
+fn dent_params(a: f64, nx: usize, ny: usize) -> XfemCase {
     let mut p = tall_strip(vec![[0.0, 2.0], [a, 2.0]], nx, ny);
     p.extra_cracks = vec![vec![[1.0, 2.0], [1.0 - a, 2.0]]];
     p
@@ -403,7 +404,7 @@ fn symmetric_double_edge_growth_stays_symmetric() {
         r.history.len(),
         r.cracks
     );
-    assert_eq!(r.status, "a_stop reached");
+    assert_eq!(r.status, GrowthStatus::AStopReached);
     assert_eq!(r.history.len(), r.tip_history.len());
     assert!(r.history.len() > 5);
     let kic = (0.367f64 * p.material.e_prime()).sqrt();
@@ -445,7 +446,7 @@ fn only_the_critical_tip_grows() {
 #[test]
 fn bad_crack_sets_are_refused() {
     let base = dent_params(0.2, 40, 161);
-    let check = |p: XfemParams, name: &str| match run(&p, &quiet) {
+    let check = |p: XfemCase, name: &str| match run(&p, &quiet) {
         Err(Error::InvalidInput {
             param, expected, ..
         }) => {
@@ -460,29 +461,29 @@ fn bad_crack_sets_are_refused() {
     // crossing cracks
     let mut p = base.clone();
     p.extra_cracks = vec![vec![[0.1, 1.8], [0.1, 2.2]]];
-    check(p, "cracks");
+    check(p, "crack[1]");
     // touching: a tip on the other crack
     let mut p = base.clone();
     p.extra_cracks = vec![vec![[0.15, 2.3], [0.15, 2.0]]];
-    check(p, "cracks");
-    // crack outside the plate
+    check(p, "crack[1]");
+    // crack outside the plate (a centre crack whose centre x1 = 1 lies on the right edge)
     let mut p = base.clone();
     p.extra_cracks = vec![vec![[0.5, 2.0], [1.5, 2.0]]];
-    check(p, "cracks[1]");
+    check(p, "crack[1].x");
     // tips of two cracks in one element
     let mut p = base.clone();
     p.crack = vec![[0.0, 2.0], [0.4, 2.0]];
     p.extra_cracks = vec![vec![[1.0, 2.0], [0.41, 2.0]]];
-    check(p, "cracks");
+    check(p, "crack");
     // the other crack inside the q-domain of a tip
     let mut p = base.clone();
     p.crack = vec![[0.0, 2.0], [0.4, 2.0]];
     p.extra_cracks = vec![vec![[1.0, 2.0], [0.45, 2.0]]];
-    check(p, "r_I");
+    check(p, "xfem.r_I");
 }
 
 /// Two symmetric edge cracks growing towards each other stop before they meet: once the other
-/// crack would enter a tip's SIF domain the run ends with status "cracks meet" (coalescence is
+/// crack would enter a tip's SIF domain the run ends with status `cracks_meet` (coalescence is
 /// not modelled), with a gap of at least r_I between the last recorded tips.
 #[test]
 fn growth_stops_before_cracks_meet() {
@@ -497,6 +498,6 @@ fn growth_stops_before_cracks_meet() {
         r.history.len(),
         r.r_i
     );
-    assert_eq!(r.status, "cracks meet");
+    assert_eq!(r.status, GrowthStatus::CracksMeet);
     assert!(gap > r.r_i && gap < 2.0 * r.r_i + 0.1, "{gap}");
 }

@@ -5,12 +5,13 @@
 mod common;
 
 use common::{grips, paper_growth, quiet, solve_fem_plate, tada_f, tall_strip};
+use common::{run, GrowthParams, XfemCase};
 use rustfrac_core::fem::{Dirichlet, FemModel, LinearSystem};
 use rustfrac_core::loading::{plate_conditions, sigma22, Grip, PlateEdges, PlateLoad};
 use rustfrac_core::material::{Elastic, Plane};
 use rustfrac_core::mesh::{Mesh, Side};
 use rustfrac_core::xfem::williams_displacement;
-use rustfrac_core::xfem::{run, GrowthParams, XfemModel, XfemOptions, XfemParams};
+use rustfrac_core::xfem::{GrowthStatus, XfemModel, XfemOptions};
 use rustfrac_core::Error;
 use std::sync::Arc;
 
@@ -83,7 +84,7 @@ fn exact_williams_fields_give_k_within_half_percent() {
     }
 }
 
-fn tall_plate(a: f64, nx: usize, ny: usize) -> XfemParams {
+fn tall_plate(a: f64, nx: usize, ny: usize) -> XfemCase {
     tall_strip(vec![[0.0, 2.0], [a, 2.0]], nx, ny)
 }
 
@@ -188,7 +189,7 @@ fn path_independence_between_1_5_and_3_5_element_lengths() {
     for (name, mut p, assert_it) in [
         (
             "paper case 44 x 83, free grips",
-            XfemParams::paper(Grip::Free),
+            XfemCase::paper(Grip::Free),
             true,
         ),
         (
@@ -235,7 +236,7 @@ fn path_independence_between_1_5_and_3_5_element_lengths() {
 }
 
 fn paper_level(nx: usize, ny: usize) -> (f64, f64, f64) {
-    let mut p = XfemParams::paper(Grip::Free);
+    let mut p = XfemCase::paper(Grip::Free);
     p.nx = nx;
     p.ny = ny;
     p.extra_radius_factors = vec![];
@@ -324,7 +325,7 @@ fn paper_case_mesh_convergence() {
 #[test]
 fn crack_on_a_grid_line_is_handled_by_the_area_rule() {
     // ny = 166: the crack x2 = 10.5 runs along a grid line; the off-line nodes must be dropped
-    let mut p = XfemParams::paper(Grip::Free);
+    let mut p = XfemCase::paper(Grip::Free);
     p.nx = 88;
     p.ny = 166;
     p.extra_radius_factors = vec![];
@@ -341,7 +342,7 @@ fn crack_on_a_grid_line_is_handled_by_the_area_rule() {
 
 #[test]
 fn mode_i_growth_stays_on_the_crack_line() {
-    let mut p = XfemParams::paper(Grip::Free);
+    let mut p = XfemCase::paper(Grip::Free);
     p.extra_radius_factors = vec![];
     p.growth = Some(paper_growth(0.7 * 11.0, 1000));
     let t = std::time::Instant::now();
@@ -352,7 +353,7 @@ fn mode_i_growth_stays_on_the_crack_line() {
         r.status,
         t.elapsed()
     );
-    assert_eq!(r.status, "a_stop reached");
+    assert_eq!(r.status, GrowthStatus::AStopReached);
     assert_eq!(r.history[0].lambda, 0.0);
     assert!(r.history.len() > 20);
     let last = r.history.last().unwrap();
@@ -383,7 +384,7 @@ fn mode_i_growth_stays_on_the_crack_line() {
 
 #[test]
 fn growth_stops_when_the_ligament_is_used_up() {
-    let mut p = XfemParams::paper(Grip::Clamped);
+    let mut p = XfemCase::paper(Grip::Clamped);
     p.extra_radius_factors = vec![];
     p.growth = Some(GrowthParams {
         da: Some(1.0),
@@ -397,18 +398,18 @@ fn growth_stops_when_the_ligament_is_used_up() {
         r.history.len(),
         last.a
     );
-    assert_eq!(r.status, "ligament used up");
+    assert_eq!(r.status, GrowthStatus::LigamentUsedUp);
     // the last recorded tip leaves less than r_I + da to the right edge
     assert!(11.0 - last.tip[0] < r.r_i + 1.0 + 1e-9 && last.tip[0] > 9.0);
     // with growth off, the status says so
     p.growth = None;
-    assert_eq!(run(&p, &quiet).unwrap().status, "single solve");
+    assert_eq!(run(&p, &quiet).unwrap().status, GrowthStatus::SingleSolve);
 }
 
 #[test]
 fn mixed_mode_growth_turns_as_the_criterion_says() {
     // an edge crack inclined upwards by about 20 degrees in the paper's plate under tension
-    let mut p = XfemParams::paper(Grip::Traction);
+    let mut p = XfemCase::paper(Grip::Traction);
     p.crack = vec![[0.0, 10.5], [1.1, 10.9]];
     p.extra_radius_factors = vec![];
     p.growth = Some(paper_growth(3.0, 4));
@@ -444,7 +445,7 @@ fn paper_case_printout() {
     println!("paper's case at the paper's mesh 44 x 83 (paper: sigma22 9.993, CMOD 0.005317, K_I 19.85 displacement load, 20.71 traction 9.993)");
     println!("| load | sigma22 | CMOD | K_I | K_II | J(K) | J domain |");
     for grip in [Grip::Free, Grip::Clamped, Grip::Traction] {
-        let p = XfemParams::paper(grip);
+        let p = XfemCase::paper(grip);
         let r = run(&p, &quiet).unwrap();
         println!(
             "| {} | {:.4} | {:.6} | {:.3} | {:.1e} | {:.5} | {:.5} |",
@@ -459,8 +460,8 @@ fn paper_case_printout() {
 
 #[test]
 fn bad_input_is_refused_and_singular_systems_reported() {
-    let base = XfemParams::paper(Grip::Free);
-    let check = |p: XfemParams, name: &str| match run(&p, &quiet) {
+    let base = XfemCase::paper(Grip::Free);
+    let check = |p: XfemCase, name: &str| match run(&p, &quiet) {
         Err(Error::InvalidInput { param, .. }) => assert_eq!(param, name),
         other => panic!(
             "{name}: expected InvalidInput, got {:?}",
@@ -469,28 +470,28 @@ fn bad_input_is_refused_and_singular_systems_reported() {
     };
     let mut p = base.clone();
     p.nx = 0;
-    check(p, "nx");
+    check(p, "mesh.nx");
     let mut p = base.clone();
     p.r_i_factor = f64::NAN;
-    check(p, "r_i_factor");
+    check(p, "xfem.r_I");
     let mut p = base.clone();
     p.r_i_factor = 20.5;
-    check(p, "r_i_factor");
+    check(p, "xfem.r_I");
     let mut p = base.clone();
     p.crack = vec![[0.0, 10.5], [12.0, 10.5]];
-    check(p, "crack");
+    check(p, "crack.a0");
     let mut p = base.clone();
     p.crack = vec![[0.0, 10.5], [11.0, 10.5]];
-    check(p, "crack");
+    check(p, "crack.a0");
     let mut p = base.clone();
     p.tip_nsub = 2;
-    check(p, "tip_nsub");
+    check(p, "xfem.tip_nsub");
     let mut p = base.clone();
     p.area_threshold = 0.7;
-    check(p, "area_threshold");
+    check(p, "xfem.area_threshold");
     let mut p = base.clone();
     p.fixed_area_radius = Some(-1.0);
-    check(p, "fixed_area_radius");
+    check(p, "xfem.fixed_area_radius");
     let mut p = base.clone();
     p.growth = Some(GrowthParams {
         g0: -1.0,
@@ -498,10 +499,10 @@ fn bad_input_is_refused_and_singular_systems_reported() {
         a_stop: 7.7,
         max_steps: 10,
     });
-    check(p, "g0");
+    check(p, "material.G0");
     let mut p = base.clone();
     p.load.u0 = 0.0;
-    check(p, "u0");
+    check(p, "load.u0");
     // no Dirichlet conditions: the rigid-body modes make the system singular
     let mesh = Arc::new(Mesh::uniform(0.0, 0.0, 11.0, 21.0, 11, 21).unwrap());
     let m = XfemModel::new(

@@ -19,48 +19,49 @@ use crate::shaped::Shaped;
 use numpy::PyArray1;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use rustfrac_core::mesh::Mesh;
 use rustfrac_core::problem::{Method, Problem};
 use rustfrac_core::xfem::{self, GrowthStep, TipStep, XfemResult};
 use std::time::Instant;
 
 /// Runs the XFEM plate of `p` and shapes its result.
 pub fn run<'py>(py: Python<'py>, p: &Problem, prog: &Progress) -> PyResult<Bound<'py, PyDict>> {
-    let params = p.xfem_params().expect("an XFEM problem");
+    let growth = match &p.method {
+        Method::Xfem(x) => x.growth,
+        _ => None,
+    };
     let est = p.growth_steps_estimate();
     let total = est.unwrap_or(1);
     let t0 = Instant::now();
     let r = detached(py, "xfem plate", || {
         prog.report(0, total, "xfem: enrich + assemble + solve", true);
-        let r = xfem::run(&params, &|done, _| {
-            if let (Some(est), Some(g)) = (est, &params.growth) {
+        let r = xfem::run(p, &|done, _| {
+            if let (Some(est), Some(g)) = (est, &growth) {
                 let msg = format!("xfem: growth step {done} of ~{est} (a_stop {})", g.a_stop);
                 prog.report(done.min(est), est, &msg, false);
             }
         });
         prog.report(total, total, "xfem: done", true);
-        let mesh = Mesh::uniform(0.0, 0.0, params.width, params.height, params.nx, params.ny)?;
-        r.map(|r| (r, mesh))
+        r
     });
     let wall = t0.elapsed().as_secs_f64();
     if let Some(err) = prog.take_error() {
         return Err(err);
     }
-    let (r, mesh) = r?;
+    let r = r?;
     let s = Shaped::new(py, p, (r.sigma22, r.cmod, r.n_dofs, wall), &r.warnings)?;
-    mesh_fields(&s, &r, mesh)?;
+    mesh_fields(&s, &r)?;
     sif_fields(&s, &r)?;
     growth_fields(&s, &r, p)?;
     scalars_and_meta(&s, &r, p, wall)?;
     s.finish()
 }
 
-fn mesh_fields(s: &Shaped<'_>, r: &XfemResult, mesh: Mesh) -> PyResult<()> {
+fn mesh_fields(s: &Shaped<'_>, r: &XfemResult) -> PyResult<()> {
     let py = s.py;
-    let n_nodes = mesh.coords.len();
-    s.fields.set_item("coords", arr2(py, mesh.coords))?;
+    let n_nodes = r.coords.len();
+    s.fields.set_item("coords", arr2(py, r.coords.clone()))?;
     s.fields
-        .set_item("elements", elements_i64(py, &mesh.elements))?;
+        .set_item("elements", elements_i64(py, &r.elements))?;
     s.fields.set_item("u", arr1(py, r.u[..r.n_std].to_vec()))?;
     s.fields.set_item("u_enriched", arr1(py, r.u.clone()))?;
     let mut enrichment = vec![0.0; n_nodes];
@@ -187,7 +188,7 @@ fn scalars_and_meta(s: &Shaped<'_>, r: &XfemResult, p: &Problem, wall: f64) -> P
     sc.set_item("condition_pivot_ratio", r.condition.map(|c| c.pivot_ratio))?;
     let m = &s.meta;
     s.anchor(p, r.anchor_node)?;
-    m.set_item("status", &r.status)?;
+    m.set_item("status", r.status.name())?;
     let e = PyDict::new(py);
     e.set_item("n_std", r.n_std)?;
     e.set_item("n_heaviside_nodes", r.n_heaviside_nodes)?;

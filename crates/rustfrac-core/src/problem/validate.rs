@@ -7,7 +7,7 @@
 
 use super::parse::crack_name;
 use super::schema::{self, Val, PD_NU};
-use super::{Boundary, CrackKind, CrackSpec, Domain, Method, PdMethod, Problem};
+use super::{Boundary, CrackKind, CrackSpec, Domain, Method, PdMethod, Problem, XfemMethod};
 use crate::error::{Error, Result};
 use crate::geometry::segment_distance;
 use crate::loading::Grip;
@@ -104,13 +104,62 @@ fn schema_ranges(p: &Problem) -> Result<()> {
             in_range("crack", &crack_name(k), key, Val::Float(v))?;
         }
     }
-    if let Method::Fem(f) = &p.method {
-        for (key, n) in [("nx", f.grid.nx), ("ny", f.grid.ny), ("gauss", f.gauss)] {
-            let n = Val::Int(i64::try_from(n).unwrap_or(i64::MAX));
-            in_range("mesh", "mesh", key, n)?;
+    let int = |n: usize| Val::Int(i64::try_from(n).unwrap_or(i64::MAX));
+    match &p.method {
+        Method::Fem(f) => {
+            for (key, n) in [("nx", f.grid.nx), ("ny", f.grid.ny), ("gauss", f.gauss)] {
+                in_range("mesh", "mesh", key, int(n))?;
+            }
         }
+        Method::Xfem(x) => xfem_ranges(x, &int)?,
+        _ => {}
     }
     Ok(())
+}
+
+/// The XFEM options of a hand-built problem within the scene's ranges (the resolved values:
+/// `tip_nsub` is at least `nsub`, absent options count as the scene's 0).
+fn xfem_ranges(x: &XfemMethod, int: &dyn Fn(usize) -> Val) -> Result<()> {
+    let o = &x.options;
+    for (key, n) in [("nx", x.grid.nx), ("ny", x.grid.ny)] {
+        in_range("mesh", "mesh", key, int(n))?;
+    }
+    in_range("xfem", "xfem", "nsub", int(o.nsub))?;
+    in_range("xfem", "xfem", "tip_nsub", int(o.tip_nsub))?;
+    if o.tip_nsub < o.nsub {
+        return Err(Error::invalid(
+            "xfem.tip_nsub",
+            &format!("0 (= nsub) or an integer in nsub..64 = {}..64", o.nsub),
+            o.tip_nsub,
+        ));
+    }
+    let radius = Val::Float(o.fixed_area_radius.unwrap_or(0.0));
+    in_range("xfem", "xfem", "fixed_area_radius", radius)?;
+    in_range(
+        "xfem",
+        "xfem",
+        "area_threshold",
+        Val::Float(o.area_threshold),
+    )?;
+    in_range("xfem", "xfem", "r_I", Val::Float(x.r_i))?;
+    for &f in &x.extra_radii {
+        in_range("xfem", "xfem", "r_I", Val::Float(f))
+            .map_err(|e| Error::invalid("xfem.extra_radii", &schema_valid("xfem", "r_I"), e))?;
+    }
+    if let Some(g) = &x.growth {
+        in_range("xfem", "xfem", "growth_steps", int(g.max_steps))?;
+        if g.max_steps == 0 {
+            return Err(Error::invalid("xfem.growth_steps", "at least 1 step", 0));
+        }
+        in_range("xfem", "xfem", "da", Val::Float(g.da.unwrap_or(0.0)))?;
+        in_range("xfem", "xfem", "a_stop", Val::Float(g.a_stop))?;
+    }
+    Ok(())
+}
+
+/// The valid range of `section.key` in words.
+fn schema_valid(section: &str, key: &str) -> String {
+    schema::spec(section, key).map_or_else(String::new, |s| s.valid.clone())
 }
 
 fn side_name(s: Side) -> &'static str {

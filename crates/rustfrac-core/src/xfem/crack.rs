@@ -18,6 +18,7 @@
 use crate::error::{Error, Result};
 use crate::geometry::{cross, dot, norm, segment_distance, sub, unit};
 use crate::mesh::Mesh;
+use crate::problem::parse::crack_name;
 
 /// A crack tip: position and unit direction of crack advance (the tip frame's x~1 axis).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -52,7 +53,7 @@ impl Crack {
         Self::named(points, mesh, "crack")
     }
 
-    /// [`Crack::new`] with errors naming the parameter `param` (e.g. "cracks[1]").
+    /// [`Crack::new`] with errors naming the parameter `param` (e.g. "crack[1]").
     pub fn named(points: Vec<[f64; 2]>, mesh: &Mesh, param: &str) -> Result<Self> {
         if points.len() < 2 {
             return Err(Error::invalid(
@@ -216,6 +217,11 @@ pub(super) fn on_face(tip: &Tip, xl: [f64; 2], snap: f64) -> [f64; 2] {
     }
 }
 
+/// What a refusal of cracks that meet expects (the growth loop stops on it: `cracks_meet`).
+pub(crate) const CRACKS_APART: &str =
+    "cracks that neither cross nor touch each other (crack junctions and coalescence are not \
+     modelled)";
+
 /// Refuses cracks that cross or touch each other (closer than 1e-9 of the plate diagonal):
 /// junctions and coalescence are not modelled (each crack's Heaviside function assumes the crack
 /// ends at its own tips or on the boundary).
@@ -228,13 +234,16 @@ fn check_cracks_apart(cracks: &[Crack], mesh: &Mesh) -> Result<()> {
                 for (sj, b) in cracks[j].points.windows(2).enumerate() {
                     if segment_distance(a[0], a[1], b[0], b[1]) <= tol {
                         return Err(Error::invalid(
-                            "cracks",
-                            "cracks that neither cross nor touch each other (crack junctions \
-                             and coalescence are not modelled)",
+                            &crack_name(j),
+                            CRACKS_APART,
                             format!(
-                                "cracks[{i}] segment {si} {:?}-{:?} meets cracks[{j}] segment \
-                                 {sj} {:?}-{:?}",
-                                a[0], a[1], b[0], b[1]
+                                "{} segment {si} {:?}-{:?} meets {} segment {sj} {:?}-{:?}",
+                                crack_name(i),
+                                a[0],
+                                a[1],
+                                crack_name(j),
+                                b[0],
+                                b[1]
                             ),
                         ));
                     }
@@ -246,23 +255,16 @@ fn check_cracks_apart(cracks: &[Crack], mesh: &Mesh) -> Result<()> {
 }
 
 /// The cracks of a model from their polylines (at least one): each validated against the plate
-/// (errors name it "crack" when there is only one, else "cracks[k]"), then refused if two of them
-/// cross or touch (parameter "cracks").
+/// (errors name crack k by its scene key, [`crack_name`]: "crack", "crack[1]", ...), then refused
+/// if two of them cross or touch (the later one's key).
 pub(super) fn build_cracks(polylines: Vec<Vec<[f64; 2]>>, mesh: &Mesh) -> Result<Vec<Crack>> {
     if polylines.is_empty() {
-        return Err(Error::invalid("cracks", "at least one crack", 0));
+        return Err(Error::invalid("crack", "at least one crack", 0));
     }
-    let n_cracks = polylines.len();
     let cracks = polylines
         .into_iter()
         .enumerate()
-        .map(|(k, p)| {
-            if n_cracks == 1 {
-                Crack::new(p, mesh)
-            } else {
-                Crack::named(p, mesh, &format!("cracks[{k}]"))
-            }
-        })
+        .map(|(k, p)| Crack::named(p, mesh, &crack_name(k)))
         .collect::<Result<Vec<Crack>>>()?;
     check_cracks_apart(&cracks, mesh)?;
     Ok(cracks)

@@ -31,6 +31,7 @@ use super::integration::{RuleKind, Rules};
 use crate::error::{Error, Result};
 use crate::geometry::{norm, positive_area, seg_box, sub};
 use crate::mesh::Mesh;
+use crate::problem::parse::crack_name;
 use std::collections::HashMap;
 
 /// Default small-area threshold (see the module documentation).
@@ -367,7 +368,15 @@ fn tip_sets(cells: &Cells, tip: &Tip, fixed_area_radius: Option<f64>) -> (Vec<us
     (els, nodes)
 }
 
-/// Refuses two tips of different cracks in one element (documented limitation).
+/// What a refusal of two cracks' tips in one element expects (the growth loop stops on it:
+/// `cracks_meet`).
+pub(crate) const TIPS_APART: &str =
+    "the tips of different cracks in different elements (one element cannot resolve two \
+     crack-tip singularities, and the SIF domain of either tip would contain the other; refine \
+     the mesh)";
+
+/// Refuses two tips of different cracks in one element (documented limitation); the error names
+/// the first of the two cracks by its scene key.
 fn check_tips_apart(tips: &[Tip], tip_crack: &[usize], tip_elements: &[Vec<usize>]) -> Result<()> {
     for t1 in 0..tips.len() {
         for t2 in t1 + 1..tips.len() {
@@ -379,13 +388,14 @@ fn check_tips_apart(tips: &[Tip], tip_crack: &[usize], tip_elements: &[Vec<usize
                 .find(|e| tip_elements[t2].contains(e))
             {
                 return Err(Error::invalid(
-                    "cracks",
-                    "the tips of different cracks in different elements (one element \
-                     cannot resolve two crack-tip singularities, and the SIF domain of \
-                     either tip would contain the other; refine the mesh)",
+                    &crack_name(tip_crack[t1]),
+                    TIPS_APART,
                     format!(
-                        "tip {:?} of cracks[{}] and tip {:?} of cracks[{}] both in element {e}",
-                        tips[t1].pos, tip_crack[t1], tips[t2].pos, tip_crack[t2]
+                        "tip {:?} of {} and tip {:?} of {} both in element {e}",
+                        tips[t1].pos,
+                        crack_name(tip_crack[t1]),
+                        tips[t2].pos,
+                        crack_name(tip_crack[t2])
                     ),
                 ));
             }

@@ -12,20 +12,22 @@
 //! ties), with every tip's state in `tip_history`. Every tip with lambda_t <= lambda (1 + 1e-6)
 //! then advances (so symmetric tips grow together) by `da` (or its own tip element's chord) in
 //! the direction theta_c from its current direction; the other tips stay. The run stops with
-//! `status` "a_stop reached" once the next length `a` of a crack would exceed `a_stop`, "ligament
-//! used up" when a new tip would come closer to the plate boundary than [`MIN_TIP_CLEARANCE`]
-//! element lengths (the mesh no longer resolves the remaining ligament), "cracks meet" when the
-//! grown cracks would cross or touch each other or put tips of two cracks in one element, or
-//! another crack would enter a tip's SIF domain (coalescence is not modelled), "max_steps
-//! reached", or "crack closes (K_eq <= 0)".
+//! [`GrowthStatus`] `a_stop_reached` once the next length `a` of a crack would exceed `a_stop`,
+//! `ligament_used_up` when a new tip would come closer to the plate boundary than
+//! [`MIN_TIP_CLEARANCE`] element lengths (the mesh no longer resolves the remaining ligament),
+//! `cracks_meet` when the grown cracks would cross or touch each other or put tips of two cracks
+//! in one element, or another crack would enter a tip's SIF domain (coalescence is not
+//! modelled), `max_steps_reached`, or `crack_closes` (K_eq <= 0).
 
-use super::crack::Crack;
+use super::crack::{Crack, CRACKS_APART};
+use super::enrichment::TIPS_APART;
 use super::interaction_integral::DomainSifs;
 use super::model::XfemModel;
 use super::patch::DeformedPatch;
 use super::plate::{PlateProblem, PlateSolve, MIN_TIP_CLEARANCE};
 use crate::error::{Error, Result};
 use crate::loading::Grip;
+use crate::problem::Growth as GrowthOptions;
 use crate::solver::condition_warning;
 use crate::warning::Warning;
 
@@ -50,20 +52,6 @@ pub fn k_equivalent(k_i: f64, k_ii: f64) -> f64 {
     c * (k_i * c * c - 1.5 * k_ii * t.sin())
 }
 
-/// Quasi-static LEFM growth parameters.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct GrowthParams {
-    /// fracture energy G0 (K_Ic = sqrt(G0 E'))
-    pub g0: f64,
-    /// crack extension per step; None = one element length (the tip element's chord along the
-    /// crack direction)
-    pub da: Option<f64>,
-    /// stop once the crack length `a` (see [`Crack::a`]) would exceed this
-    pub a_stop: f64,
-    /// maximum number of growth steps (critical states recorded)
-    pub max_steps: usize,
-}
-
 /// One point of the load path: the critical state of one crack configuration (or the origin).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct GrowthStep {
@@ -86,7 +74,7 @@ pub struct GrowthStep {
     /// position of the most critical tip (first in global tip order on ties)
     pub tip: [f64; 2],
     /// condition estimate of this step's solve ([`crate::solver::ConditionEstimate::value`]; 0 for the origin;
-    /// None when not computed, [`crate::xfem::XfemParams::condition`])
+    /// None when not computed, [`crate::problem::XfemMethod::condition`])
     pub condition: Option<f64>,
 }
 
@@ -104,9 +92,11 @@ pub struct TipStep {
     pub grows: bool,
 }
 
-/// Why a growth run stopped (the names are [`crate::xfem::XfemResult::status`]).
+/// Why a run stopped ([`crate::xfem::XfemResult::status`]; stable names, [`GrowthStatus::name`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(super) enum Stop {
+pub enum GrowthStatus {
+    /// no growth: one solve at the reference load
+    SingleSolve,
     /// the next length `a` of a crack would exceed `a_stop`
     AStopReached,
     /// a new tip would come closer to the boundary than [`MIN_TIP_CLEARANCE`] element lengths
@@ -118,15 +108,23 @@ pub(super) enum Stop {
     CrackCloses,
 }
 
-impl Stop {
-    pub(super) fn name(self) -> &'static str {
+impl GrowthStatus {
+    /// The stable snake_case name (the bindings' `meta["status"]`).
+    pub fn name(&self) -> &'static str {
         match self {
-            Stop::AStopReached => "a_stop reached",
-            Stop::LigamentUsedUp => "ligament used up",
-            Stop::MaxStepsReached => "max_steps reached",
-            Stop::CracksMeet => "cracks meet",
-            Stop::CrackCloses => "crack closes (K_eq <= 0)",
+            GrowthStatus::SingleSolve => "single_solve",
+            GrowthStatus::AStopReached => "a_stop_reached",
+            GrowthStatus::LigamentUsedUp => "ligament_used_up",
+            GrowthStatus::MaxStepsReached => "max_steps_reached",
+            GrowthStatus::CracksMeet => "cracks_meet",
+            GrowthStatus::CrackCloses => "crack_closes",
         }
+    }
+}
+
+impl std::fmt::Display for GrowthStatus {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
     }
 }
 
@@ -138,8 +136,8 @@ pub(super) struct Growth {
     /// warnings of the growth steps' solves
     pub(super) warnings: Vec<Warning>,
     /// None only if the loop ran out without a stop (it cannot: the last step stops with
-    /// [`Stop::MaxStepsReached`])
-    pub(super) status: Option<Stop>,
+    /// [`GrowthStatus::MaxStepsReached`])
+    pub(super) status: Option<GrowthStatus>,
     /// final polylines of all cracks
     pub(super) cracks: Vec<Vec<[f64; 2]>>,
 }
@@ -337,16 +335,17 @@ impl Growth {
 }
 
 /// The growth loop (see the module documentation) from the initial model and its solve `first`
-/// at the reference load of `plate`; `progress(step, max_steps)` is called after each step.
+/// at the reference load of `plate`, with the fracture energy `g0` (K_Ic = sqrt(G0 E'));
+/// `progress(step, max_steps)` is called after each step.
 pub(super) fn grow(
     mut model: XfemModel,
     first: PlateSolve,
     plate: &PlateProblem,
-    g: &GrowthParams,
+    (g, g0): (&GrowthOptions, f64),
     r_i_factor: f64,
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<Growth> {
-    let kic = (g.g0 * model.material.e_prime()).sqrt();
+    let kic = (g0 * model.material.e_prime()).sqrt();
     let refs = match plate.load.grip {
         Grip::Traction => (0.0, plate.load.traction),
         _ => (plate.load.u0, 0.0),
@@ -370,32 +369,34 @@ pub(super) fn grow(
                 .other_crack_in_domain(t, r_i_factor * sizes[t])
                 .is_some()
         }) {
-            out.status = Some(Stop::CracksMeet);
+            out.status = Some(GrowthStatus::CracksMeet);
             break;
         }
         let st = TipStates::new(&model, &sol.u, sizes, r_i_factor, kic)?;
         let Some(crit) = st.critical() else {
-            out.status = Some(Stop::CrackCloses);
+            out.status = Some(GrowthStatus::CrackCloses);
             break;
         };
         out.record(&model, &sol, &st, &crit, refs)?;
         progress(step + 1, g.max_steps);
         let ext = extend_tips(&model, &st, &crit.grows, g.da, plate);
         if ext.ligament {
-            out.status = Some(Stop::LigamentUsedUp);
+            out.status = Some(GrowthStatus::LigamentUsedUp);
             break;
         }
         if ext.next_a.iter().any(|&a| a > g.a_stop * (1.0 + 1e-12)) {
-            out.status = Some(Stop::AStopReached);
+            out.status = Some(GrowthStatus::AStopReached);
             break;
         }
         if step + 1 == g.max_steps {
-            out.status = Some(Stop::MaxStepsReached);
+            out.status = Some(GrowthStatus::MaxStepsReached);
             break;
         }
         model = match model.with_cracks(ext.polylines) {
-            Err(Error::InvalidInput { param, .. }) if param == "cracks" => {
-                out.status = Some(Stop::CracksMeet);
+            Err(Error::InvalidInput { expected, .. })
+                if expected == CRACKS_APART || expected == TIPS_APART =>
+            {
+                out.status = Some(GrowthStatus::CracksMeet);
                 break;
             }
             m => m?,

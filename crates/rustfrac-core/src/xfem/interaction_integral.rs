@@ -29,7 +29,7 @@
 //! Several cracks: another crack entering the support of a tip's q-function would add face terms
 //! the domain form lacks (the auxiliary field is traction-free on the tip's own crack only), so
 //! such a radius is refused (`r_I`, [`XfemModel::other_crack_in_domain`]); growth stops with
-//! status "cracks meet" instead.
+//! status `cracks_meet` instead.
 
 use super::auxiliary::williams_gradient;
 use super::crack::{on_face, Crack, Tip};
@@ -39,6 +39,7 @@ use crate::error::{check_positive, Error, Result};
 use crate::fem::stress;
 use crate::geometry::{cross, norm, point_segment_distance, polyline_distance, seg_box, sub};
 use crate::material::Elastic;
+use crate::problem::parse::crack_name;
 
 /// SIFs and energy release rates from one integration domain.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -385,6 +386,20 @@ impl XfemModel {
         None
     }
 
+    /// Whether the q-domain of tip `tip` for q-radius `radius` would reach (within 1.5 tip-element
+    /// lengths) the other tip of the same crack (a centre crack shorter than the domain).
+    pub fn other_tip_in_domain(&self, tip: usize, radius: f64) -> bool {
+        let Some(tp) = self.tips.get(tip) else {
+            return false;
+        };
+        let h_el = self.tip_element_size(tip);
+        self.tips.iter().enumerate().any(|(t, other)| {
+            t != tip
+                && self.tip_crack[t] == self.tip_crack[tip]
+                && norm(sub(other.pos, tp.pos)) < radius + 1.5 * h_el
+        })
+    }
+
     /// Refuses what the domain form cannot integrate: a wrong-sized `u`, an unknown tip, a
     /// non-positive radius, a tip on the plate boundary, a domain reaching the crack's other tip
     /// or entered by another crack.
@@ -411,7 +426,6 @@ impl XfemModel {
             .min(mesh.xs[0] + w - tp.pos[0])
             .min(tp.pos[1] - mesh.ys[0])
             .min(mesh.ys[0] + h - tp.pos[1]);
-        let h_el = self.tip_element_size(tip);
         // the q-domain may be clipped by the plate boundary (the boundary term of
         // DomainIntegral::add_boundary), but the tip must lie inside the plate
         if dist_b <= self.cracks[self.tip_crack[tip]].snap {
@@ -421,25 +435,20 @@ impl XfemModel {
                 format!("tip {:?} at {dist_b:e} from the boundary", tp.pos),
             ));
         }
-        for (t, other) in self.tips.iter().enumerate() {
-            if t != tip
-                && self.tip_crack[t] == self.tip_crack[tip]
-                && norm(sub(other.pos, tp.pos)) < radius + 1.5 * h_el
-            {
-                return Err(Error::invalid(
-                    "r_I",
-                    "a q-domain that does not reach the other crack tip",
-                    radius,
-                ));
-            }
+        if self.other_tip_in_domain(tip, radius) {
+            return Err(Error::invalid(
+                "r_I",
+                "a q-domain that does not reach the other crack tip",
+                radius,
+            ));
         }
         if let Some(c) = self.other_crack_in_domain(tip, radius) {
             return Err(Error::invalid(
                 "r_I",
                 &format!(
-                    "a q-domain that no other crack enters (cracks[{c}] passes through the \
-                     domain of the tip at {:?}: the interaction integral would miss its face \
-                     terms)",
+                    "a q-domain that no other crack enters ({} passes through the domain of the \
+                     tip at {:?}: the interaction integral would miss its face terms)",
+                    crack_name(c),
                     tp.pos
                 ),
                 radius,

@@ -20,12 +20,13 @@
 //!   and its stop statuses.
 //! * [`plate`]: the plate problem of the driver: the solve at the reference load, the smallest
 //!   tip clearance.
-//! * [`driver`]: [`XfemParams`], [`XfemResult`] and the plate driver [`run`].
+//! * [`driver`]: [`XfemResult`] and the plate driver [`run`], which reads a
+//!   [`crate::problem::Problem`] (method [`crate::problem::XfemMethod`]).
 //! * [`patch`]: deformed-mesh patches near a tip for plots (Fig. 8b).
 //!
 //! # Several cracks
-//! A model holds any number of non-intersecting cracks ([`XfemModel::new_multi`], or
-//! [`XfemParams::extra_cracks`]); everything in the modules above holds per crack and per tip:
+//! A model holds any number of non-intersecting cracks ([`XfemModel::new_multi`], or several
+//! [`crate::problem::Problem::cracks`]); everything in the modules above holds per crack and per tip:
 //! * every crack has its own level set and its own shifted Heaviside enrichment
 //!   N_I (H_c(x) - H_c(x_I)): split elements, Heaviside candidates (tip nodes of the crack's own
 //!   tips excluded) and the small-area rule are evaluated for each crack separately, so a node of
@@ -39,16 +40,19 @@
 //!   (tests/xfem_multicrack_validation.rs), 4 x 4 sub-quads there put the local crack openings
 //!   1 % off the converged integration, 8 x 8 0.5 % (a single crack in the same elements: 0.2 %);
 //!   the SIFs of the outer tips change by 1e-4.
-//! * Refused with `Error::InvalidInput { param: "cracks" }`: cracks that cross or touch each
-//!   other (junctions and coalescence are not modelled), and tips of different cracks in one
-//!   element (one element cannot resolve two singularities, and the SIF domain of either tip
-//!   would contain the other). Invalid single polylines name "cracks[k]". (Both tips of one
-//!   crack in one element, a crack shorter than an element, are accepted as before, but their
-//!   SIF domains are refused: `r_I`, the domain would reach the other tip.)
+//! * Refused, naming the crack's scene key (`Error::InvalidInput { param: "crack[k]" }`,
+//!   [`crate::problem::parse::crack_name`]): cracks that cross or touch each other (the later
+//!   crack; junctions and coalescence are not modelled), and tips of different cracks in one
+//!   element (the first crack; one element cannot resolve two singularities, and the SIF domain
+//!   of either tip would contain the other). Invalid single polylines name their crack too. (Both
+//!   tips of one crack in one element, a crack shorter than an element, are accepted as before,
+//!   but their SIF domains are refused: `r_I`, "xfem.r_I" in the driver, the domain would reach
+//!   the other tip.)
 //! * SIFs: another crack entering the support of a tip's q-function would add face terms the
 //!   domain form lacks (the auxiliary field is traction-free on the tip's own crack only), so
-//!   such a radius is refused (`r_I`, [`XfemModel::other_crack_in_domain`]); growth stops with
-//!   status "cracks meet" instead.
+//!   such a radius is refused (`r_I`, "xfem.r_I" in the driver,
+//!   [`XfemModel::other_crack_in_domain`]); the driver drops such an extra radius, and growth
+//!   stops with status `cracks_meet` instead.
 //! * Outputs: CMOD and the history's `a` refer to the primary crack `cracks[0]` (`a`: the crack
 //!   of the most critical tip during growth); [`XfemResult::tips`] and
 //!   [`XfemResult::tip_history`] hold every tip.
@@ -85,9 +89,9 @@ pub mod plate;
 
 pub use auxiliary::{williams_displacement, williams_gradient};
 pub use crack::{Crack, Tip, SNAP_REL};
-pub use driver::{run, RadiusSifs, XfemParams, XfemResult};
+pub use driver::{run, RadiusSifs, XfemResult};
 pub use enrichment::{branch_functions, branch_functions_snapped, DEFAULT_AREA_THRESHOLD};
-pub use growth::{k_equivalent, kink_angle, GrowthParams, GrowthStep, TipStep};
+pub use growth::{k_equivalent, kink_angle, GrowthStatus, GrowthStep, TipStep};
 pub use interaction_integral::{DomainIntegral, DomainSifs};
 pub use model::{XfemModel, XfemOptions};
 pub use patch::DeformedPatch;

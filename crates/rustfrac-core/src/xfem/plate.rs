@@ -6,6 +6,7 @@ use super::model::XfemModel;
 use crate::error::{Error, Result};
 use crate::fem::LinearSystem;
 use crate::loading::{plate_conditions, sigma22, PlateEdges, PlateLoad};
+use crate::problem::parse::crack_name;
 use crate::solver::ConditionEstimate;
 
 /// The loaded plate [0, width] x [0, height] around a model (the cracks vary, the plate stays).
@@ -62,7 +63,8 @@ impl PlateProblem {
 /// the q-domain may be clipped by the boundary.
 pub const MIN_TIP_CLEARANCE: f64 = 2.0;
 
-/// Refuses crack tips closer than [`MIN_TIP_CLEARANCE`] element lengths to the plate boundary.
+/// Refuses crack tips closer than [`MIN_TIP_CLEARANCE`] element lengths to the plate boundary
+/// (naming the crack's length, "crack.a0" or "crack[k].a0").
 pub(super) fn check_tip_clearance(model: &XfemModel) -> Result<()> {
     let mesh = &model.mesh;
     let (w, h) = mesh.size();
@@ -76,7 +78,7 @@ pub(super) fn check_tip_clearance(model: &XfemModel) -> Result<()> {
         let h_el = model.tip_element_size(t);
         if d < MIN_TIP_CLEARANCE * h_el * (1.0 - 1e-9) {
             return Err(Error::invalid(
-                "crack",
+                &format!("{}.a0", crack_name(model.tip_crack[t])),
                 &format!(
                     "crack tips at least {MIN_TIP_CLEARANCE} element lengths from the plate \
                      boundary: the mesh cannot resolve a crack or a ligament shorter than that \

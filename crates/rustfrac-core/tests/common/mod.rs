@@ -7,8 +7,10 @@
 use rustfrac_core::fem::{FemModel, LinearSystem, Solution};
 use rustfrac_core::loading::{plate_conditions, Grip, PlateEdges, PlateLoad};
 use rustfrac_core::material::{Elastic, Plane};
+use rustfrac_core::mesh::Side;
 use rustfrac_core::pd::sla::{CcmPdParams, Method, SlaParams};
-use rustfrac_core::xfem::{GrowthParams, XfemParams};
+use rustfrac_core::problem::{Boundary, CrackKind, CrackSpec, Domain, Growth, Problem};
+use rustfrac_core::xfem::DEFAULT_AREA_THRESHOLD;
 use std::f64::consts::PI;
 
 /// SLA progress callback that never cancels.
@@ -78,8 +80,8 @@ pub fn tada_f(x: f64) -> f64 {
 /// Tall strip W = 1, H = 4 (half-height / width 2: the handbook's long strip) on nx x ny elements,
 /// E = 1000, nu = 0.3, plane strain, unit traction, no extra J radii, with the crack `crack` (from
 /// the left edge for the edge-crack cases).
-pub fn tall_strip(crack: Vec<[f64; 2]>, nx: usize, ny: usize) -> XfemParams {
-    let mut p = XfemParams::paper(Grip::Traction);
+pub fn tall_strip(crack: Vec<[f64; 2]>, nx: usize, ny: usize) -> XfemCase {
+    let mut p = XfemCase::paper(Grip::Traction);
     p.width = 1.0;
     p.height = 4.0;
     p.nx = nx;
@@ -106,6 +108,148 @@ pub fn paper_growth(a_stop: f64, max_steps: usize) -> GrowthParams {
     }
 }
 
+/// Growth options of an [`XfemCase`] with the fracture energy G0 (which the problem keeps in its
+/// material).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GrowthParams {
+    pub g0: f64,
+    pub da: Option<f64>,
+    pub a_stop: f64,
+    pub max_steps: usize,
+}
+
+/// An XFEM test case stated by crack polylines (straight 2-point cracks: from the left, right,
+/// bottom or top edge, or interior), converted to the [`Problem`] the driver reads by
+/// [`XfemCase::problem`].
+#[derive(Debug, Clone)]
+pub struct XfemCase {
+    pub width: f64,
+    pub height: f64,
+    pub nx: usize,
+    pub ny: usize,
+    pub material: Elastic,
+    pub crack: Vec<[f64; 2]>,
+    pub extra_cracks: Vec<Vec<[f64; 2]>>,
+    pub load: PlateLoad,
+    pub nsub: usize,
+    pub tip_nsub: usize,
+    pub r_i_factor: f64,
+    pub extra_radius_factors: Vec<f64>,
+    pub fixed_area_radius: Option<f64>,
+    pub area_threshold: f64,
+    pub growth: Option<GrowthParams>,
+    pub condition: bool,
+}
+
+impl XfemCase {
+    /// The paper's case ([`Problem::paper`]("xfem")) under `grip`.
+    pub fn paper(grip: Grip) -> Self {
+        Self {
+            width: 11.0,
+            height: 21.0,
+            nx: 44,
+            ny: 83,
+            material: Elastic {
+                e: 10000.0,
+                nu: 0.25,
+                plane: Plane::Strain,
+                thickness: 1.0,
+            },
+            crack: vec![[0.0, 10.5], [1.1, 10.5]],
+            extra_cracks: Vec::new(),
+            load: PlateLoad {
+                grip,
+                u0: 0.01,
+                traction: 9.993,
+            },
+            nsub: 4,
+            tip_nsub: 4,
+            r_i_factor: 2.5,
+            extra_radius_factors: vec![1.5, 2.0, 3.0, 3.5],
+            fixed_area_radius: None,
+            area_threshold: DEFAULT_AREA_THRESHOLD,
+            growth: None,
+            condition: true,
+        }
+    }
+
+    /// The problem of this case.
+    pub fn problem(&self) -> Problem {
+        let mut p = Problem::paper("xfem");
+        p.domain = Domain {
+            width: self.width,
+            height: self.height,
+        };
+        p.material.elastic = self.material;
+        if let Some(g) = &self.growth {
+            p.material.g0 = g.g0;
+        }
+        p.boundary = Boundary::Grips(self.load);
+        p.cracks = std::iter::once(&self.crack)
+            .chain(&self.extra_cracks)
+            .map(|c| crack_of(c, &p.domain))
+            .collect();
+        let x = p.xfem_mut();
+        x.grid.nx = self.nx;
+        x.grid.ny = self.ny;
+        x.options.nsub = self.nsub;
+        x.options.tip_nsub = self.tip_nsub;
+        x.options.fixed_area_radius = self.fixed_area_radius;
+        x.options.area_threshold = self.area_threshold;
+        x.r_i = self.r_i_factor;
+        x.extra_radii = self.extra_radius_factors.clone();
+        x.growth = self.growth.map(|g| Growth {
+            max_steps: g.max_steps,
+            da: g.da,
+            a_stop: g.a_stop,
+        });
+        x.condition = self.condition;
+        p
+    }
+}
+
+/// The straight crack of a 2-point polyline: an edge crack when one end lies on an edge of the
+/// plate (that end is its mouth), else a centre crack. Axis-aligned edge cracks are exact.
+pub fn crack_of(line: &[[f64; 2]], d: &Domain) -> CrackSpec {
+    assert_eq!(line.len(), 2, "a straight crack: {line:?}");
+    let (w, h) = (d.width, d.height);
+    let on = |q: [f64; 2]| q[0] == 0.0 || q[0] == w || q[1] == 0.0 || q[1] == h;
+    let (m, t) = if on(line[1]) && !on(line[0]) {
+        (line[1], line[0])
+    } else {
+        (line[0], line[1])
+    };
+    let (dx, dy) = (t[0] - m[0], t[1] - m[1]);
+    let a0 = dx.hypot(dy);
+    let edge = |side, y, x, angle: f64| CrackSpec {
+        kind: CrackKind::Edge,
+        a0,
+        y,
+        angle: angle.to_degrees(),
+        x,
+        side,
+    };
+    if !on(m) {
+        return CrackSpec {
+            kind: CrackKind::Center,
+            a0: 0.5 * a0,
+            y: 0.5 * (m[1] + t[1]),
+            angle: dy.atan2(dx).to_degrees(),
+            x: 0.5 * (m[0] + t[0]),
+            side: Side::Left,
+        };
+    }
+    if m[0] == 0.0 {
+        edge(Side::Left, m[1], 0.0, dy.atan2(dx))
+    } else if m[0] == w {
+        edge(Side::Right, m[1], 0.0, (-dy).atan2(-dx))
+    } else if m[1] == 0.0 {
+        edge(Side::Bottom, 0.0, m[0], (-dx).atan2(dy))
+    } else {
+        edge(Side::Top, 0.0, m[0], dx.atan2(-dy))
+    }
+}
+
 /// The paper's grips at the reference load: `grip`, u0 = `u0`, no traction.
 pub fn grips(grip: Grip, u0: f64) -> PlateLoad {
     PlateLoad {
@@ -125,4 +269,12 @@ pub fn solve_fem_plate(model: &FemModel, load: &PlateLoad) -> (PlateEdges, Vec<f
         .solve(&f, 1.0)
         .unwrap();
     (edges, f, sol)
+}
+
+/// Runs the XFEM driver on the problem of `case`.
+pub fn run(
+    case: &XfemCase,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> rustfrac_core::Result<rustfrac_core::xfem::XfemResult> {
+    rustfrac_core::xfem::run(&case.problem(), progress)
 }
