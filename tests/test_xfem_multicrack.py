@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -153,3 +154,23 @@ def test_several_cracks_need_xfem_and_core_refusals_name_scene_keys() -> None:
     with pytest.raises(InvalidParameterError) as e:
         rf.run(scene)
     assert e.value.param == "xfem.r_I", str(e.value)
+
+
+def test_tip_tie_tolerance_decides_which_tips_grow() -> None:
+    """xfem.tip_tie_tol (a scene key defined only in the core's schema): tips whose critical
+    load factor lies within it of the smallest grow together. Two edge cracks of different
+    length: with the default 1e-6 only the longer (more critical) one grows in the first step;
+    with 0.9 both do. Out-of-range values are refused naming the key."""
+    cracks = [
+        {"kind": "edge", "a0": 1.5, "y": 10.5},
+        {"kind": "edge", "side": "right", "a0": 1.1, "y": 10.5},
+    ]
+    kw: dict[str, Any] = {"mesh": (22, 42), "growth_steps": 2, "cracks": cracks}
+    tight = rf.run(rf.scenes.edge_crack_plate("xfem", **kw))
+    loose = rf.run(rf.scenes.edge_crack_plate("xfem", tip_tie_tol=0.9, **kw))
+    assert tight.fields["tip_history_grows"][1].tolist() == [1.0, 0.0]
+    assert loose.fields["tip_history_grows"][1].tolist() == [1.0, 1.0]
+    assert rf.scene.XfemOptions().tip_tie_tol == 1e-6
+    with pytest.raises(rf.InvalidParameterError) as e:
+        rf.scenes.edge_crack_plate("xfem", tip_tie_tol=1.0)
+    assert e.value.param == "xfem.tip_tie_tol"

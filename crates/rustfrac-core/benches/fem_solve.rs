@@ -5,10 +5,10 @@
 //! Run: `cargo bench -p rustfrac-core --bench fem_solve`
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
-use rustfrac_core::fem::{FemModel, LinearSystem};
+use rustfrac_core::fe::loading::{plate_conditions, PlateEdges};
+use rustfrac_core::fe::mesh::Mesh;
+use rustfrac_core::fe::{FemModel, LinearSystem};
 use rustfrac_core::fem_driver::run;
-use rustfrac_core::loading::{plate_conditions, PlateEdges};
-use rustfrac_core::mesh::Mesh;
 use rustfrac_core::problem::{FeGrid, Problem};
 use std::time::Duration;
 

@@ -4,9 +4,9 @@
 //! * a single solve with SIFs on 352 x 664 (target < 2 s).
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use rustfrac_core::fem::{FemModel, LinearSystem};
-use rustfrac_core::loading::{plate_conditions, Grip, PlateEdges, PlateLoad};
-use rustfrac_core::mesh::Mesh;
+use rustfrac_core::fe::loading::{plate_conditions, Grip, PlateEdges, PlateLoad};
+use rustfrac_core::fe::mesh::Mesh;
+use rustfrac_core::fe::{FemModel, LinearSystem};
 use rustfrac_core::problem::{Growth, Problem};
 use rustfrac_core::xfem::run;
 use std::hint::black_box;

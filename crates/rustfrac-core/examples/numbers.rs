@@ -5,9 +5,9 @@
 //! Covers the FEM plate (every grip, uncracked and seam), XFEM (paper case, single solve and
 //! growth on 44 x 83, two cracks), CCM-PD (the paper's 500 SLA steps, fast solver) and pure PD and
 //! the oracle on a coarse grid.
+use rustfrac_core::fe::loading::{Grip, PlateLoad};
+use rustfrac_core::fe::mesh::Side;
 use rustfrac_core::fem_driver;
-use rustfrac_core::loading::{Grip, PlateLoad};
-use rustfrac_core::mesh::Side;
 use rustfrac_core::pd::sla::{self, CcmPdParams, SlaParams};
 use rustfrac_core::pd::splice::{Method, ModelSpec};
 use rustfrac_core::problem::{CrackSpec, Growth, Problem};

@@ -1,10 +1,10 @@
 //! Phase timings of the FEM plate pipeline: `cargo run --release --example plate_phases -- NX NY`.
-use rustfrac_core::fem::FemModel;
-use rustfrac_core::loading::{plate_conditions, PlateEdges};
-use rustfrac_core::mesh::Mesh;
+use rustfrac_core::fe::loading::{plate_conditions, PlateEdges};
+use rustfrac_core::fe::mesh::Mesh;
+use rustfrac_core::fe::FemModel;
+use rustfrac_core::la::Cholesky;
+use rustfrac_core::la::Reduction;
 use rustfrac_core::problem::Problem;
-use rustfrac_core::solver::Cholesky;
-use rustfrac_core::sparse::Reduction;
 use std::time::Instant;
 
 fn main() {

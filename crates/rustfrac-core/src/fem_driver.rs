@@ -7,12 +7,12 @@
 //! kind [`CrackKind::Seam`]; none: uncracked) and the [`FemMethod`] options.
 
 use crate::error::{Error, Result};
-use crate::fem::{FemModel, LinearSystem};
-use crate::loading::{plate_conditions, sigma22, PlateEdges};
-use crate::mesh::Mesh;
+use crate::fe::loading::{plate_conditions, sigma22, PlateEdges};
+use crate::fe::mesh::Mesh;
+use crate::fe::{FemModel, LinearSystem};
+use crate::la::{condition_warning, ConditionEstimate};
 use crate::problem::parse::crack_name;
 use crate::problem::{validate, CrackKind, FemMethod, Method, Problem};
-use crate::solver::{condition_warning, ConditionEstimate};
 use crate::warning::Warning;
 use std::time::Instant;
 
@@ -39,10 +39,10 @@ pub struct FemPlateResult {
     pub wall_time_s: f64,
     /// condition estimate of the solve (see [`ConditionEstimate`]); None when not computed
     /// ([`FemMethod::condition`] false: without it only the free pivot-ratio bound guards
-    /// against [`crate::solver::COND_SINGULAR`])
+    /// against [`crate::la::COND_SINGULAR`])
     pub condition: Option<ConditionEstimate>,
-    /// numerical and accuracy warnings (a condition estimate above [`crate::solver::COND_WARN`],
-    /// volumetric locking near nu = 0.5, [`crate::material::Elastic::locking_warning`])
+    /// numerical and accuracy warnings (a condition estimate above [`crate::la::COND_WARN`],
+    /// volumetric locking near nu = 0.5, [`crate::fe::material::Elastic::locking_warning`])
     pub warnings: Vec<Warning>,
 }
 

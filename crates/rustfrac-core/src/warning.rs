@@ -7,11 +7,11 @@ use std::fmt;
 /// What a [`Warning`] is about.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum WarningKind {
-    /// a solve's condition estimate exceeds [`crate::solver::COND_WARN`]: round-off may be
+    /// a solve's condition estimate exceeds [`crate::la::COND_WARN`]: round-off may be
     /// comparable with the discretisation error
     IllConditioned,
     /// volumetric locking of the fully integrated Q4 elements near nu = 0.5 in plane strain
-    /// ([`crate::material::Elastic::locking_warning`])
+    /// ([`crate::fe::material::Elastic::locking_warning`])
     Locking,
     /// a known limit of the discretisation: PD horizon factor m < 2, PD nodes grounded after
     /// losing all stiffness along a direction

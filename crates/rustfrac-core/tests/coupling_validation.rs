@@ -2,10 +2,10 @@
 //! the outer boundary is reproduced everywhere, a linear strain field (error reported), and the
 //! non-symmetry of the splice matrix.
 
-use rustfrac_core::material::{Elastic, Plane};
+use rustfrac_core::fe::material::{Elastic, Plane};
+use rustfrac_core::la::Lu;
+use rustfrac_core::la::Reduction;
 use rustfrac_core::pd::splice::{Method, ModelSpec, SpliceModel};
-use rustfrac_core::solver::Lu;
-use rustfrac_core::sparse::Reduction;
 
 fn spec(method: Method) -> ModelSpec {
     ModelSpec {

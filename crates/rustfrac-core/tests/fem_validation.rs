@@ -4,12 +4,12 @@
 mod common;
 
 use common::{grips, solve_fem_plate};
-use rustfrac_core::fem::{Dirichlet, FemModel, LinearSystem};
-use rustfrac_core::loading::{sigma22, Grip};
-use rustfrac_core::material::{Elastic, Plane};
-use rustfrac_core::mesh::{Mesh, Side};
-use rustfrac_core::solver::{Cholesky, Lu};
-use rustfrac_core::sparse::CscMatrix;
+use rustfrac_core::fe::loading::{sigma22, Grip};
+use rustfrac_core::fe::material::{Elastic, Plane};
+use rustfrac_core::fe::mesh::{Mesh, Side};
+use rustfrac_core::fe::{Dirichlet, FemModel, LinearSystem};
+use rustfrac_core::la::CscMatrix;
+use rustfrac_core::la::{Cholesky, Lu};
 use rustfrac_core::Error;
 
 #[test]

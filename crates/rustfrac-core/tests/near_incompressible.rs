@@ -6,9 +6,9 @@ mod common;
 
 use common::XfemCase;
 use common::{quiet, tada_f};
+use rustfrac_core::fe::loading::{Grip, PlateLoad};
+use rustfrac_core::fe::material::{Elastic, Plane, NU_LOCKING_WARN};
 use rustfrac_core::fem_driver;
-use rustfrac_core::loading::{Grip, PlateLoad};
-use rustfrac_core::material::{Elastic, Plane, NU_LOCKING_WARN};
 use rustfrac_core::problem::{Boundary, Domain, FeGrid, Problem};
 use std::f64::consts::PI;
 

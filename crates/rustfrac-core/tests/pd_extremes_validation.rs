@@ -6,7 +6,7 @@ mod common;
 
 use common::XfemCase;
 use common::{go_on, pd_plate, pd_strip, quiet, rel};
-use rustfrac_core::loading::Grip;
+use rustfrac_core::fe::loading::Grip;
 use rustfrac_core::pd::sla::{run, CcmPdParams, CcmPdResult, Method, SlaParams};
 use rustfrac_core::pd::splice::SpliceModel;
 use rustfrac_core::Error;

@@ -1,7 +1,7 @@
 //! Peridynamics validation: gamma from exact partial areas, constants, energy density of bulk nodes,
 //! pure PD model under linear fields.
 
-use rustfrac_core::material::{Elastic, Plane};
+use rustfrac_core::fe::material::{Elastic, Plane};
 use rustfrac_core::pd::sla::{run, CcmPdParams, Method};
 use rustfrac_core::pd::splice::{ModelSpec, SpliceModel};
 use rustfrac_core::pd::{family_stencil, find_bonds, gamma, Grid, PdConstants, BYTES_PER_BOND};

@@ -17,11 +17,11 @@ mod common;
 
 use common::{go_on, grips, quiet, solve_fem_plate};
 use common::{GrowthParams, XfemCase};
-use rustfrac_core::fem::FemModel;
+use rustfrac_core::fe::loading::{sigma22, Grip, PlateLoad};
+use rustfrac_core::fe::material::{Elastic, Plane};
+use rustfrac_core::fe::mesh::Mesh;
+use rustfrac_core::fe::FemModel;
 use rustfrac_core::fem_driver::{self, FemPlateResult};
-use rustfrac_core::loading::{sigma22, Grip, PlateLoad};
-use rustfrac_core::material::{Elastic, Plane};
-use rustfrac_core::mesh::Mesh;
 use rustfrac_core::pd::sla::{self, CcmPdParams, Method, SlaParams};
 use rustfrac_core::problem::{Boundary, Domain, Problem};
 

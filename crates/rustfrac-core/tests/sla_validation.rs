@@ -4,7 +4,7 @@
 mod common;
 
 use common::{coarse, go_on, pd_strip};
-use rustfrac_core::loading::Grip;
+use rustfrac_core::fe::loading::Grip;
 use rustfrac_core::pd::sla::{run, CcmPdParams};
 
 #[test]

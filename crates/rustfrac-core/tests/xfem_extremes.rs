@@ -9,11 +9,11 @@ mod common;
 
 use common::{quiet, tada_f, tall_strip};
 use nalgebra::DMatrix;
-use rustfrac_core::fem::{Dirichlet, FemModel, LinearSystem};
-use rustfrac_core::material::{Elastic, Plane};
-use rustfrac_core::mesh::{Mesh, Side};
-use rustfrac_core::solver::{Cholesky, ConditionEstimate};
-use rustfrac_core::sparse::CscMatrix;
+use rustfrac_core::fe::material::{Elastic, Plane};
+use rustfrac_core::fe::mesh::{Mesh, Side};
+use rustfrac_core::fe::{Dirichlet, FemModel, LinearSystem};
+use rustfrac_core::la::CscMatrix;
+use rustfrac_core::la::{Cholesky, ConditionEstimate};
 use rustfrac_core::xfem::williams_displacement;
 use rustfrac_core::xfem::{branch_functions, XfemModel, XfemOptions};
 use std::sync::Arc;
@@ -196,7 +196,7 @@ fn condition_estimate_matches_dense_exact_values() {
 // XFEM crack geometry extremes
 
 use common::{run, XfemCase};
-use rustfrac_core::loading::{plate_conditions, Grip, PlateEdges, PlateLoad};
+use rustfrac_core::fe::loading::{plate_conditions, Grip, PlateEdges, PlateLoad};
 use rustfrac_core::xfem::XfemResult;
 use rustfrac_core::Error;
 
@@ -637,7 +637,7 @@ fn a_million_unknowns_deep_crack() {
 #[test]
 #[ignore]
 fn condition_estimate_cost_on_the_352_x_665_plate() {
-    use rustfrac_core::loading::{plate_conditions, PlateEdges};
+    use rustfrac_core::fe::loading::{plate_conditions, PlateEdges};
     let p = XfemCase::paper(Grip::Free);
     let mesh = Arc::new(Mesh::uniform(0.0, 0.0, p.width, p.height, 352, 665).unwrap());
     let model = XfemModel::new(
@@ -690,7 +690,7 @@ fn condition_estimate_cost_on_the_352_x_665_plate() {
 
 #[test]
 fn condition_warning_above_the_threshold_only() {
-    use rustfrac_core::solver::{condition_warning, COND_WARN};
+    use rustfrac_core::la::{condition_warning, COND_WARN};
     let c = |v: f64| ConditionEstimate {
         cond1: v,
         pivot_ratio: 2.0,

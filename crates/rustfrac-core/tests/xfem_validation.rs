@@ -6,10 +6,10 @@ mod common;
 
 use common::{grips, paper_growth, quiet, solve_fem_plate, tada_f, tall_strip};
 use common::{run, GrowthParams, XfemCase};
-use rustfrac_core::fem::{Dirichlet, FemModel, LinearSystem};
-use rustfrac_core::loading::{plate_conditions, sigma22, Grip, PlateEdges, PlateLoad};
-use rustfrac_core::material::{Elastic, Plane};
-use rustfrac_core::mesh::{Mesh, Side};
+use rustfrac_core::fe::loading::{plate_conditions, sigma22, Grip, PlateEdges, PlateLoad};
+use rustfrac_core::fe::material::{Elastic, Plane};
+use rustfrac_core::fe::mesh::{Mesh, Side};
+use rustfrac_core::fe::{Dirichlet, FemModel, LinearSystem};
 use rustfrac_core::xfem::williams_displacement;
 use rustfrac_core::xfem::{GrowthStatus, XfemModel, XfemOptions};
 use rustfrac_core::Error;

@@ -53,8 +53,8 @@ fn run<'py>(
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("PROGRESS_INTERVAL_S", PROGRESS_INTERVAL_S)?;
-    m.add("COND_WARN", rustfrac_core::solver::COND_WARN)?;
-    m.add("COND_SINGULAR", rustfrac_core::solver::COND_SINGULAR)?;
+    m.add("COND_WARN", rustfrac_core::la::COND_WARN)?;
+    m.add("COND_SINGULAR", rustfrac_core::la::COND_SINGULAR)?;
     m.add(
         "WARNING_KINDS",
         rustfrac_core::WarningKind::ALL

@@ -59,7 +59,7 @@ impl<'py> Shaped<'py> {
 
     /// The anchor node (None under clamped grips, where no anchor is needed).
     pub fn anchor(&self, p: &Problem, node: usize) -> PyResult<()> {
-        let clamped = p.boundary.plate_load().grip == rustfrac_core::loading::Grip::Clamped;
+        let clamped = p.boundary.plate_load().grip == rustfrac_core::fe::loading::Grip::Clamped;
         if clamped {
             self.meta.set_item("anchor_node", self.py.None())
         } else {

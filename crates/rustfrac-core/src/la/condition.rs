@@ -135,7 +135,7 @@ impl Cholesky {
 
     /// [`Cholesky::condition_estimate`] of the free-free block K_ff of a full matrix, read in
     /// place through `map` (full dof -> free index or `usize::MAX`) and `free` (free index -> full
-    /// dof), i.e. without gathering K_ff again (see [`crate::sparse::Reduction`]).
+    /// dof), i.e. without gathering K_ff again (see [`crate::la::Reduction`]).
     pub fn condition_estimate_free(
         &self,
         full: &CscMatrix,

@@ -19,9 +19,9 @@ pub mod schema;
 pub mod validate;
 pub mod value;
 
-use crate::loading::{Grip, PlateLoad};
-use crate::material::Elastic;
-use crate::mesh::Side;
+use crate::fe::loading::{Grip, PlateLoad};
+use crate::fe::material::Elastic;
+use crate::fe::mesh::Side;
 use crate::pd::sla::SlaParams;
 use crate::xfem::XfemOptions;
 
@@ -165,6 +165,8 @@ pub struct XfemMethod {
     /// further radii (tip-element lengths) at which the SIFs are reported
     pub extra_radii: Vec<f64>,
     pub growth: Option<Growth>,
+    /// tips within this relative tolerance of the smallest critical load factor grow together
+    pub tip_tie_tol: f64,
     /// compute the condition estimate of every solve (2 extra solves each)
     pub condition: bool,
 }

@@ -10,9 +10,9 @@ use super::{
     Problem, XfemMethod,
 };
 use crate::error::{Error, Result};
-use crate::loading::{Grip, PlateLoad};
-use crate::material::{Elastic, Plane};
-use crate::mesh::Side;
+use crate::fe::loading::{Grip, PlateLoad};
+use crate::fe::material::{Elastic, Plane};
+use crate::fe::mesh::Side;
 use crate::pd::sla::SlaParams;
 use crate::xfem::XfemOptions;
 use std::collections::BTreeMap;
@@ -412,6 +412,7 @@ fn xfem_method(mesh: &Section, x: &Section, domain: &Domain) -> XfemMethod {
                 0.7 * domain.width
             },
         }),
+        tip_tie_tol: x["tip_tie_tol"].f(),
         condition: true,
     }
 }

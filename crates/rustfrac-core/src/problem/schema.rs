@@ -7,7 +7,7 @@
 
 use super::value::Value;
 use crate::error::{MAG_MAX, MAG_MIN};
-use crate::mesh::MAX_ELEMENTS;
+use crate::fe::mesh::MAX_ELEMENTS;
 use std::sync::OnceLock;
 
 /// Largest SLA step count, re-condensation period and damage-snapshot step.
@@ -276,6 +276,10 @@ fn build() -> Vec<KeySpec> {
           &format!("an integer in 0..{MAX_GROWTH_STEPS}"),
           "0 = solve at the reference load only; else the most LEFM growth steps (critical \
            states where G = G0)", |v| (0..=MAX_GROWTH_STEPS as i64).contains(&v.i())),
+        k("xfem", "tip_tie_tol", Float, Val::Float(1e-6), "0 <= tip_tie_tol < 1",
+          "growth with several tips: every tip whose critical load factor is within this \
+           relative tolerance of the smallest grows in the same step (symmetric tips together)",
+          |v| v.f() >= 0.0 && v.f() < 1.0),
         k("xfem", "da", Float, Val::Float(0.0),
           "0 (one element length) or a length in [1e-30, 1e30]",
           "crack extension per growth step", |v| nonneg(v.f())),

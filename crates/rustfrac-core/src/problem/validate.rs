@@ -9,10 +9,10 @@ use super::parse::crack_name;
 use super::schema::{self, Val, PD_NU};
 use super::{Boundary, CrackKind, CrackSpec, Domain, Method, PdMethod, Problem, XfemMethod};
 use crate::error::{Error, Result};
+use crate::fe::loading::Grip;
+use crate::fe::material::Plane;
+use crate::fe::mesh::Side;
 use crate::geometry::segment_distance;
-use crate::loading::Grip;
-use crate::material::Plane;
-use crate::mesh::Side;
 
 /// Every cross-parameter rule of a problem.
 pub fn problem(p: &Problem) -> Result<()> {
@@ -142,6 +142,7 @@ fn xfem_ranges(x: &XfemMethod, int: &dyn Fn(usize) -> Val) -> Result<()> {
         Val::Float(o.area_threshold),
     )?;
     in_range("xfem", "xfem", "r_I", Val::Float(x.r_i))?;
+    in_range("xfem", "xfem", "tip_tie_tol", Val::Float(x.tip_tie_tol))?;
     for &f in &x.extra_radii {
         in_range("xfem", "xfem", "r_I", Val::Float(f))
             .map_err(|e| Error::invalid("xfem.extra_radii", &schema_valid("xfem", "r_I"), e))?;

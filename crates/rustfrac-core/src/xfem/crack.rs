@@ -16,8 +16,8 @@
 //! cracks"): junctions and coalescence are not modelled.
 
 use crate::error::{Error, Result};
+use crate::fe::mesh::Mesh;
 use crate::geometry::{cross, dot, norm, segment_distance, sub, unit};
-use crate::mesh::Mesh;
 use crate::problem::parse::crack_name;
 
 /// A crack tip: position and unit direction of crack advance (the tip frame's x~1 axis).

@@ -8,10 +8,10 @@ use super::model::XfemModel;
 use super::patch::DeformedPatch;
 use super::plate::{check_tip_clearance, PlateProblem, PlateSolve};
 use crate::error::{Error, Result};
-use crate::loading::PlateEdges;
-use crate::mesh::Mesh;
+use crate::fe::loading::PlateEdges;
+use crate::fe::mesh::Mesh;
+use crate::la::{condition_warning, ConditionEstimate};
 use crate::problem::{validate, Method, Problem, XfemMethod};
-use crate::solver::{condition_warning, ConditionEstimate};
 use crate::warning::Warning;
 use std::sync::Arc;
 
@@ -88,7 +88,7 @@ pub struct XfemResult {
     /// not computed ([`XfemMethod::condition`] false)
     pub condition: Option<ConditionEstimate>,
     /// numerical and accuracy warnings (a condition estimate above
-    /// [`crate::solver::COND_WARN`], volumetric locking near nu = 0.5, [`Elastic::locking_warning`])
+    /// [`crate::la::COND_WARN`], volumetric locking near nu = 0.5, [`Elastic::locking_warning`])
     pub warnings: Vec<Warning>,
 }
 
@@ -109,7 +109,14 @@ pub fn run(problem: &Problem, progress: &(dyn Fn(usize, usize) + Sync)) -> Resul
         return Ok(res);
     };
     let g0 = problem.material.g0;
-    let growth = grow(model, first, &plate, (&g, g0), x.r_i, progress)?;
+    let growth = grow(
+        model,
+        first,
+        &plate,
+        (&g, g0),
+        (x.r_i, x.tip_tie_tol),
+        progress,
+    )?;
     res.history = growth.history;
     res.tip_history = growth.tip_history;
     res.snapshots = growth.snapshots;

@@ -29,8 +29,8 @@
 use super::crack::{on_face, Crack, Tip};
 use super::integration::{RuleKind, Rules};
 use crate::error::{Error, Result};
+use crate::fe::mesh::Mesh;
 use crate::geometry::{norm, positive_area, seg_box, sub};
-use crate::mesh::Mesh;
 use crate::problem::parse::crack_name;
 use std::collections::HashMap;
 
@@ -206,7 +206,7 @@ impl EnrichmentSets {
     }
 
     /// The sub-quad rule a crossed element will use.
-    fn crossed_rule<'r>(&self, rules: &'r Rules, e: usize) -> &'r [crate::quadrature::QPoint] {
+    fn crossed_rule<'r>(&self, rules: &'r Rules, e: usize) -> &'r [crate::fe::quadrature::QPoint] {
         rules.get(RuleKind::select(
             self.is_tip_element(e),
             true,
@@ -433,9 +433,9 @@ fn crossed_elements(cells: &Cells, crack: &Crack) -> HashMap<usize, (usize, f64)
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::fe::material::Elastic;
+    use crate::fe::material::Plane;
     use crate::geometry::unit;
-    use crate::material::Elastic;
-    use crate::material::Plane;
     use crate::xfem::{XfemModel, XfemOptions};
     use std::sync::Arc;
 

@@ -9,7 +9,7 @@
 //! critical) and the step's load factor is lambda = min_t lambda_t. The linear solution scaled by
 //! lambda is the critical state, recorded as (lambda, lambda sigma22, lambda CMOD, lambda u0, a,
 //! lambda K_I, lambda K_II, theta_c, tip) of the most critical tip (the first one in tip order on
-//! ties), with every tip's state in `tip_history`. Every tip with lambda_t <= lambda (1 + 1e-6)
+//! ties), with every tip's state in `tip_history`. Every tip with lambda_t <= lambda (1 + tip_tie_tol) (scene key `xfem.tip_tie_tol`, 1e-6)
 //! then advances (so symmetric tips grow together) by `da` (or its own tip element's chord) in
 //! the direction theta_c from its current direction; the other tips stay. The run stops with
 //! [`GrowthStatus`] `a_stop_reached` once the next length `a` of a crack would exceed `a_stop`,
@@ -26,9 +26,9 @@ use super::model::XfemModel;
 use super::patch::DeformedPatch;
 use super::plate::{PlateProblem, PlateSolve, MIN_TIP_CLEARANCE};
 use crate::error::{Error, Result};
-use crate::loading::Grip;
+use crate::fe::loading::Grip;
+use crate::la::condition_warning;
 use crate::problem::Growth as GrowthOptions;
-use crate::solver::condition_warning;
 use crate::warning::Warning;
 
 /// Kink angle of the maximum circumferential stress criterion (Erdogan and Sih), in the tip frame:
@@ -73,7 +73,7 @@ pub struct GrowthStep {
     pub kink_angle: f64,
     /// position of the most critical tip (first in global tip order on ties)
     pub tip: [f64; 2],
-    /// condition estimate of this step's solve ([`crate::solver::ConditionEstimate::value`]; 0 for the origin;
+    /// condition estimate of this step's solve ([`crate::la::ConditionEstimate::value`]; 0 for the origin;
     /// None when not computed, [`crate::problem::XfemMethod::condition`])
     pub condition: Option<f64>,
 }
@@ -88,7 +88,7 @@ pub struct TipStep {
     pub k_ii: f64,
     /// kink angle (radians, tip frame) of the Erdogan-Sih criterion
     pub kink_angle: f64,
-    /// whether this tip was critical (within a relative 1e-6 of the step's load factor) and grew
+    /// whether this tip was critical (within a relative `xfem.tip_tie_tol` of the step's load factor) and grew
     pub grows: bool,
 }
 
@@ -179,20 +179,20 @@ impl TipStates {
 
     /// The most critical tip (first on ties) and the load factor it sets, or None when no tip
     /// can become critical (K_eq <= 0 everywhere); with the tips that grow.
-    fn critical(&self) -> Option<Critical> {
+    fn critical(&self, tie: f64) -> Option<Critical> {
         let lams = &self.lams;
         let t = (0..lams.len()).fold(0, |b, t| if lams[t] < lams[b] { t } else { b });
         let lam = lams[t];
         if !lam.is_finite() {
             return None;
         }
-        let grows: Vec<bool> = lams.iter().map(|&l| l <= lam * (1.0 + 1e-6)).collect();
+        let grows: Vec<bool> = lams.iter().map(|&l| l <= lam * (1.0 + tie)).collect();
         Some(Critical { t, lam, grows })
     }
 }
 
 /// The critical state of one step: the most critical tip `t`, the load factor `lam` it sets and
-/// the tips that grow (lambda_t <= lambda (1 + 1e-6)).
+/// the tips that grow (lambda_t <= lambda (1 + tip_tie_tol)).
 struct Critical {
     t: usize,
     lam: f64,
@@ -342,7 +342,7 @@ pub(super) fn grow(
     first: PlateSolve,
     plate: &PlateProblem,
     (g, g0): (&GrowthOptions, f64),
-    r_i_factor: f64,
+    (r_i_factor, tie): (f64, f64),
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<Growth> {
     let kic = (g0 * model.material.e_prime()).sqrt();
@@ -373,7 +373,7 @@ pub(super) fn grow(
             break;
         }
         let st = TipStates::new(&model, &sol.u, sizes, r_i_factor, kic)?;
-        let Some(crit) = st.critical() else {
+        let Some(crit) = st.critical(tie) else {
             out.status = Some(GrowthStatus::CrackCloses);
             break;
         };

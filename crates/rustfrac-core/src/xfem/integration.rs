@@ -14,11 +14,11 @@
 //! it is exact either way). The enriched blocks themselves (eqs. 25-26, 34) are assembled by
 //! [`crate::xfem::XfemModel::element_block`].
 
-use crate::fem::element_stiffness;
+use crate::fe::material::Elastic;
+use crate::fe::mesh::Mesh;
+use crate::fe::q4::element_stiffness;
+use crate::fe::quadrature::{subquad_rule, QPoint};
 use crate::geometry::sub;
-use crate::material::Elastic;
-use crate::mesh::Mesh;
-use crate::quadrature::{subquad_rule, QPoint};
 use std::collections::HashMap;
 
 /// Standard element stiffness blocks, one per distinct element shape (dx, dy).

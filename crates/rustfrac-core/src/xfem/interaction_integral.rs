@@ -36,9 +36,9 @@ use super::crack::{on_face, Crack, Tip};
 use super::integration::RuleKind;
 use super::model::{BasisBuf, EnrElement, XfemModel};
 use crate::error::{check_positive, Error, Result};
-use crate::fem::stress;
+use crate::fe::material::Elastic;
+use crate::fe::q4::stress;
 use crate::geometry::{cross, norm, point_segment_distance, polyline_distance, seg_box, sub};
-use crate::material::Elastic;
 use crate::problem::parse::crack_name;
 
 /// SIFs and energy release rates from one integration domain.

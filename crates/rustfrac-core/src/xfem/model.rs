@@ -21,11 +21,11 @@ use super::enrichment::{
 };
 use super::integration::{RuleKind, Rules, StdBlocks};
 use crate::error::{check_positive, Error, Result};
-use crate::fem::{add_btdb, geometry, shape};
-use crate::material::Elastic;
-use crate::mesh::Mesh;
-use crate::quadrature::QPoint;
-use crate::sparse::{CscMatrix, Pattern};
+use crate::fe::material::Elastic;
+use crate::fe::mesh::Mesh;
+use crate::fe::q4::{add_btdb, geometry, shape};
+use crate::fe::quadrature::QPoint;
+use crate::la::{CscMatrix, Pattern};
 use std::collections::HashMap;
 use std::sync::Arc;
 

@@ -4,7 +4,7 @@
 
 use super::model::{BasisBuf, XfemModel};
 use crate::error::{Error, Result};
-use crate::fem::geometry;
+use crate::fe::q4::geometry;
 
 impl XfemModel {
     /// Deformed-mesh data near a tip: every element whose centre lies within `half_width` of the

@@ -4,10 +4,10 @@
 
 use super::model::XfemModel;
 use crate::error::{Error, Result};
-use crate::fem::LinearSystem;
-use crate::loading::{plate_conditions, sigma22, PlateEdges, PlateLoad};
+use crate::fe::loading::{plate_conditions, sigma22, PlateEdges, PlateLoad};
+use crate::fe::LinearSystem;
+use crate::la::ConditionEstimate;
 use crate::problem::parse::crack_name;
-use crate::solver::ConditionEstimate;
 
 /// The loaded plate [0, width] x [0, height] around a model (the cracks vary, the plate stays).
 pub(super) struct PlateProblem {

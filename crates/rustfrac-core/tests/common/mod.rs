@@ -4,10 +4,10 @@
 //! a plate under the paper's grips. Each test binary uses only some of them.
 #![allow(dead_code)]
 
-use rustfrac_core::fem::{FemModel, LinearSystem, Solution};
-use rustfrac_core::loading::{plate_conditions, Grip, PlateEdges, PlateLoad};
-use rustfrac_core::material::{Elastic, Plane};
-use rustfrac_core::mesh::Side;
+use rustfrac_core::fe::loading::{plate_conditions, Grip, PlateEdges, PlateLoad};
+use rustfrac_core::fe::material::{Elastic, Plane};
+use rustfrac_core::fe::mesh::Side;
+use rustfrac_core::fe::{FemModel, LinearSystem, Solution};
 use rustfrac_core::pd::sla::{CcmPdParams, Method, SlaParams};
 use rustfrac_core::problem::{Boundary, CrackKind, CrackSpec, Domain, Growth, Problem};
 use rustfrac_core::xfem::DEFAULT_AREA_THRESHOLD;

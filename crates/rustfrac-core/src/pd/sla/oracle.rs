@@ -3,9 +3,9 @@
 
 use super::engine::{separated, Engine, State, Update};
 use crate::error::Result;
+use crate::la::Lu;
+use crate::la::{CscMatrix, Reduction};
 use crate::pd::splice::{SpliceModel, Spring};
-use crate::solver::Lu;
-use crate::sparse::{CscMatrix, Reduction};
 
 /// Refactorise-every-step oracle.
 pub(super) struct Oracle<'a> {

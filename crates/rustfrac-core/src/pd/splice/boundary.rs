@@ -1,5 +1,5 @@
 //! Loading of the splice model: the plate's top and bottom edges
-//! ([`crate::loading::plate_conditions`]). In the coupled model those are the edge node rows; in
+//! ([`crate::fe::loading::plate_conditions`]). In the coupled model those are the edge node rows; in
 //! the pure PD model the displacement conditions act on volumetric boundary layers of m node rows
 //! (thickness m dx = delta) at the top and bottom, the usual choice that gives edge nodes a full
 //! family of prescribed neighbours. The u1 anchor of the "free" grip is the bottom-right corner
@@ -7,8 +7,8 @@
 
 use super::ModelSpec;
 use crate::error::Result;
-use crate::fem::Dirichlet;
-use crate::loading::{plate_conditions, tributary_lengths, PlateEdges};
+use crate::fe::loading::{plate_conditions, tributary_lengths, PlateEdges};
+use crate::fe::Dirichlet;
 use crate::pd::Grid;
 
 /// The loading of a model: the loaded node rows, the displacement conditions, the external forces
@@ -22,7 +22,7 @@ pub(super) struct Loading {
     pub(super) prescribed: Vec<f64>,
 }
 
-/// The loading of the model on `grid` ([`crate::loading::plate_conditions`] on [`edges`]).
+/// The loading of the model on `grid` ([`crate::fe::loading::plate_conditions`] on [`edges`]).
 pub(super) fn loading(spec: &ModelSpec, grid: &Grid) -> Result<Loading> {
     let ndof = 2 * grid.n_nodes();
     let edges = edges(spec, grid);

@@ -7,10 +7,10 @@ use super::boundary::loading;
 use super::precrack;
 use super::{ModelSpec, SpliceModel};
 use crate::error::{check_positive, Error, Result};
-use crate::fem::element_stiffness;
+use crate::fe::q4::element_stiffness;
+use crate::fe::quadrature::subquad_rule;
+use crate::la::Pattern;
 use crate::pd::{find_bonds, Bond, Grid, PdConstants};
-use crate::quadrature::subquad_rule;
-use crate::sparse::Pattern;
 use crate::warning::{Warning, WarningKind};
 
 impl SpliceModel {
@@ -68,7 +68,7 @@ pub(crate) fn grid_count(len: f64, dx: f64, name: &str) -> Result<usize> {
 }
 
 /// The grid (W / dx and L / dx integers, the same spacing along both axes, at most
-/// [`crate::mesh::MAX_ELEMENTS`] nodes) and the PD constants on it.
+/// [`crate::fe::mesh::MAX_ELEMENTS`] nodes) and the PD constants on it.
 fn grid_and_constants(spec: &ModelSpec) -> Result<(Grid, PdConstants)> {
     check_positive("width", spec.width)?;
     check_positive("height", spec.height)?;
@@ -84,10 +84,10 @@ fn grid_and_constants(spec: &ModelSpec) -> Result<(Grid, PdConstants)> {
         ));
     }
     // the same memory guard as the FEM meshes (a finer PD grid also makes each SLA step slow)
-    if (nx + 1) * (ny + 1) > crate::mesh::MAX_ELEMENTS {
+    if (nx + 1) * (ny + 1) > crate::fe::mesh::MAX_ELEMENTS {
         return Err(Error::invalid(
             "dx",
-            &format!("at most {} grid nodes", crate::mesh::MAX_ELEMENTS),
+            &format!("at most {} grid nodes", crate::fe::mesh::MAX_ELEMENTS),
             (nx + 1) * (ny + 1),
         ));
     }

@@ -26,12 +26,12 @@ pub(crate) use build::grid_count;
 pub(crate) use springs::Spring;
 
 use crate::error::{Error, Result};
-use crate::fem::Dirichlet;
-use crate::loading::{PlateEdges, PlateLoad};
-use crate::material::Elastic;
+use crate::fe::loading::{PlateEdges, PlateLoad};
+use crate::fe::material::Elastic;
+use crate::fe::Dirichlet;
+use crate::la::Lu;
+use crate::la::{CscMatrix, Pattern, Reduction};
 use crate::pd::{Bond, Grid, PdConstants};
-use crate::solver::Lu;
-use crate::sparse::{CscMatrix, Pattern, Reduction};
 use crate::warning::Warning;
 
 /// Model choice: splice coupling with PD rectangles, or PD everywhere.
@@ -88,8 +88,8 @@ impl ModelSpec {
     /// (1.70, 10.5), E = 10000, nu = 0.25, G0 = 0.367, plane strain, h = 1, pre-crack a = 1.1 along
     /// x2 = 10.5, u0 = 0.01, u1 free.
     pub fn paper() -> Self {
-        use crate::loading::Grip;
-        use crate::material::Plane;
+        use crate::fe::loading::Grip;
+        use crate::fe::material::Plane;
         Self {
             method: Method::CcmPd,
             width: 11.0,

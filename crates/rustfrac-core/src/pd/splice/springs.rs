@@ -8,7 +8,7 @@
 //! assembly with springs; when the SLA grounds which node is [`crate::pd::sla`]'s grounding.
 
 use super::SpliceModel;
-use crate::sparse::CscMatrix;
+use crate::la::CscMatrix;
 
 /// A grounding spring k p p^T on the free dofs of one PD node, along the unit direction `p`: it
 /// removes a direction in which the node's intact bonds give no stiffness (all bonds broken, or

@@ -10,11 +10,11 @@
 
 use super::{Fast, CLS_F, CLS_FIXED, CLS_P};
 use crate::error::{Error, Result};
+use crate::la::Cholesky;
+use crate::la::{CscMatrix, Reduction};
 use crate::pd::sla::engine::{separated, timing};
 use crate::pd::sla::params::auto_refactor_every;
 use crate::pd::splice::{SpliceModel, Spring};
-use crate::solver::Cholesky;
-use crate::sparse::{CscMatrix, Reduction};
 use faer::linalg::solvers::DenseSolveCore;
 use faer::Mat;
 use rayon::prelude::*;

@@ -16,9 +16,9 @@ mod smw;
 
 use super::engine::{separated, Engine, State, Update};
 use crate::error::Result;
+use crate::la::Cholesky;
+use crate::la::{CscMatrix, Reduction};
 use crate::pd::splice::{SpliceModel, Spring};
-use crate::solver::Cholesky;
-use crate::sparse::{CscMatrix, Reduction};
 use faer::Mat;
 
 /// Dof classes of the condensation.
