@@ -134,7 +134,7 @@ proptest! {
             Ok(()) => prop_assert!(ok),
             Err(err) => {
                 prop_assert!(!ok);
-                prop_assert!(refused_naming(&err, &["nsub", "tip_nsub", "fixed_area_radius", "area_threshold"]), "{err}");
+                prop_assert!(refused_naming(&err, &["xfem.nsub", "xfem.tip_nsub", "xfem.fixed_area_radius", "xfem.area_threshold"]), "{err}");
             }
         }
     }

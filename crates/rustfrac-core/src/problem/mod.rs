@@ -23,7 +23,6 @@ use crate::fe::loading::{Grip, PlateLoad};
 use crate::fe::material::Elastic;
 use crate::fe::mesh::Side;
 use crate::pd::sla::SlaParams;
-use crate::xfem::XfemOptions;
 
 /// The material: isotropic linear elasticity and the fracture energy.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -123,6 +122,41 @@ impl CrackSpec {
                 ]
             }
         }
+    }
+}
+
+/// Discretisation options of the XFEM model (enrichment and integration; the model-level API
+/// `XfemModel` takes them too). Defaults and ranges are the scene's ([`schema`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct XfemOptions {
+    /// sub-quads per direction in split and branch-enriched elements (eq. 35); paper: 4
+    pub nsub: usize,
+    /// sub-quads per direction in tip elements (>= nsub); default: nsub
+    pub tip_nsub: usize,
+    /// fixed-area tip enrichment radius (Laborde et al. 2005); None = tip element nodes only
+    pub fixed_area_radius: Option<f64>,
+    /// small-area rule threshold, 0 <= t < 0.5 (0 disables the rule except for exactly zero areas)
+    pub area_threshold: f64,
+}
+
+impl Default for XfemOptions {
+    /// The scene's defaults (the paper's: 4 x 4 sub-quads, the small-area threshold 1e-4).
+    fn default() -> Self {
+        let d = |key: &str| schema::spec("xfem", key).map_or(0.0, |s| s.default.f());
+        let nsub = d("nsub") as usize;
+        Self {
+            nsub,
+            tip_nsub: nsub,
+            fixed_area_radius: None,
+            area_threshold: d("area_threshold"),
+        }
+    }
+}
+
+impl XfemOptions {
+    /// The scene's ranges of these options ([`validate::xfem_options`]).
+    pub fn validate(&self) -> crate::Result<()> {
+        validate::xfem_options(self)
     }
 }
 

@@ -7,14 +7,13 @@ use super::schema::{self, Kind, Val};
 use super::value::{Table, Value};
 use super::{
     Boundary, CrackKind, CrackSpec, Domain, FeGrid, FemMethod, Growth, Material, Method, PdMethod,
-    Problem, XfemMethod,
+    Problem, XfemMethod, XfemOptions,
 };
 use crate::error::{Error, Result};
 use crate::fe::loading::{Grip, PlateLoad};
 use crate::fe::material::{Elastic, Plane};
 use crate::fe::mesh::Side;
 use crate::pd::sla::SlaParams;
-use crate::xfem::XfemOptions;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 

@@ -10,6 +10,9 @@ use crate::error::{MAG_MAX, MAG_MIN};
 use crate::fe::mesh::MAX_ELEMENTS;
 use std::sync::OnceLock;
 
+/// Default of the small-area rule's threshold (`xfem.area_threshold`; see
+/// [`crate::xfem::enrichment`]).
+pub const DEFAULT_AREA_THRESHOLD: f64 = 1e-4;
 /// Largest SLA step count, re-condensation period and damage-snapshot step.
 pub const MAX_STEPS: usize = 1_000_000;
 /// Largest number of XFEM growth steps.
@@ -268,7 +271,7 @@ fn build() -> Vec<KeySpec> {
           "0 (off) or a length in [1e-30, 1e30]",
           "enrich every node within this distance of a tip with the branch functions (Laborde \
            et al. 2005); 0 = the tip element's nodes only", |v| nonneg(v.f())),
-        k("xfem", "area_threshold", Float, Val::Float(1e-4), "0 <= area_threshold < 0.5",
+        k("xfem", "area_threshold", Float, Val::Float(DEFAULT_AREA_THRESHOLD), "0 <= area_threshold < 0.5",
           "small-area rule: a Heaviside node is dropped when the smaller part of its support \
            cut by the crack is below this fraction of the support (0: only exactly zero parts)",
           |v| v.f() >= 0.0 && v.f() < 0.5),

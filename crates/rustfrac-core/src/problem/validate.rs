@@ -7,7 +7,9 @@
 
 use super::parse::crack_name;
 use super::schema::{self, Val, PD_NU};
-use super::{Boundary, CrackKind, CrackSpec, Domain, Method, PdMethod, Problem, XfemMethod};
+use super::{
+    Boundary, CrackKind, CrackSpec, Domain, Method, PdMethod, Problem, XfemMethod, XfemOptions,
+};
 use crate::error::{Error, Result};
 use crate::fe::loading::Grip;
 use crate::fe::material::Plane;
@@ -120,10 +122,31 @@ fn schema_ranges(p: &Problem) -> Result<()> {
 /// The XFEM options of a hand-built problem within the scene's ranges (the resolved values:
 /// `tip_nsub` is at least `nsub`, absent options count as the scene's 0).
 fn xfem_ranges(x: &XfemMethod, int: &dyn Fn(usize) -> Val) -> Result<()> {
-    let o = &x.options;
     for (key, n) in [("nx", x.grid.nx), ("ny", x.grid.ny)] {
         in_range("mesh", "mesh", key, int(n))?;
     }
+    xfem_options(&x.options)?;
+    in_range("xfem", "xfem", "r_I", Val::Float(x.r_i))?;
+    in_range("xfem", "xfem", "tip_tie_tol", Val::Float(x.tip_tie_tol))?;
+    for &f in &x.extra_radii {
+        in_range("xfem", "xfem", "r_I", Val::Float(f))
+            .map_err(|e| Error::invalid("xfem.extra_radii", &schema_valid("xfem", "r_I"), e))?;
+    }
+    if let Some(g) = &x.growth {
+        in_range("xfem", "xfem", "growth_steps", int(g.max_steps))?;
+        if g.max_steps == 0 {
+            return Err(Error::invalid("xfem.growth_steps", "at least 1 step", 0));
+        }
+        in_range("xfem", "xfem", "da", Val::Float(g.da.unwrap_or(0.0)))?;
+        in_range("xfem", "xfem", "a_stop", Val::Float(g.a_stop))?;
+    }
+    Ok(())
+}
+
+/// The enrichment and integration options within the scene's ranges (resolved values:
+/// `tip_nsub` is at least `nsub`; no fixed-area radius counts as the scene's 0).
+pub fn xfem_options(o: &XfemOptions) -> Result<()> {
+    let int = |n: usize| Val::Int(i64::try_from(n).unwrap_or(i64::MAX));
     in_range("xfem", "xfem", "nsub", int(o.nsub))?;
     in_range("xfem", "xfem", "tip_nsub", int(o.tip_nsub))?;
     if o.tip_nsub < o.nsub {
@@ -140,22 +163,7 @@ fn xfem_ranges(x: &XfemMethod, int: &dyn Fn(usize) -> Val) -> Result<()> {
         "xfem",
         "area_threshold",
         Val::Float(o.area_threshold),
-    )?;
-    in_range("xfem", "xfem", "r_I", Val::Float(x.r_i))?;
-    in_range("xfem", "xfem", "tip_tie_tol", Val::Float(x.tip_tie_tol))?;
-    for &f in &x.extra_radii {
-        in_range("xfem", "xfem", "r_I", Val::Float(f))
-            .map_err(|e| Error::invalid("xfem.extra_radii", &schema_valid("xfem", "r_I"), e))?;
-    }
-    if let Some(g) = &x.growth {
-        in_range("xfem", "xfem", "growth_steps", int(g.max_steps))?;
-        if g.max_steps == 0 {
-            return Err(Error::invalid("xfem.growth_steps", "at least 1 step", 0));
-        }
-        in_range("xfem", "xfem", "da", Val::Float(g.da.unwrap_or(0.0)))?;
-        in_range("xfem", "xfem", "a_stop", Val::Float(g.a_stop))?;
-    }
-    Ok(())
+    )
 }
 
 /// The valid range of `section.key` in words.

@@ -35,7 +35,7 @@ use crate::problem::parse::crack_name;
 use std::collections::HashMap;
 
 /// Default small-area threshold (see the module documentation).
-pub const DEFAULT_AREA_THRESHOLD: f64 = 1e-4;
+pub use crate::problem::schema::DEFAULT_AREA_THRESHOLD;
 
 /// Branch functions of eq. (2) and their global gradients at `x` for a tip.
 #[inline]

@@ -16,68 +16,17 @@
 //! each tip; every scalar function carries two dofs (u1, u2).
 
 use super::crack::{build_cracks, global_tips, Crack, Tip};
-use super::enrichment::{
-    branch_functions_snapped, node_support, EnrichmentSets, DEFAULT_AREA_THRESHOLD,
-};
+use super::enrichment::{branch_functions_snapped, node_support, EnrichmentSets};
 use super::integration::{RuleKind, Rules, StdBlocks};
-use crate::error::{check_positive, Error, Result};
+use crate::error::{Error, Result};
 use crate::fe::material::Elastic;
 use crate::fe::mesh::Mesh;
 use crate::fe::q4::{add_btdb, geometry, shape};
 use crate::fe::quadrature::QPoint;
 use crate::la::{CscMatrix, Pattern};
+pub use crate::problem::XfemOptions;
 use std::collections::HashMap;
 use std::sync::Arc;
-
-/// Discretisation options of the XFEM model.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct XfemOptions {
-    /// sub-quads per direction in split and branch-enriched elements (eq. 35); paper: 4
-    pub nsub: usize,
-    /// sub-quads per direction in tip elements (>= nsub); default 4 as in the paper
-    pub tip_nsub: usize,
-    /// fixed-area tip enrichment radius (Laborde et al. 2005); None = tip element nodes only
-    pub fixed_area_radius: Option<f64>,
-    /// small-area rule threshold, 0 <= t < 0.5 (0 disables the rule except for exactly zero areas)
-    pub area_threshold: f64,
-}
-
-impl Default for XfemOptions {
-    fn default() -> Self {
-        Self {
-            nsub: 4,
-            tip_nsub: 4,
-            fixed_area_radius: None,
-            area_threshold: DEFAULT_AREA_THRESHOLD,
-        }
-    }
-}
-
-impl XfemOptions {
-    pub fn validate(&self) -> Result<()> {
-        if !(1..=32).contains(&self.nsub) {
-            return Err(Error::invalid("nsub", "an integer in 1..=32", self.nsub));
-        }
-        if !(self.nsub..=64).contains(&self.tip_nsub) {
-            return Err(Error::invalid(
-                "tip_nsub",
-                &format!("an integer in nsub..=64 = {}..=64", self.nsub),
-                self.tip_nsub,
-            ));
-        }
-        if let Some(r) = self.fixed_area_radius {
-            check_positive("fixed_area_radius", r)?;
-        }
-        if !(self.area_threshold >= 0.0 && self.area_threshold < 0.5) {
-            return Err(Error::invalid(
-                "area_threshold",
-                "0 <= area_threshold < 0.5",
-                self.area_threshold,
-            ));
-        }
-        Ok(())
-    }
-}
 
 /// One scalar basis function of an enriched element.
 #[derive(Debug, Clone, Copy)]
