@@ -116,7 +116,9 @@ fn derived_values_are_the_cores() {
 /// Every refusal names the scene key to change (no message parsing on the Python side).
 #[test]
 fn refusals_name_the_scene_key() {
-    let cases: Vec<(&str, Vec<(&str, &str, Value)>, &str)> = vec![
+    // (method, scene values, the key named)
+    type Case<'a> = (&'a str, Vec<(&'a str, &'a str, Value)>, &'a str);
+    let cases: Vec<Case> = vec![
         ("fem", vec![("material", "nu", f(0.5))], "material.nu"),
         ("fem", vec![("material", "E", f(f64::NAN))], "material.E"),
         ("fem", vec![("plate", "width", f(-1.0))], "plate.width"),

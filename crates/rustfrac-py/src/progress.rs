@@ -78,7 +78,8 @@ impl Progress {
         }
     }
 
-    /// Number of callbacks made so far.
+    /// Number of callbacks made so far (the test hooks report it).
+    #[cfg(feature = "test-hooks")]
     pub fn calls(&self) -> usize {
         self.state.lock().map(|s| s.calls).unwrap_or(0)
     }

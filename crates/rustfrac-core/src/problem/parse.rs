@@ -3,6 +3,9 @@
 //! kind of a scene without `[crack]`, tip_nsub = 0 meaning nsub, a_stop = 0 meaning 0.7 W, the
 //! PD rectangle from its centre and size). Cross-parameter checks follow in [`super::validate`].
 
+// the negated comparisons are deliberate: they refuse NaN too
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use super::schema::{self, Kind, Val};
 use super::value::{Table, Value};
 use super::{

@@ -5,6 +5,9 @@
 //! first meets the [`schema`] ranges of the values it states (plate, material, load, cracks, the
 //! FEM grid), the same rules a scene meets.
 
+// the negated comparisons are deliberate: they refuse NaN too
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use super::parse::crack_name;
 use super::schema::{self, Val, PD_NU};
 use super::{
