@@ -105,8 +105,19 @@ fn schema_ranges(p: &Problem) -> Result<()> {
         in_range(section, section, key, Val::Float(v))?;
     }
     for (k, c) in p.cracks.iter().enumerate() {
-        for (key, v) in [("a0", c.a0), ("y", c.y), ("angle", c.angle), ("x", c.x)] {
-            in_range("crack", &crack_name(k), key, Val::Float(v))?;
+        // only the keys the crack's kind reads: x for centre cracks and bottom/top edge cracks,
+        // y for the others
+        let uses_x = c.kind == CrackKind::Center || matches!(c.side, Side::Bottom | Side::Top);
+        let uses_y = c.kind != CrackKind::Edge || matches!(c.side, Side::Left | Side::Right);
+        for (key, v, used) in [
+            ("a0", c.a0, true),
+            ("y", c.y, uses_y),
+            ("angle", c.angle, true),
+            ("x", c.x, uses_x),
+        ] {
+            if used {
+                in_range("crack", &crack_name(k), key, Val::Float(v))?;
+            }
         }
     }
     let int = |n: usize| Val::Int(i64::try_from(n).unwrap_or(i64::MAX));
