@@ -29,6 +29,19 @@ pub(super) fn faer_ref_values<'a>(
     SparseColMatRef::new(sym, val)
 }
 
+/// The matrix of a numeric factorisation: square, of the analysed size `n`, finite values.
+pub(super) fn check_factor_input(a: &CscMatrix, n: usize) -> Result<()> {
+    check_square(a)?;
+    if a.nrows != n {
+        return Err(Error::SizeMismatch {
+            what: "matrix vs symbolic factorisation".into(),
+            expected: n,
+            got: a.nrows,
+        });
+    }
+    check_values(a)
+}
+
 pub(super) fn check_values(a: &CscMatrix) -> Result<()> {
     if let Some(k) = a.val.iter().position(|v| !v.is_finite()) {
         return Err(Error::invalid(

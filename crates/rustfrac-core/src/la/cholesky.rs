@@ -14,7 +14,7 @@
 //! caught by [`crate::la::COND_SINGULAR`] (see [`crate::la::check_condition`]) and, for the plate
 //! models, by the rigid-mode check [`crate::fe::Dirichlet::check_rigid_modes`].
 
-use super::checks::{check_rhs, check_solution, check_square, check_values, faer_ref_values};
+use super::checks::{check_factor_input, check_rhs, check_solution, check_square, faer_ref_values};
 use super::csc::CscMatrix;
 use super::ordering::{inverse, nested_dissection};
 use crate::error::{catch_panic, Error, Result};
@@ -130,15 +130,7 @@ impl Cholesky {
 
     /// Numeric factorisation reusing the symbolic analysis; `a` must have the analysed pattern.
     pub fn factorize(&mut self, a: &CscMatrix) -> Result<()> {
-        check_square(a)?;
-        if a.nrows != self.n {
-            return Err(Error::SizeMismatch {
-                what: "matrix vs symbolic factorisation".into(),
-                expected: self.n,
-                got: a.nrows,
-            });
-        }
-        check_values(a)?;
+        check_factor_input(a, self.n)?;
         self.factorised = false;
         let scaled = self.jacobi_scale(a)?;
         self.factor_scaled(a, &scaled)?;

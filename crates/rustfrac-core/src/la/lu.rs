@@ -3,7 +3,7 @@
 //! refactorisation with the same pattern; several right-hand sides at once; every failure an
 //! [`Error`], never a NaN, and a panic inside faer caught.
 
-use super::checks::{check_rhs, check_solution, check_square, check_values, faer_ref};
+use super::checks::{check_factor_input, check_rhs, check_solution, check_square, faer_ref};
 use super::csc::CscMatrix;
 use crate::error::{catch_panic, Error, Result};
 use faer::prelude::*;
@@ -50,15 +50,7 @@ impl Lu {
 
     /// Numeric factorisation reusing the symbolic analysis.
     pub fn factorize(&mut self, a: &CscMatrix) -> Result<()> {
-        check_square(a)?;
-        if a.nrows != self.n {
-            return Err(Error::SizeMismatch {
-                what: "matrix vs symbolic factorisation".into(),
-                expected: self.n,
-                got: a.nrows,
-            });
-        }
-        check_values(a)?;
+        check_factor_input(a, self.n)?;
         self.numeric = None;
         let sym = self.symbolic.clone();
         let lu = catch_panic("faer numeric LU", || {
