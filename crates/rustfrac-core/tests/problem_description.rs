@@ -244,3 +244,18 @@ fn crossing_cracks_are_refused() {
     );
     assert_eq!(Problem::from_scene(&t).unwrap().cracks.len(), 2);
 }
+
+/// The crack-kind rule is the problem's, not only the scene's: a problem built in Rust with a
+/// crack its method does not model is refused by name (it used to run uncracked).
+#[test]
+fn hand_built_problems_meet_the_crack_kind_rule() {
+    let mut p = Problem::paper("fem");
+    p.cracks[0].kind = CrackKind::Edge;
+    let e = rustfrac_core::problem::validate::problem(&p).unwrap_err();
+    assert_eq!(e.param(), Some("crack.kind"), "{e}");
+    let mut x = Problem::paper("xfem");
+    x.cracks.clear();
+    let e = rustfrac_core::problem::validate::problem(&x).unwrap_err();
+    assert_eq!(e.param(), Some("crack.kind"), "{e}");
+    assert!(rustfrac_core::problem::validate::problem(&Problem::paper("fem")).is_ok());
+}

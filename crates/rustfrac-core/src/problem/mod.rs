@@ -80,6 +80,17 @@ pub enum CrackKind {
     Center,
 }
 
+impl CrackKind {
+    /// The scene's spelling (`crack.kind`).
+    pub fn name(&self) -> &'static str {
+        match self {
+            CrackKind::Seam => "seam",
+            CrackKind::Edge => "edge",
+            CrackKind::Center => "center",
+        }
+    }
+}
+
 /// One straight crack as the scene states it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CrackSpec {
@@ -263,7 +274,7 @@ impl Problem {
     /// method reads, defaults filled in, the cracks as a list).
     pub fn checked(scene: &value::Table) -> crate::Result<(Self, value::Table)> {
         let c = parse::check(scene)?;
-        let p = parse::problem(scene)?;
+        let p = parse::from_checked(&c);
         validate::problem(&p)?;
         Ok((p, c.to_tree()))
     }

@@ -497,34 +497,5 @@ pub fn from_checked(c: &Checked) -> Problem {
 /// Kinds, ranges and defaults of a scene tree, read into a [`Problem`] (not yet
 /// cross-validated: [`Problem::from_scene`] does both).
 pub fn problem(t: &Table) -> Result<Problem> {
-    let c = check(t)?;
-    validate_kinds(&c)?;
-    Ok(from_checked(&c))
-}
-
-/// Rules that need the scene's own spelling (crack kinds per method) rather than the problem.
-fn validate_kinds(c: &Checked) -> Result<()> {
-    let kinds = schema::crack_kinds(c.method);
-    if c.cracks.len() > 1 && c.method != "xfem" {
-        return Err(Error::invalid(
-            "crack",
-            &format!(
-                "one crack for method '{}' (several cracks need method 'xfem')",
-                c.method
-            ),
-            c.cracks.len(),
-        ));
-    }
-    for (k, s) in c.cracks.iter().enumerate() {
-        let kind = s["kind"].s();
-        if !kinds.contains(&kind) {
-            let q: Vec<String> = kinds.iter().map(|x| format!("'{x}'")).collect();
-            return Err(Error::invalid(
-                &format!("{}.kind", crack_name(k)),
-                &format!("for method '{}' one of {}", c.method, q.join(", ")),
-                format!("'{kind}'"),
-            ));
-        }
-    }
-    Ok(())
+    Ok(from_checked(&check(t)?))
 }

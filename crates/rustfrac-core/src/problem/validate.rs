@@ -22,6 +22,7 @@ use crate::geometry::segment_distance;
 /// Every cross-parameter rule of a problem.
 pub fn problem(p: &Problem) -> Result<()> {
     schema_ranges(p)?;
+    crack_kinds(p)?;
     let d = &p.domain;
     for (k, c) in p.cracks.iter().enumerate() {
         crack_geometry(c, d, &crack_name(k))?;
@@ -183,6 +184,36 @@ pub fn xfem_options(o: &XfemOptions) -> Result<()> {
 /// The valid range of `section.key` in words.
 fn schema_valid(section: &str, key: &str) -> String {
     schema::spec(section, key).map_or_else(String::new, |s| s.valid.clone())
+}
+
+/// The crack kinds each method models ([`schema::crack_kinds`]; "none" is no crack), and one
+/// crack for the methods other than XFEM.
+fn crack_kinds(p: &Problem) -> Result<()> {
+    let m = p.method.name();
+    let kinds = schema::crack_kinds(m);
+    let q: Vec<String> = kinds.iter().map(|x| format!("'{x}'")).collect();
+    let expected = format!("for method '{m}' one of {}", q.join(", "));
+    if p.cracks.len() > 1 && m != "xfem" {
+        return Err(Error::invalid(
+            "crack",
+            &format!("one crack for method '{m}' (several cracks need method 'xfem')"),
+            p.cracks.len(),
+        ));
+    }
+    if p.cracks.is_empty() && !kinds.contains(&"none") {
+        return Err(Error::invalid("crack.kind", &expected, "'none'"));
+    }
+    for (k, c) in p.cracks.iter().enumerate() {
+        if !kinds.contains(&c.kind.name()) {
+            let param = format!("{}.kind", crack_name(k));
+            return Err(Error::invalid(
+                &param,
+                &expected,
+                format!("'{}'", c.kind.name()),
+            ));
+        }
+    }
+    Ok(())
 }
 
 fn side_name(s: Side) -> &'static str {
