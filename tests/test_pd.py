@@ -19,7 +19,7 @@ from rustfrac.cli import main
 
 GAMMA_M4 = 0.988895997195466  # the paper's gamma for m = 4
 PAPER_SIGMA22, PAPER_CMOD = 9.992, 0.005374  # the paper's CCM-PD values at u0 = 0.01
-# the core's values for CcmPdParams::paper() before any break (crates/rustfrac-core, sla::run)
+# the core's values for Problem::paper("ccm_pd") before any break (crates/rustfrac-core, sla::run)
 CORE_SIGMA22, CORE_CMOD = 9.9392407854836, 0.0061716324384645796
 
 HISTORY_KEYS = (
@@ -303,7 +303,7 @@ def test_separated_strip_is_a_status_without_nan(tmp_path: Path) -> None:
         ({"method": "pd", "dx": 0.07}, "pd.dx", "fit the plate"),
         ({"method": "ccm_pd", "pd_center": (12.0, 10.5)}, "pd.center", "inside the plate"),
         ({"method": "ccm_pd", "pd_center": (5.0, 10.5)}, "pd.center", "crack tip"),
-        ({"method": "pd", "sla_steps": 0}, "pd.sla_steps", "integer >= 1"),
+        ({"method": "pd", "sla_steps": -1}, "pd.sla_steps", "integer >= 0"),
         ({"method": "pd", "tie_tol": 1.0}, "pd.tie_tol", "0 <= tie_tol < 1"),
         ({"method": "pd", "tie_tol": -1e-3}, "pd.tie_tol", "0 <= tie_tol < 1"),
         ({"method": "pd", "refactor_every": -1}, "pd.refactor_every", ">= 0"),

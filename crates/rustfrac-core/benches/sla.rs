@@ -6,7 +6,8 @@
 //!
 //! `cargo bench -p rustfrac-core --bench sla`
 
-use rustfrac_core::pd::sla::{peak_memory_bytes, run, CcmPdParams};
+use rustfrac_core::pd::sla::{peak_memory_bytes, run};
+use rustfrac_core::problem::Problem;
 use std::time::Instant;
 
 fn main() {
@@ -18,8 +19,8 @@ fn main() {
         .ok()
         .and_then(|s| s.parse().ok())
         .unwrap_or(10);
-    let mut p = CcmPdParams::paper();
-    p.sla.max_steps = steps;
+    let mut p = Problem::paper("ccm_pd");
+    p.pd_mut().sla.max_steps = steps;
     let t = Instant::now();
     let fast = run(&p, &|_, _| true).expect("fast run");
     let fast_total = t.elapsed().as_secs_f64();
@@ -44,8 +45,8 @@ fn main() {
             a.lambda, a.sigma22, a.cmod, b.step, b.lambda, b.sigma22, b.cmod, b.crack_length
         );
     }
-    p.sla.max_steps = oracle_steps;
-    p.sla.fast = false;
+    p.pd_mut().sla.max_steps = oracle_steps;
+    p.pd_mut().sla.fast = false;
     let t = Instant::now();
     let oracle = run(&p, &|_, _| true).expect("oracle run");
     let oracle_total = t.elapsed().as_secs_f64();

@@ -8,9 +8,8 @@
 use rustfrac_core::fe::loading::{Grip, PlateLoad};
 use rustfrac_core::fe::mesh::Side;
 use rustfrac_core::fem_driver;
-use rustfrac_core::pd::sla::{self, CcmPdParams, SlaParams};
-use rustfrac_core::pd::splice::{Method, ModelSpec};
-use rustfrac_core::problem::{CrackSpec, Growth, Problem};
+use rustfrac_core::pd::sla;
+use rustfrac_core::problem::{CrackSpec, Growth, Problem, SlaParams};
 use rustfrac_core::xfem;
 
 fn h(v: f64) -> String {
@@ -132,7 +131,7 @@ fn xfem_cases() {
     xfem_case("two cracks", &two);
 }
 
-fn sla_case(name: &str, p: &CcmPdParams) {
+fn sla_case(name: &str, p: &Problem) {
     let r = sla::run(p, &|_, _| true).unwrap();
     println!(
         "sla {name}: gamma {} c {} s0 {} sigma22 {} cmod {} u {} ufinal {} status {} n_dofs {} bonds {}",
@@ -168,47 +167,35 @@ fn sla_case(name: &str, p: &CcmPdParams) {
 }
 
 fn sla_cases() {
-    sla_case("paper 500", &CcmPdParams::paper());
-    let mut clamped = CcmPdParams::paper();
-    clamped.model.load.grip = Grip::Clamped;
-    clamped.sla.max_steps = 100;
+    sla_case("paper 500", &Problem::paper("ccm_pd"));
+    let mut clamped = Problem::paper("ccm_pd");
+    clamped.load_mut().grip = Grip::Clamped;
+    clamped.pd_mut().sla.max_steps = 100;
     sla_case("paper clamped 100", &clamped);
-    let coarse = ModelSpec {
-        // dx = 1/3: the pre-crack x2 = 10.5 lies midway between node rows (dx = 0.25 or 0.5
-        // would put it on a row, which the model refuses)
-        dx: 1.0 / 3.0,
-        m: 3,
-        pd_regions: vec![[0.0, 8.5, 5.0, 12.5]],
-        ..ModelSpec::paper()
-    };
+    // dx = 1/3: the pre-crack x2 = 10.5 lies midway between node rows (dx = 0.25 or 0.5 would put
+    // it on a row, which the model refuses)
+    let mut coarse = Problem::paper("ccm_pd");
+    coarse.pd_mut().dx = 1.0 / 3.0;
+    coarse.pd_mut().m = 3;
+    coarse.pd_mut().regions = vec![[0.0, 8.5, 5.0, 12.5]];
     for fast in [true, false] {
-        let p = CcmPdParams {
-            model: coarse.clone(),
-            sla: SlaParams {
-                max_steps: 60,
-                fast,
-                ..SlaParams::default()
-            },
+        let mut p = coarse.clone();
+        p.pd_mut().sla = SlaParams {
+            max_steps: 60,
+            fast,
+            ..SlaParams::default()
         };
         sla_case(&format!("coarse fast={fast}"), &p);
     }
-    let pure = CcmPdParams {
-        model: ModelSpec {
-            method: Method::Pd,
-            dx: 1.0 / 3.0,
-            m: 3,
-            load: PlateLoad {
-                grip: Grip::Traction,
-                u0: 0.0,
-                traction: 9.993,
-            },
-            ..ModelSpec::paper()
-        },
-        sla: SlaParams {
-            max_steps: 40,
-            ..SlaParams::default()
-        },
+    let mut pure = Problem::paper("pd");
+    pure.pd_mut().dx = 1.0 / 3.0;
+    pure.pd_mut().m = 3;
+    *pure.load_mut() = PlateLoad {
+        grip: Grip::Traction,
+        u0: 0.0,
+        traction: 9.993,
     };
+    pure.pd_mut().sla.max_steps = 40;
     sla_case("pure pd traction", &pure);
 }
 

@@ -5,7 +5,8 @@
 //!
 //! `cargo run --release -p rustfrac-core --example sla_long`
 
-use rustfrac_core::pd::sla::{peak_memory_bytes, run, CcmPdParams};
+use rustfrac_core::pd::sla::{peak_memory_bytes, run};
+use rustfrac_core::problem::Problem;
 use std::time::Instant;
 
 fn rss() -> u64 {
@@ -30,11 +31,11 @@ fn env(name: &str, default: usize) -> usize {
 fn main() {
     let steps = env("SLA_STEPS", 100_000);
     let every = env("SLA_REPORT", 10_000);
-    let mut p = CcmPdParams::paper();
-    p.model.dx = 0.2;
-    p.model.m = env("SLA_M", 12);
-    p.model.pd_regions = vec![[0.1, 7.5, 6.1, 13.5]];
-    p.sla.max_steps = steps;
+    let mut p = Problem::paper("ccm_pd");
+    p.pd_mut().dx = 0.2;
+    p.pd_mut().m = env("SLA_M", 12);
+    p.pd_mut().regions = vec![[0.1, 7.5, 6.1, 13.5]];
+    p.pd_mut().sla.max_steps = steps;
     let t = Instant::now();
     let report = |s: usize, _: usize| {
         if s % every == 0 {

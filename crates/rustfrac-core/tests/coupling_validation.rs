@@ -2,22 +2,26 @@
 //! the outer boundary is reproduced everywhere, a linear strain field (error reported), and the
 //! non-symmetry of the splice matrix.
 
-use rustfrac_core::fe::material::{Elastic, Plane};
 use rustfrac_core::la::Lu;
 use rustfrac_core::la::Reduction;
-use rustfrac_core::pd::splice::{Method, ModelSpec, SpliceModel};
+use rustfrac_core::pd::splice::SpliceModel;
+use rustfrac_core::problem::{Domain, Problem};
 
-fn spec(method: Method) -> ModelSpec {
-    ModelSpec {
-        method,
+/// A 3 x 3 uncracked plate, dx = 0.1, with the PD rectangle [1.0, 2.05] x [0.9, 2.1] ("ccm_pd")
+/// or PD everywhere ("pd"); the paper's material (E = 10000, nu = 0.25, plane strain).
+fn spec(method: &str) -> Problem {
+    let mut p = Problem::paper(method);
+    p.domain = Domain {
         width: 3.0,
         height: 3.0,
-        dx: 0.1,
-        material: Elastic::new(10000.0, 0.25, Plane::Strain, 1.0).unwrap(),
-        pd_regions: vec![[1.0, 0.9, 2.05, 2.1]],
-        precrack: vec![],
-        ..ModelSpec::paper()
+    };
+    p.cracks.clear();
+    let pd = p.pd_mut();
+    pd.dx = 0.1;
+    if method == "ccm_pd" {
+        pd.regions = vec![[1.0, 0.9, 2.05, 2.1]];
     }
+    p
 }
 
 fn inf(v: &[f64]) -> f64 {
@@ -26,7 +30,7 @@ fn inf(v: &[f64]) -> f64 {
 
 #[test]
 fn rigid_motions_give_zero_internal_forces() {
-    let model = SpliceModel::new(&spec(Method::CcmPd)).unwrap();
+    let model = SpliceModel::new(&spec("ccm_pd")).unwrap();
     let k = model.assemble(&model.precrack_broken);
     let kmax = inf(&k.val);
     println!("splice matrix asymmetry measure: {:.3e}", k.asymmetry());
@@ -67,7 +71,7 @@ fn solve_with_boundary_field(
 ) -> (Vec<f64>, Vec<f64>) {
     let k = model.assemble(&model.precrack_broken);
     let nn = model.grid.n_nodes();
-    let (w, h) = (model.spec.width, model.spec.height);
+    let (w, h) = (model.problem.domain.width, model.problem.domain.height);
     let mut mask = vec![false; 2 * nn];
     let mut up = vec![0.0; 2 * nn];
     let mut exact = vec![0.0; 2 * nn];
@@ -93,7 +97,7 @@ fn solve_with_boundary_field(
 
 #[test]
 fn uniform_strain_reproduced_everywhere() {
-    let model = SpliceModel::new(&spec(Method::CcmPd)).unwrap();
+    let model = SpliceModel::new(&spec("ccm_pd")).unwrap();
     let (e11, e22, e12) = (1e-3, -4e-4, 2.5e-4);
     let field = move |p: [f64; 2]| [e11 * p[0] + e12 * p[1], e12 * p[0] + e22 * p[1]];
     // FEM outside: the outer boundary nodes only
@@ -111,7 +115,7 @@ fn uniform_strain_reproduced_everywhere() {
 fn linear_strain_field_error_reported() {
     // u = a (x^2 - y^2, -2 x y): divergence-free and harmonic, so it is an elastic solution without
     // body force for any nu, with a strain field linear in x and y
-    let model = SpliceModel::new(&spec(Method::CcmPd)).unwrap();
+    let model = SpliceModel::new(&spec("ccm_pd")).unwrap();
     let a = 1e-3;
     let field = move |p: [f64; 2]| {
         let (x, y) = (p[0] - 1.5, p[1] - 1.5);
@@ -138,7 +142,7 @@ fn linear_strain_field_error_reported() {
 fn pure_pd_reproduces_linear_fields_with_volumetric_layers() {
     // every node PD; the field is imposed on a boundary layer of thickness delta, so every free
     // node has its full family and the linear field is the exact discrete solution
-    let model = SpliceModel::new(&spec(Method::Pd)).unwrap();
+    let model = SpliceModel::new(&spec("pd")).unwrap();
     let delta = model.pd.delta;
     let (e11, e22, e12) = (1e-3, -4e-4, 2.5e-4);
     let field = move |p: [f64; 2]| [e11 * p[0] + e12 * p[1] + 0.1, e12 * p[0] + e22 * p[1] - 0.2];

@@ -17,9 +17,10 @@ use rustfrac_core::fe::mesh::{Mesh, MAX_ELEMENTS};
 use rustfrac_core::fem_driver;
 use rustfrac_core::la::CscMatrix;
 use rustfrac_core::la::{Cholesky, Lu};
-use rustfrac_core::pd::sla::{self, Method, SlaParams};
+use rustfrac_core::pd::sla;
+use rustfrac_core::pd::splice::SpliceModel;
 use rustfrac_core::pd::PdConstants;
-use rustfrac_core::problem::{Boundary, Domain, FeGrid, Problem};
+use rustfrac_core::problem::{Boundary, Domain, FeGrid, Problem, SlaParams};
 use rustfrac_core::xfem::XfemOptions;
 use rustfrac_core::WarningKind;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -256,19 +257,27 @@ proptest! {
         steps in 0usize..4, tie in prop_oneof![7 => Just(0.0), 1 => wild()],
         stop in prop::option::of(mostly(0.5..2.0)),
     ) {
-        let crack: Vec<(f64, f64)> = if garbage.is_empty() { vec![(0.0, 1.125), (a, 1.125)] } else { garbage };
         let region = [region.0, region.1, region.2, region.3];
-        let method = if pd_all { Method::Pd } else { Method::CcmPd };
+        let method = if pd_all { "pd" } else { "ccm_pd" };
         let mut p = pd_plate(method, 3.0, 2.5, dx, m);
-        p.model.material = Elastic { e, nu, plane: Plane::Strain, thickness: 1.0 };
-        p.model.g0 = g0;
-        p.model.load.grip = g;
-        p.model.load.u0 = u0;
-        p.model.load.traction = u0;
-        p.model.precrack = crack.iter().map(|&(x, y)| [x, y]).collect();
-        p.model.pd_regions = vec![[region[0], region[1], region[2], region[3]]];
-        p.sla = SlaParams { max_steps: steps, tie_tol: tie, stop_crack_length: stop, ..SlaParams::default() };
-        match sla::run(&p, &go_on) {
+        p.material.elastic = Elastic { e, nu, plane: Plane::Strain, thickness: 1.0 };
+        p.material.g0 = g0;
+        p.load_mut().grip = g;
+        p.load_mut().u0 = u0;
+        p.load_mut().traction = u0;
+        (p.cracks[0].a0, p.cracks[0].y) = (a, 1.125);
+        if !pd_all {
+            p.pd_mut().regions = vec![region];
+        }
+        p.pd_mut().sla = SlaParams { max_steps: steps, tie_tol: tie, stop_crack_length: stop, ..SlaParams::default() };
+        // the problem's straight pre-crack, or a garbage polyline through the model-level API
+        let run = if garbage.is_empty() {
+            sla::run(&p, &go_on)
+        } else {
+            let crack = garbage.iter().map(|&(x, y)| [x, y]).collect();
+            SpliceModel::with_precrack(&p, crack).and_then(|model| sla::run_model(&model, &go_on))
+        };
+        match run {
             Ok(r) => {
                 prop_assert!(valid_material(e, nu, 1.0) && nu == 0.25);
                 prop_assert!(r.sigma22.is_finite() && r.cmod.is_finite());

@@ -5,10 +5,11 @@
 mod common;
 
 use common::XfemCase;
-use common::{go_on, pd_plate, pd_strip, quiet, rel};
+use common::{go_on, pd_plate, pd_strip, quiet, rel, set_precrack};
 use rustfrac_core::fe::loading::Grip;
-use rustfrac_core::pd::sla::{run, CcmPdParams, CcmPdResult, Method, SlaParams};
+use rustfrac_core::pd::sla::{run, run_model, CcmPdResult};
 use rustfrac_core::pd::splice::SpliceModel;
+use rustfrac_core::problem::{Method, Problem, SlaParams};
 use rustfrac_core::Error;
 use rustfrac_core::WarningKind;
 
@@ -27,9 +28,9 @@ fn horizon_factors_1_to_8() {
     );
     println!("  m | bonds  | warnings | sigma22  (rel. XFEM) | CMOD      (rel. XFEM) | step 1: lambda, sigma22, CMOD");
     for m in 1..=8usize {
-        let mut p = CcmPdParams::paper();
-        p.model.m = m;
-        p.sla.max_steps = 1;
+        let mut p = Problem::paper("ccm_pd");
+        p.pd_mut().m = m;
+        p.pd_mut().sla.max_steps = 1;
         let r = run(&p, &go_on).unwrap();
         let s1 = &r.history[0];
         println!(
@@ -45,7 +46,7 @@ fn horizon_factors_1_to_8() {
             s1.cmod
         );
         assert!(r.sigma22.is_finite() && r.cmod.is_finite() && s1.lambda.is_finite());
-        assert_eq!(r.status, "completed");
+        assert_eq!(r.status.name(), "completed");
         // m < 2 warns (too few bonds), m >= 2 does not
         assert_eq!(r.warnings.len(), usize::from(m < 2), "{:?}", r.warnings);
         if m < 2 {
@@ -73,15 +74,15 @@ fn horizon_factors_1_to_8() {
 
 #[test]
 fn pd_region_thinner_than_two_horizons_is_refused() {
-    let mut p = CcmPdParams::paper();
+    let mut p = Problem::paper("ccm_pd");
     // 2 m dx = 0.533: a rectangle 2.73 x 0.5 is too thin
-    p.model.pd_regions = vec![[0.335, 10.25, 3.065, 10.75]];
-    p.sla.max_steps = 0;
+    p.pd_mut().regions = vec![[0.335, 10.25, 3.065, 10.75]];
+    p.pd_mut().sla.max_steps = 0;
     match run(&p, &go_on) {
         Err(Error::InvalidInput {
             param, expected, ..
         }) => {
-            assert_eq!(param, "pd_regions[0]");
+            assert_eq!(param, "pd.size");
             assert!(expected.contains("two horizons"), "{expected}");
             assert!(expected.contains("0.533333"), "{expected}");
             println!("refused: {expected}");
@@ -89,54 +90,55 @@ fn pd_region_thinner_than_two_horizons_is_refused() {
         other => panic!("{:?}", other.map(|r| r.status)),
     }
     // the same rectangle is fine with m = 3 (2 m dx = 0.4)... and refused along x1 too
-    p.model.m = 3;
+    p.pd_mut().m = 3;
     assert!(run(&p, &go_on).is_ok());
-    p.model.m = 4;
-    p.model.pd_regions = vec![[1.0, 9.5, 1.5, 11.5]];
-    p.model.precrack = vec![[0.0, 10.5], [1.1, 10.5]];
+    p.pd_mut().m = 4;
+    p.pd_mut().regions = vec![[1.0, 9.5, 1.5, 11.5]];
+    set_precrack(&mut p, 1.1, 10.5);
     assert!(
-        matches!(run(&p, &go_on), Err(Error::InvalidInput { param, .. }) if param == "pd_regions[0]")
+        matches!(run(&p, &go_on), Err(Error::InvalidInput { param, .. }) if param == "pd.size")
     );
     // pure PD: the plate itself must span two horizons
-    let mut p = pd_plate(Method::Pd, 0.4, 2.2, 0.1, 3);
-    p.model.precrack.clear();
-    p.sla.max_steps = 0;
+    let mut p = pd_plate("pd", 0.4, 2.2, 0.1, 3);
+    p.cracks.clear();
+    p.pd_mut().sla.max_steps = 0;
     match run(&p, &go_on) {
-        Err(Error::InvalidInput { param, .. }) => assert_eq!(param, "width"),
+        Err(Error::InvalidInput { param, .. }) => assert_eq!(param, "plate.width"),
         other => panic!("{:?}", other.map(|r| r.status)),
     }
 }
 
 /// An uncracked 4 x 6 plate, dx = 0.2, m = 3, u0 = 0.01: the continuum answer is uniform strain,
 /// sigma22 = E' 2 u0 / L (free grips).
-fn uncracked(regions: Vec<[f64; 4]>, method: Method, grip: Grip) -> CcmPdParams {
-    let mut p = pd_plate(method, 4.0, 6.0, 0.2, 3);
-    p.model.pd_regions = regions;
-    p.model.precrack.clear();
-    p.model.load.grip = grip;
-    p.sla.max_steps = 0;
+fn uncracked(regions: Vec<[f64; 4]>, method: &str, grip: Grip) -> Problem {
+    let mut p = pd_plate(method, 4.0, 6.0, 0.2, 3).with_grip(grip);
+    p.pd_mut().regions = regions;
+    p.cracks.clear();
+    p.pd_mut().sla.max_steps = 0;
     p
 }
 
-fn check_loads(r: &CcmPdResult, p: &CcmPdParams) {
-    let u0 = p.model.load.u0;
-    let layers = if p.model.method == Method::Pd {
-        p.model.m
+fn check_loads(r: &CcmPdResult, p: &Problem) {
+    let load = p.boundary.plate_load();
+    let u0 = load.u0;
+    let pd = p.pd().unwrap();
+    let layers = if matches!(p.method, Method::Pd(_)) {
+        pd.m
     } else {
         1
     };
-    let h = p.model.height;
+    let h = p.domain.height;
     for (n, xy) in r.node_xy.iter().enumerate() {
         let v = r.u[2 * n + 1];
         assert!(v.is_finite() && r.u[2 * n].is_finite());
-        if xy[1] >= h - (layers as f64 - 0.5) * p.model.dx {
+        if xy[1] >= h - (layers as f64 - 0.5) * pd.dx {
             assert_eq!(v, u0, "top node {n} at {xy:?}");
         }
-        if xy[1] <= (layers as f64 - 0.5) * p.model.dx {
+        if xy[1] <= (layers as f64 - 0.5) * pd.dx {
             assert_eq!(v, -u0, "bottom node {n} at {xy:?}");
         }
     }
-    if p.model.load.grip == Grip::Free {
+    if load.grip == Grip::Free {
         assert_eq!(r.u[2 * r.anchor_node], 0.0);
     }
 }
@@ -170,7 +172,7 @@ fn pd_regions_on_the_boundary_and_pure_pd_match_the_continuum() {
     ];
     println!("uncracked 4 x 6 plate, dx = 0.2, m = 3: continuum sigma22 = {exact:.6}");
     for (name, regions, tol) in cases {
-        let p = uncracked(regions, Method::CcmPd, Grip::Free);
+        let p = uncracked(regions, "ccm_pd", Grip::Free);
         let r = run(&p, &go_on).unwrap();
         check_loads(&r, &p);
         let e = rel(r.sigma22, exact);
@@ -186,7 +188,7 @@ fn pd_regions_on_the_boundary_and_pure_pd_match_the_continuum() {
     // pure PD with volumetric layers of m rows: the prescribed layers are rigid, so the gauge
     // length is L - 2 (m - 1) dx; the free side surfaces soften it (PD surface effect)
     for grip in [Grip::Free, Grip::Clamped] {
-        let p = uncracked(vec![], Method::Pd, grip);
+        let p = uncracked(vec![], "pd", grip);
         let r = run(&p, &go_on).unwrap();
         check_loads(&r, &p);
         let gauge = 6.0 - 2.0 * 2.0 * 0.2;
@@ -209,10 +211,10 @@ fn pd_regions_on_the_boundary_and_pure_pd_match_the_continuum() {
     xp.nx = 176;
     xp.ny = 333;
     let x = common::run(&xp, &quiet).unwrap();
-    let mut p = CcmPdParams::paper();
-    p.sla.max_steps = 3;
+    let mut p = Problem::paper("ccm_pd");
+    p.pd_mut().sla.max_steps = 3;
     let inner = run(&p, &go_on).unwrap();
-    p.model.pd_regions = vec![[0.0, 9.665, 3.065, 11.335]];
+    p.pd_mut().regions = vec![[0.0, 9.665, 3.065, 11.335]];
     let edge = run(&p, &go_on).unwrap();
     println!(
         "cracked paper plate: XFEM sigma22 {:.4} CMOD {:.6}; PD rectangle inside: {:.4} {:.6}; touching the left edge (crack mouth in PD): {:.4} {:.6}",
@@ -231,16 +233,18 @@ fn pd_regions_on_the_boundary_and_pure_pd_match_the_continuum() {
 fn node_with_every_bond_broken_is_detached_not_singular() {
     let mut hist = Vec::new();
     for fast in [true, false] {
-        let mut p = pd_plate(Method::Pd, 2.0, 3.0, 0.2, 2);
+        let mut p = pd_plate("pd", 2.0, 3.0, 0.2, 2);
         // a square around the node (1.0, 1.4)
-        p.model.precrack = vec![[0.9, 1.3], [1.1, 1.3], [1.1, 1.5], [0.9, 1.5], [0.9, 1.3]];
-        p.model.load.grip = Grip::Clamped;
-        p.sla = SlaParams {
+        let square = vec![[0.9, 1.3], [1.1, 1.3], [1.1, 1.5], [0.9, 1.5], [0.9, 1.3]];
+        p.cracks.clear();
+        p.load_mut().grip = Grip::Clamped;
+        p.pd_mut().sla = SlaParams {
             max_steps: 30,
             fast,
             ..SlaParams::default()
         };
-        let r = run(&p, &go_on).unwrap();
+        let model = SpliceModel::with_precrack(&p, square).unwrap();
+        let r = run_model(&model, &go_on).unwrap();
         let node = r
             .node_xy
             .iter()
@@ -255,7 +259,7 @@ fn node_with_every_bond_broken_is_detached_not_singular() {
             r.warnings
         );
         assert!(r.detached_nodes.contains(&(0, node)));
-        assert_eq!(r.status, "completed");
+        assert_eq!(r.status.name(), "completed");
         assert_eq!(r.history.len(), 30);
         assert!(r.u.iter().all(|v| v.is_finite()));
         assert_eq!(r.u[2 * node], 0.0);
@@ -299,9 +303,9 @@ fn ligament_separates_at_the_right_step_fast_and_oracle() {
         for fast in [true, false] {
             let p = pd_strip(fast, grip);
             let r = run(&p, &go_on).unwrap();
-            assert_eq!(r.status, "separated");
+            assert_eq!(r.status.name(), "separated");
             // replay the broken bonds and find the first step after which no load is carried
-            let model = SpliceModel::new(&p.model).unwrap();
+            let model = SpliceModel::new(&p).unwrap();
             let mut broken = model.precrack_broken.clone();
             assert!(carries_load(&model, &broken, r.sigma22));
             let mut first_cut = None;

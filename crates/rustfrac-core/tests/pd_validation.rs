@@ -2,9 +2,10 @@
 //! pure PD model under linear fields.
 
 use rustfrac_core::fe::material::{Elastic, Plane};
-use rustfrac_core::pd::sla::{run, CcmPdParams, Method};
-use rustfrac_core::pd::splice::{ModelSpec, SpliceModel};
+use rustfrac_core::pd::sla::run;
+use rustfrac_core::pd::splice::SpliceModel;
 use rustfrac_core::pd::{family_stencil, find_bonds, gamma, Grid, PdConstants, BYTES_PER_BOND};
+use rustfrac_core::problem::{Domain, Problem};
 use rustfrac_core::Error;
 
 #[test]
@@ -143,42 +144,38 @@ fn bad_inputs_are_refused_with_reasons() {
             other => panic!("{other:?}"),
         }
     }
-    let base = CcmPdParams::paper();
-    let check = |p: CcmPdParams, name: &str| match run(&p, &|_, _| true) {
-        Err(Error::InvalidInput { param, .. }) => {
-            assert!(param.starts_with(name), "{param} vs {name}")
-        }
+    let base = Problem::paper("ccm_pd");
+    let check = |p: Problem, name: &str| match run(&p, &|_, _| true) {
+        Err(Error::InvalidInput { param, .. }) => assert_eq!(param, name),
         other => panic!("{name}: {:?}", other.map(|r| r.status)),
     };
     let mut p = base.clone();
-    p.model.dx = 0.07; // does not fit W = 11
-    check(p, "width");
+    p.pd_mut().dx = 0.07; // does not fit W = 11
+    check(p, "pd.dx");
     let mut p = base.clone();
-    p.model.precrack = vec![[0.0, 10.0], [1.0, 10.0]]; // along a node row
-    check(p, "precrack");
+    (p.cracks[0].a0, p.cracks[0].y) = (1.0, 10.0); // along a node row
+    check(p, "crack.y");
     let mut p = base.clone();
-    p.model.pd_regions = vec![[3.0, 1.0, 2.0, 2.0]];
-    check(p, "pd_regions[0]");
+    p.pd_mut().regions = vec![[3.0, 1.0, 2.0, 2.0]];
+    check(p, "pd.size");
     let mut p = base.clone();
-    p.sla.tie_tol = -1.0;
-    check(p, "tie_tol");
+    p.pd_mut().sla.tie_tol = -1.0;
+    check(p, "pd.tie_tol");
     let mut p = base.clone();
-    p.model.material.nu = 0.3;
-    check(p, "nu");
+    p.material.elastic.nu = 0.3;
+    check(p, "material.nu");
     let mut p = base;
-    p.model.method = Method::CcmPd;
-    p.model.pd_regions.clear();
-    check(p, "pd_regions");
-    let spec = ModelSpec {
-        method: Method::Pd,
+    p.pd_mut().regions.clear();
+    check(p, "pd.size");
+    // a hand-made pre-crack of one point is refused by the model
+    let mut p = Problem::paper("pd");
+    p.domain = Domain {
         width: 1.0,
         height: 1.0,
-        dx: 0.1,
-        material: ok,
-        g0: 0.3,
-        pd_regions: vec![],
-        precrack: vec![[0.0, 0.55]],
-        ..ModelSpec::paper()
     };
-    assert!(SpliceModel::new(&spec).is_err());
+    p.cracks.clear();
+    p.pd_mut().dx = 0.1;
+    p.material.g0 = 0.3;
+    assert!(SpliceModel::new(&p).is_ok());
+    assert!(SpliceModel::with_precrack(&p, vec![[0.0, 0.55]]).is_err());
 }

@@ -73,13 +73,14 @@ fn an_empty_scene_is_the_papers_case() {
             Method::Pd(x) | Method::CcmPd(x) => {
                 assert_eq!((x.dx, x.m, x.sla.max_steps), (1.0 / 15.0, 4, 500));
                 if m == "ccm_pd" {
-                    let r = x.region.unwrap();
+                    assert_eq!(x.regions.len(), 1);
+                    let r = x.regions[0];
                     let want = [1.70 - 1.365, 10.5 - 0.835, 1.70 + 1.365, 10.5 + 0.835];
                     for (a, b) in r.iter().zip(want) {
                         assert!((a - b).abs() < 1e-12, "{r:?}");
                     }
                 } else {
-                    assert!(x.region.is_none());
+                    assert!(x.regions.is_empty());
                 }
             }
         }

@@ -5,7 +5,8 @@ mod common;
 
 use common::{coarse, go_on};
 use rustfrac_core::pd::sla::checkpoint;
-use rustfrac_core::pd::sla::{auto_refactor_every, run, CcmPdParams, CcmPdResult};
+use rustfrac_core::pd::sla::{auto_refactor_every, run, CcmPdResult};
+use rustfrac_core::problem::Problem;
 use rustfrac_core::Error;
 use rustfrac_core::WarningKind;
 use std::path::PathBuf;
@@ -56,7 +57,7 @@ fn long_run_keeps_the_solver_memory_bounded() {
     // first 400 steps: automatic re-condensation = no re-condensation = oracle (to 1e-8)
     let m = 400;
     let mut p = coarse(true, m);
-    p.sla.refactor_every = 1_000_000;
+    p.pd_mut().sla.refactor_every = 1_000_000;
     let unbounded = run(&p, &go_on).unwrap();
     let oracle = run(&coarse(false, m), &go_on).unwrap();
     assert_eq!(unbounded.max_update_rank, m);
@@ -84,7 +85,7 @@ fn long_run_keeps_the_solver_memory_bounded() {
 #[test]
 fn nodes_detached_during_the_sla_are_grounded() {
     let mut p = coarse(true, 1500);
-    p.model.m = 2;
+    p.pd_mut().m = 2;
     let r = run(&p, &go_on).unwrap();
     let during: Vec<_> = r.detached_nodes.iter().filter(|d| d.0 > 0).collect();
     println!(
@@ -139,21 +140,21 @@ fn checkpoint_and_resume_are_bit_for_bit() {
     for (fast, n, k) in [(true, 40usize, 7usize), (false, 6, 3)] {
         let total = 2 * n + k;
         let mut base = coarse(fast, total);
-        base.sla.refactor_every = 25;
-        base.sla.damage_at_steps = vec![n / 2, n + 1, total];
+        base.pd_mut().sla.refactor_every = 25;
+        base.pd_mut().sla.damage_at_steps = vec![n / 2, n + 1, total];
         let straight = run(&base, &go_on).unwrap();
         assert_eq!(straight.history.len(), total);
         let path = dir.join(format!("run-{fast}.ckpt"));
 
         // (a) stopped by the step limit at N + 5: the last checkpoint is the one after step N
         let mut p = base.clone();
-        p.sla.max_steps = n + 5;
-        p.sla.checkpoint_every = n;
-        p.sla.checkpoint_path = Some(path.clone());
+        p.pd_mut().sla.max_steps = n + 5;
+        p.pd_mut().sla.checkpoint_every = n;
+        p.pd_mut().sla.checkpoint_path = Some(path.clone());
         let first = run(&p, &go_on).unwrap();
         assert_eq!(first.n_checkpoints, 1);
         let mut q = base.clone();
-        q.sla.resume_from = Some(path.clone());
+        q.pd_mut().sla.resume_from = Some(path.clone());
         let resumed = run(&q, &go_on).unwrap();
         assert_eq!(resumed.resumed_steps, n);
         same(&straight, &resumed);
@@ -163,7 +164,7 @@ fn checkpoint_and_resume_are_bit_for_bit() {
         let stop = n + 2;
         let cancel = move |s: usize, _: usize| s < stop;
         let c = run(&p, &cancel).unwrap();
-        assert_eq!(c.status, "cancelled");
+        assert_eq!(c.status.name(), "cancelled");
         assert_eq!(c.history.len(), stop);
         assert_eq!(c.n_checkpoints, 2);
         let resumed = run(&q, &go_on).unwrap();
@@ -188,14 +189,14 @@ fn foreign_or_corrupt_checkpoints_are_refused() {
     let dir = tmpdir("ckpt-bad");
     let path = dir.join("a.ckpt");
     let mut p = coarse(true, 12);
-    p.sla.checkpoint_every = 10;
-    p.sla.checkpoint_path = Some(path.clone());
+    p.pd_mut().sla.checkpoint_every = 10;
+    p.pd_mut().sla.checkpoint_path = Some(path.clone());
     run(&p, &go_on).unwrap();
-    let expect_refusal = |q: CcmPdParams, what: &str| match run(&q, &go_on) {
+    let expect_refusal = |q: Problem, what: &str| match run(&q, &go_on) {
         Err(Error::InvalidInput {
             param, expected, ..
         }) => {
-            assert_eq!(param, "resume_from");
+            assert_eq!(param, "pd.resume_from");
             assert!(expected.contains(what), "{expected}");
             println!("refused ({what}): {expected}");
         }
@@ -203,16 +204,16 @@ fn foreign_or_corrupt_checkpoints_are_refused() {
     };
     // a different model (horizon) and a different solver option: refused
     let mut q = coarse(true, 20);
-    q.sla.resume_from = Some(path.clone());
-    q.model.m = 3;
+    q.pd_mut().sla.resume_from = Some(path.clone());
+    q.pd_mut().m = 3;
     expect_refusal(q, "different");
     let mut q = coarse(true, 20);
-    q.sla.resume_from = Some(path.clone());
-    q.sla.refactor_every = 7;
+    q.pd_mut().sla.resume_from = Some(path.clone());
+    q.pd_mut().sla.refactor_every = 7;
     expect_refusal(q, "different");
     // the same model resumes (and may change the step limit)
     let mut q = coarse(true, 20);
-    q.sla.resume_from = Some(path.clone());
+    q.pd_mut().sla.resume_from = Some(path.clone());
     assert_eq!(run(&q, &go_on).unwrap().resumed_steps, 10);
     // a flipped byte: checksum
     let mut bytes = std::fs::read(&path).unwrap();
@@ -221,24 +222,24 @@ fn foreign_or_corrupt_checkpoints_are_refused() {
     let bad = dir.join("bad.ckpt");
     std::fs::write(&bad, &bytes).unwrap();
     let mut q = coarse(true, 20);
-    q.sla.resume_from = Some(bad.clone());
+    q.pd_mut().sla.resume_from = Some(bad.clone());
     expect_refusal(q, "intact");
     // not a checkpoint at all
     std::fs::write(&bad, b"hello, this is not a checkpoint at all, really not").unwrap();
     let mut q = coarse(true, 20);
-    q.sla.resume_from = Some(bad);
+    q.pd_mut().sla.resume_from = Some(bad);
     expect_refusal(q, "checkpoint file");
     // missing file: an I/O error naming the path
     let mut q = coarse(true, 20);
-    q.sla.resume_from = Some(dir.join("missing.ckpt"));
+    q.pd_mut().sla.resume_from = Some(dir.join("missing.ckpt"));
     assert!(
         matches!(run(&q, &go_on), Err(Error::Io { path, .. }) if path.contains("missing.ckpt"))
     );
     // checkpoint_every without a path
     let mut q = coarse(true, 20);
-    q.sla.checkpoint_every = 5;
+    q.pd_mut().sla.checkpoint_every = 5;
     assert!(
-        matches!(run(&q, &go_on), Err(Error::InvalidInput { param, .. }) if param == "checkpoint_path")
+        matches!(run(&q, &go_on), Err(Error::InvalidInput { param, .. }) if param == "pd.checkpoint_path")
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -249,17 +250,135 @@ fn foreign_or_corrupt_checkpoints_are_refused() {
 /// the model and the solver options, not the step limit or the checkpoint options.
 #[test]
 fn checkpoint_fingerprint_is_stable() {
-    let p = CcmPdParams::paper();
-    let fp = |q: &CcmPdParams| checkpoint::fingerprint(q, 1000, 2000);
+    let p = Problem::paper("ccm_pd");
+    let fp = |q: &Problem| checkpoint::fingerprint(q, &q.pd_precrack(), 1000, 2000);
     assert_eq!(fp(&p), 0xa416_ee35_3015_db7f);
     let mut q = p.clone();
-    q.sla.max_steps = 7;
-    q.sla.checkpoint_every = 3;
+    q.pd_mut().sla.max_steps = 7;
+    q.pd_mut().sla.checkpoint_every = 3;
     assert_eq!(fp(&q), fp(&p));
     let mut q = p.clone();
-    q.model.m = 3;
+    q.pd_mut().m = 3;
     assert_ne!(fp(&q), fp(&p));
     let mut q = p.clone();
-    q.sla.tie_tol = 1e-9;
+    q.pd_mut().sla.tie_tol = 1e-9;
     assert_ne!(fp(&q), fp(&p));
+}
+
+/// FNV-1a 64 of `b` (the checkpoint checksum, written out here independently of the crate).
+fn fnv(b: &[u8]) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for &x in b {
+        h ^= x as u64;
+        h = h.wrapping_mul(0x0100_0000_01b3);
+    }
+    h
+}
+
+/// `bytes` with the word at byte offset `at` replaced by `word` and the checksum recomputed: a
+/// crafted checkpoint that passes the integrity check.
+fn crafted(bytes: &[u8], at: usize, word: u64) -> Vec<u8> {
+    let mut b = bytes[..bytes.len() - 8].to_vec();
+    b[at..at + 8].copy_from_slice(&word.to_le_bytes());
+    let h = fnv(&b);
+    b.extend_from_slice(&h.to_le_bytes());
+    b
+}
+
+/// Hostile checkpoints (issue 17, items 4, 5 and 12): a FIFO and a directory are refused before
+/// they are opened (no hang), an oversized file before it is read, crafted files with a valid
+/// checksum but NaN values or a bond listed twice in a step are refused, a `checkpoint_path`
+/// naming an existing non-checkpoint file leaves it untouched, and no temporary file remains.
+#[test]
+fn hostile_checkpoints_are_refused() {
+    let dir = tmpdir("ckpt-hostile");
+    let path = dir.join("a.ckpt");
+    let mut p = coarse(true, 6);
+    p.pd_mut().sla.checkpoint_every = 6;
+    p.pd_mut().sla.checkpoint_path = Some(path.clone());
+    run(&p, &go_on).unwrap();
+    let good = std::fs::read(&path).unwrap();
+    let refused = |file: PathBuf, what: &str| {
+        let mut q = coarse(true, 10);
+        q.pd_mut().sla.resume_from = Some(file);
+        let t = std::time::Instant::now();
+        match run(&q, &go_on) {
+            Err(Error::InvalidInput {
+                param, expected, ..
+            }) => {
+                assert_eq!(param, "pd.resume_from");
+                assert!(expected.contains(what), "{what}: {expected}");
+                println!(
+                    "refused in {:.2} s ({what}): {expected}",
+                    t.elapsed().as_secs_f64()
+                );
+            }
+            other => panic!("{what}: {:?}", other.map(|r| r.status)),
+        }
+    };
+    // a FIFO (opening it would block) and a directory
+    let fifo = dir.join("fifo");
+    let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+    if made.is_ok_and(|s| s.success()) {
+        refused(fifo, "regular");
+    }
+    refused(dir.clone(), "regular");
+    // a file larger than any checkpoint of this model, sparse (nothing is read)
+    let big = dir.join("big.ckpt");
+    std::fs::File::create(&big)
+        .unwrap()
+        .set_len(1 << 40)
+        .unwrap();
+    refused(big.clone(), "at most");
+    std::fs::remove_file(&big).unwrap();
+    // crafted: after the header (magic 8, version 4, fingerprint 8, step count 8 bytes) step 1
+    // holds its number, lambda, sigma22, cmod, u0, crack length, 2 nodes, the bond count and
+    // the bonds (8 bytes each); lambda = NaN, then lambda = -1, then the first bond repeated
+    let bad = dir.join("bad.ckpt");
+    std::fs::write(&bad, crafted(&good, 36, f64::NAN.to_bits())).unwrap();
+    refused(bad.clone(), "finite");
+    std::fs::write(&bad, crafted(&good, 36, (-1.0f64).to_bits())).unwrap();
+    refused(bad.clone(), "positive");
+    let count_at = 28 + 8 * 8;
+    let n = u64::from_le_bytes(good[count_at..count_at + 8].try_into().unwrap());
+    assert_eq!(n, 1, "one bond per step (tie_tol = 0)");
+    // make it 2 bonds, the same one twice (insert a copy of the bond word)
+    let mut twice = good[..good.len() - 8].to_vec();
+    twice[count_at..count_at + 8].copy_from_slice(&2u64.to_le_bytes());
+    let bond = twice[count_at + 8..count_at + 16].to_vec();
+    twice.splice(count_at + 16..count_at + 16, bond);
+    let h = fnv(&twice);
+    twice.extend_from_slice(&h.to_le_bytes());
+    std::fs::write(&bad, &twice).unwrap();
+    refused(bad, "once");
+    // checkpoint_path naming a file that is not a checkpoint: refused, the file intact
+    let precious = dir.join("notes.txt");
+    std::fs::write(&precious, b"not a checkpoint").unwrap();
+    let mut q = coarse(true, 4);
+    q.pd_mut().sla.checkpoint_every = 2;
+    q.pd_mut().sla.checkpoint_path = Some(precious.clone());
+    assert!(matches!(
+        run(&q, &go_on),
+        Err(Error::InvalidInput { param, .. }) if param == "pd.checkpoint_path"
+    ));
+    assert_eq!(std::fs::read(&precious).unwrap(), b"not a checkpoint");
+    // a symlink planted at the old predictable temporary name is not followed
+    let target = dir.join("victim");
+    std::fs::write(&target, b"victim").unwrap();
+    let planted = dir.join(format!(".a.ckpt.tmp{}", std::process::id()));
+    std::os::unix::fs::symlink(&target, &planted).unwrap();
+    run(&p, &go_on).unwrap();
+    assert_eq!(std::fs::read(&target).unwrap(), b"victim");
+    assert_eq!(
+        std::fs::read(&path).unwrap(),
+        good,
+        "the same run, the same checkpoint"
+    );
+    let left: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|f| f.contains(".tmp-"))
+        .collect();
+    assert!(left.is_empty(), "{left:?}");
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -22,11 +22,11 @@ use std::time::Instant;
 
 /// Runs the PD or CCM-PD model of `p` with its SLA and shapes the result.
 pub fn run<'py>(py: Python<'py>, p: &Problem, prog: &Progress) -> PyResult<Bound<'py, PyDict>> {
-    let params = p.pd_params().expect("a PD problem");
     let name = p.method.name();
+    let max_steps = p.pd().expect("a PD problem").sla.max_steps;
     let t0 = Instant::now();
     let r = detached(py, name, || {
-        let total = params.sla.max_steps.max(1);
+        let total = max_steps.max(1);
         if !prog.report(0, total, &format!("{name}: building the model"), true) {
             return Err(CoreError::Internal {
                 detail: "cancelled".into(),
@@ -37,7 +37,7 @@ pub fn run<'py>(py: Python<'py>, p: &Problem, prog: &Progress) -> PyResult<Bound
         let report = |step: usize, steps: usize| {
             prog.report(step, steps, &format!("sla: step {step}/{steps}"), false)
         };
-        let r = sla::run(&params, &report)?;
+        let r = sla::run(p, &report)?;
         let msg = format!("sla: {} after {} steps", r.status, r.history.len());
         prog.report(total, total, &msg, true);
         Ok(r)
@@ -48,30 +48,15 @@ pub fn run<'py>(py: Python<'py>, p: &Problem, prog: &Progress) -> PyResult<Bound
     }
     let r = r?;
     let s = Shaped::new(py, p, (r.sigma22, r.cmod, r.n_dofs, wall), &r.warnings)?;
-    history(&s, &r, p)?;
+    history(&s, &r)?;
     fields(&s, &r)?;
     meta(&s, &r, p, wall)?;
     s.finish()
 }
 
-/// The unloaded origin: no load, the pre-crack's length, no bond.
-fn origin(p: &Problem) -> SlaStep {
-    SlaStep {
-        step: 0,
-        lambda: 0.0,
-        sigma22: 0.0,
-        cmod: 0.0,
-        u0: 0.0,
-        bonds: Vec::new(),
-        nodes: [usize::MAX; 2],
-        detached: Vec::new(),
-        crack_length: p.cracks.first().map_or(0.0, |c| c.a0),
-    }
-}
-
-fn history(s: &Shaped<'_>, r: &CcmPdResult, p: &Problem) -> PyResult<()> {
+fn history(s: &Shaped<'_>, r: &CcmPdResult) -> PyResult<()> {
     let py = s.py;
-    let o = origin(p);
+    let o = r.origin();
     let h: Vec<&SlaStep> = std::iter::once(&o).chain(&r.history).collect();
     let col = |f: fn(&SlaStep) -> f64| -> Vec<f64> { h.iter().map(|x| f(x)).collect() };
     let idx = |f: fn(&SlaStep) -> i64| {
@@ -144,7 +129,7 @@ fn meta(s: &Shaped<'_>, r: &CcmPdResult, p: &Problem, wall: f64) -> PyResult<()>
     let (Method::Pd(pd) | Method::CcmPd(pd)) = &p.method else {
         return Ok(());
     };
-    if pd.region.is_none() {
+    if pd.regions.is_empty() {
         let d = format!(
             "{}; on volumetric PD boundary layers",
             p.boundary.description()
@@ -157,15 +142,14 @@ fn meta(s: &Shaped<'_>, r: &CcmPdResult, p: &Problem, wall: f64) -> PyResult<()>
     } else {
         m.set_item("anchor_xy", r.anchor_xy.to_vec())?;
     }
-    m.set_item("status", &r.status)?;
+    m.set_item("status", r.status.name())?;
     m.set_item("solver", &r.solver)?;
     m.set_item("sla_steps_done", r.history.len())?;
-    match pd.region {
-        Some(reg) => m.set_item("pd_regions", vec![reg.to_vec()])?,
-        None => m.set_item("pd_regions", "the whole plate")?,
+    match pd.regions.is_empty() {
+        false => m.set_item("pd_regions", pd.regions.clone())?,
+        true => m.set_item("pd_regions", "the whole plate")?,
     }
-    let params = p.pd_params().expect("a PD problem");
-    m.set_item("precrack", params.model.precrack.clone())?;
+    m.set_item("precrack", p.pd_precrack())?;
     m.set_item("out_of_balance", r.out_of_balance.to_vec())?;
     m.set_item("n_refactorisations", r.n_refactorisations)?;
     m.set_item("max_update_rank", r.max_update_rank)?;

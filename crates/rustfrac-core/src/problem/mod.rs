@@ -13,7 +13,6 @@
 //! the drivers match on them. Today they hold the paper's plate: the rectangle [0, W] x [0, L]
 //! loaded through its top and bottom edges (eq. 61).
 
-pub mod lower;
 pub mod parse;
 pub mod schema;
 pub mod validate;
@@ -22,7 +21,7 @@ pub mod value;
 use crate::fe::loading::{Grip, PlateLoad};
 use crate::fe::material::Elastic;
 use crate::fe::mesh::Side;
-use crate::pd::sla::SlaParams;
+use std::path::PathBuf;
 
 /// The material: isotropic linear elasticity and the fracture energy.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -223,9 +222,56 @@ pub struct PdMethod {
     pub dx: f64,
     /// horizon factor m = delta / dx
     pub m: usize,
-    /// CCM-PD: the PD rectangle [x0, y0, x1, y1]; pure PD: None (the whole plate)
-    pub region: Option<[f64; 4]>,
+    /// CCM-PD: the PD rectangles [x0, y0, x1, y1] (a scene states one, by `pd.center` and
+    /// `pd.size`); pure PD: none (the whole plate)
+    pub regions: Vec<[f64; 4]>,
     pub sla: SlaParams,
+}
+
+/// Options of the sequentially linear analysis (paper section 3). Defaults and ranges are the
+/// scene's `[pd]` keys ([`schema`]); a hand-built problem meets them in [`validate::problem`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct SlaParams {
+    /// number of SLA steps (bond-break events); 0 = only the reference solution (`pd.sla_steps`)
+    pub max_steps: usize,
+    /// stop when the crack (pre-crack + broken bonds, along the pre-crack direction) reaches this
+    pub stop_crack_length: Option<f64>,
+    /// break together every bond with load factor <= lambda (1 + tie_tol); 0 = one bond per step
+    pub tie_tol: f64,
+    /// fast solver: re-condense after this many low-rank updates (0 = automatic,
+    /// [`crate::pd::sla::auto_refactor_every`])
+    pub refactor_every: usize,
+    /// condensation + Sherman-Morrison-Woodbury (true) or refactorise every step (false, oracle)
+    pub fast: bool,
+    /// steps after which the damage field is stored (besides the final one)
+    pub damage_at_steps: Vec<usize>,
+    /// write a checkpoint to `checkpoint_path` after every this many steps (0 = never); a
+    /// cancelled run writes one too
+    pub checkpoint_every: usize,
+    /// checkpoint file (written atomically: a temporary file in the same directory, then renamed)
+    pub checkpoint_path: Option<PathBuf>,
+    /// resume from this checkpoint: the model is rebuilt, the checkpoint's steps are replayed
+    /// exactly (same low-rank updates in the same order) and the run continues; the history is the
+    /// same bit for bit as an uninterrupted run's
+    pub resume_from: Option<PathBuf>,
+}
+
+impl Default for SlaParams {
+    /// The scene's defaults (the paper's 500 steps, one bond per step, the fast solver).
+    fn default() -> Self {
+        let d = |key: &str| schema::spec("pd", key).expect("a pd key").default.clone();
+        Self {
+            max_steps: d("sla_steps").i() as usize,
+            stop_crack_length: None,
+            tie_tol: d("tie_tol").f(),
+            refactor_every: d("refactor_every").i() as usize,
+            fast: d("fast").b(),
+            damage_at_steps: Vec::new(),
+            checkpoint_every: d("checkpoint_every").i() as usize,
+            checkpoint_path: None,
+            resume_from: None,
+        }
+    }
 }
 
 /// The method and its options.
@@ -290,9 +336,14 @@ impl Problem {
 
     /// The same problem under other grips (the reference load stays).
     pub fn with_grip(mut self, grip: Grip) -> Self {
-        let Boundary::Grips(l) = &mut self.boundary;
-        l.grip = grip;
+        self.load_mut().grip = grip;
         self
+    }
+
+    /// The grips' load (grip, reference displacement, reference traction).
+    pub fn load_mut(&mut self) -> &mut PlateLoad {
+        let Boundary::Grips(l) = &mut self.boundary;
+        l
     }
 
     /// The FEM options (panics for another method: a programming error).
@@ -309,6 +360,23 @@ impl Problem {
             Method::Xfem(m) => m,
             m => panic!("xfem_mut on a {} problem", m.name()),
         }
+    }
+
+    /// The PD options of "pd" and "ccm_pd" (None for another method).
+    pub fn pd(&self) -> Option<&PdMethod> {
+        match &self.method {
+            Method::Pd(m) | Method::CcmPd(m) => Some(m),
+            _ => None,
+        }
+    }
+
+    /// The PD pre-crack: the polyline (mouth first) of the first edge crack, empty for none.
+    pub fn pd_precrack(&self) -> Vec<[f64; 2]> {
+        self.cracks
+            .iter()
+            .find(|c| c.kind == CrackKind::Edge)
+            .map(|c| c.polyline(&self.domain))
+            .unwrap_or_default()
     }
 
     /// The PD options of "pd" and "ccm_pd" (panics for another method: a programming error).

@@ -10,13 +10,12 @@ use super::schema::{self, Kind, Val};
 use super::value::{Table, Value};
 use super::{
     Boundary, CrackKind, CrackSpec, Domain, FeGrid, FemMethod, Growth, Material, Method, PdMethod,
-    Problem, XfemMethod, XfemOptions,
+    Problem, SlaParams, XfemMethod, XfemOptions,
 };
 use crate::error::{Error, Result};
 use crate::fe::loading::{Grip, PlateLoad};
 use crate::fe::material::{Elastic, Plane};
 use crate::fe::mesh::Side;
-use crate::pd::sla::SlaParams;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
@@ -425,7 +424,10 @@ fn pd_method(pd: &Section, ccm: bool) -> PdMethod {
     PdMethod {
         dx: pd["dx"].f(),
         m: pd["m"].i() as usize,
-        region: ccm.then_some([cx - sx / 2.0, cy - sy / 2.0, cx + sx / 2.0, cy + sy / 2.0]),
+        regions: ccm
+            .then_some([cx - sx / 2.0, cy - sy / 2.0, cx + sx / 2.0, cy + sy / 2.0])
+            .into_iter()
+            .collect(),
         sla: SlaParams {
             max_steps: pd["sla_steps"].i() as usize,
             stop_crack_length: positive_or_none(pd["stop_crack_length"].f()),

@@ -15,6 +15,8 @@ use std::sync::OnceLock;
 pub const DEFAULT_AREA_THRESHOLD: f64 = 1e-4;
 /// Largest SLA step count, re-condensation period and damage-snapshot step.
 pub const MAX_STEPS: usize = 1_000_000;
+/// Most damage snapshots a run stores (each holds one value per PD node).
+pub const MAX_SNAPSHOTS: usize = 10_000;
 /// Largest number of XFEM growth steps.
 pub const MAX_GROWTH_STEPS: usize = 100_000;
 /// Largest PD horizon factor m = delta / dx (bonds per node grow as m^2).
@@ -301,8 +303,8 @@ fn build() -> Vec<KeySpec> {
           "size of the CCM-PD rectangle along x1 and x2",
           |v| v.pair().iter().all(|&x| positive(x))),
         k("pd", "sla_steps", Int, Val::Int(500),
-          &format!("an integer >= 1 (at most {MAX_STEPS})"),
-          "most SLA steps (bond-break events)", |v| (1..=MAX_STEPS as i64).contains(&v.i())),
+          &format!("an integer >= 0 (0 = the reference solution only; at most {MAX_STEPS})"),
+          "most SLA steps (bond-break events)", |v| (0..=MAX_STEPS as i64).contains(&v.i())),
         k("pd", "tie_tol", Float, Val::Float(0.0), "0 <= tie_tol < 1",
           "break together every bond within this relative tolerance of the step's load factor \
            (0 = one bond per step)", |v| v.f() >= 0.0 && v.f() < 1.0),
@@ -317,9 +319,10 @@ fn build() -> Vec<KeySpec> {
           "a finite number >= 0 (0 = no stop; else in [1e-30, 1e30])",
           "stop the SLA once the crack is this long", |v| nonneg(v.f())),
         k("pd", "damage_at_steps", IntList, Val::IntList(Vec::new()),
-          &format!("a list of integers >= 1 (at most {MAX_STEPS})"),
+          &format!("a list of at most {MAX_SNAPSHOTS} integers >= 1 (at most {MAX_STEPS})"),
           "steps after which the damage field is stored too",
-          |v| v.ints().iter().all(|&x| (1..=MAX_STEPS as i64).contains(&x))),
+          |v| v.ints().len() <= MAX_SNAPSHOTS
+              && v.ints().iter().all(|&x| (1..=MAX_STEPS as i64).contains(&x))),
         k("pd", "checkpoint_every", Int, Val::Int(0),
           &format!("an integer >= 0 (at most {MAX_STEPS})"),
           "write a checkpoint every this many steps (0 = never)",

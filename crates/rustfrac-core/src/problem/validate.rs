@@ -129,9 +129,49 @@ fn schema_ranges(p: &Problem) -> Result<()> {
             }
         }
         Method::Xfem(x) => xfem_ranges(x, &int)?,
-        _ => {}
+        Method::Pd(pd) | Method::CcmPd(pd) => pd_ranges(pd, &int)?,
     }
     Ok(())
+}
+
+/// The PD and SLA options of a hand-built problem within the scene's ranges (absent options
+/// count as the scene's 0; the rectangle as its centre and size).
+fn pd_ranges(pd: &PdMethod, int: &dyn Fn(usize) -> Val) -> Result<()> {
+    in_range("pd", "pd", "dx", Val::Float(pd.dx))?;
+    in_range("pd", "pd", "m", int(pd.m))?;
+    for r in &pd.regions {
+        let centre = [0.5 * (r[0] + r[2]), 0.5 * (r[1] + r[3])];
+        in_range("pd", "pd", "center", Val::Pair(centre))?;
+        in_range("pd", "pd", "size", Val::Pair([r[2] - r[0], r[3] - r[1]]))?;
+    }
+    let sla = &pd.sla;
+    for (key, n) in [
+        ("sla_steps", sla.max_steps),
+        ("refactor_every", sla.refactor_every),
+        ("checkpoint_every", sla.checkpoint_every),
+    ] {
+        in_range("pd", "pd", key, int(n))?;
+    }
+    in_range("pd", "pd", "tie_tol", Val::Float(sla.tie_tol))?;
+    let stop = sla.stop_crack_length.unwrap_or(0.0);
+    in_range("pd", "pd", "stop_crack_length", Val::Float(stop))?;
+    if sla.stop_crack_length == Some(0.0) {
+        return Err(Error::invalid(
+            "pd.stop_crack_length",
+            "a positive length (None: no stop)",
+            0.0,
+        ));
+    }
+    let steps: Vec<i64> = sla.damage_at_steps.iter().map(|&k| k as i64).collect();
+    in_range("pd", "pd", "damage_at_steps", Val::IntList(steps))
+}
+
+/// The number of grid cells of spacing `dx` along a length `len` when they fit it: `len / dx`
+/// within 1e-6 of an integer in 1..=1e7 (the grid-fit rule of the PD grid, one copy).
+pub fn grid_count(len: f64, dx: f64) -> Option<usize> {
+    let r = len / dx;
+    let n = r.round();
+    ((1.0..=1e7).contains(&n) && (r - n).abs() <= 1e-6 * n.max(1.0)).then_some(n as usize)
 }
 
 /// The XFEM options of a hand-built problem within the scene's ranges (the resolved values:
@@ -342,6 +382,24 @@ fn cracks_apart(p: &Problem) -> Result<()> {
 /// The rules of bond-based PD and of the PD grid.
 fn peridynamics(p: &Problem, pd: &PdMethod) -> Result<()> {
     let method = p.method.name();
+    match (&p.method, pd.regions.first()) {
+        (Method::CcmPd(_), None) => {
+            return Err(Error::invalid(
+                "pd.size",
+                "a PD rectangle for method 'ccm_pd' (method 'pd' covers the whole plate)",
+                "none",
+            ))
+        }
+        (Method::Pd(_), Some(r)) => {
+            return Err(Error::invalid(
+                "pd.center",
+                "no PD rectangle for method 'pd' (PD covers the whole plate; a rectangle needs \
+                 method 'ccm_pd')",
+                format!("{r:?}"),
+            ))
+        }
+        _ => {}
+    }
     let mat = &p.material.elastic;
     if mat.nu != PD_NU {
         return Err(Error::invalid(
@@ -369,14 +427,28 @@ fn peridynamics(p: &Problem, pd: &PdMethod) -> Result<()> {
             format!("{} ({nodes:.3e} nodes)", pd.dx),
         ));
     }
-    for (len, axis) in [(d.width, "plate.width"), (d.height, "plate.height")] {
-        crate::pd::splice::grid_count(len, pd.dx, "pd.dx").map_err(|_| {
+    let mut counts = [0usize; 2];
+    for (k, (len, axis)) in [(d.width, "plate.width"), (d.height, "plate.height")]
+        .into_iter()
+        .enumerate()
+    {
+        counts[k] = grid_count(len, pd.dx).ok_or_else(|| {
             Error::invalid(
                 "pd.dx",
                 &format!("a dx that makes the grid fit the plate: {axis} / dx an integer"),
                 format!("{} ({axis} {len} / dx = {:.6})", pd.dx, len / pd.dx),
             )
         })?;
+    }
+    // the grid's spacing is width / nx; it must be the same along x2
+    let (hx, hy) = (d.width / counts[0] as f64, d.height / counts[1] as f64);
+    if (hy - hx).abs() > 1e-9 * hx {
+        return Err(Error::invalid(
+            "pd.dx",
+            "a dx that fits both plate.width and plate.height with the same spacing (within \
+             1e-9)",
+            format!("{} (width / nx = {hx}, height / ny = {hy})", pd.dx),
+        ));
     }
     if pd.sla.checkpoint_every > 0 && pd.sla.checkpoint_path.is_none() {
         return Err(Error::invalid(
@@ -389,13 +461,17 @@ fn peridynamics(p: &Problem, pd: &PdMethod) -> Result<()> {
         ));
     }
     let two_h = 2.0 * pd.m as f64 * pd.dx;
-    let span = |i: usize| match pd.region {
-        Some(r) => (r[2 + i] - r[i], "pd.size"),
-        None => ([d.width, d.height][i], ["plate.width", "plate.height"][i]),
+    let spans: Vec<[(f64, &str); 2]> = if pd.regions.is_empty() {
+        vec![[(d.width, "plate.width"), (d.height, "plate.height")]]
+    } else {
+        let size = |r: &[f64; 4], i: usize| (r[2 + i] - r[i], "pd.size");
+        pd.regions
+            .iter()
+            .map(|r| [size(r, 0), size(r, 1)])
+            .collect()
     };
-    for (i, axis) in ["x1", "x2"].iter().enumerate() {
-        let (s, key) = span(i);
-        if s < two_h * (1.0 - 1e-9) {
+    for ((s, key), axis) in spans.iter().flat_map(|sp| sp.iter().zip(["x1", "x2"])) {
+        if *s < two_h * (1.0 - 1e-9) {
             return Err(Error::invalid(
                 key,
                 &format!(
@@ -407,7 +483,7 @@ fn peridynamics(p: &Problem, pd: &PdMethod) -> Result<()> {
             ));
         }
     }
-    if let Some(r) = pd.region {
+    for r in &pd.regions {
         for (i, axis) in ["x1", "x2"].iter().enumerate() {
             let len = [d.width, d.height][i];
             if r[i] < 0.0 || r[2 + i] > len {
@@ -418,17 +494,18 @@ fn peridynamics(p: &Problem, pd: &PdMethod) -> Result<()> {
                 ));
             }
         }
-        if let Some(c) = p.cracks.first() {
-            if !(r[0] <= c.a0 && c.a0 <= r[2] && r[1] <= c.y && c.y <= r[3]) {
-                return Err(Error::invalid(
-                    "pd.center",
-                    &format!(
-                        "a PD rectangle [{:.6}, {:.6}] x [{:.6}, {:.6}] around the crack tip",
-                        r[0], r[2], r[1], r[3]
-                    ),
-                    format!("the tip at ({}, {})", c.a0, c.y),
-                ));
-            }
+    }
+    if let (Some(c), Some(r)) = (p.cracks.first(), pd.regions.first()) {
+        let around = |r: &[f64; 4]| r[0] <= c.a0 && c.a0 <= r[2] && r[1] <= c.y && c.y <= r[3];
+        if !pd.regions.iter().any(around) {
+            return Err(Error::invalid(
+                "pd.center",
+                &format!(
+                    "a PD rectangle [{:.6}, {:.6}] x [{:.6}, {:.6}] around the crack tip",
+                    r[0], r[2], r[1], r[3]
+                ),
+                format!("the tip at ({}, {})", c.a0, c.y),
+            ));
         }
     }
     if let Some(c) = p.cracks.first() {

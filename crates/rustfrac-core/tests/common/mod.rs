@@ -8,8 +8,7 @@ use rustfrac_core::fe::loading::{plate_conditions, Grip, PlateEdges, PlateLoad};
 use rustfrac_core::fe::material::{Elastic, Plane};
 use rustfrac_core::fe::mesh::Side;
 use rustfrac_core::fe::{FemModel, LinearSystem, Solution};
-use rustfrac_core::pd::sla::{CcmPdParams, Method, SlaParams};
-use rustfrac_core::problem::{Boundary, CrackKind, CrackSpec, Domain, Growth, Problem};
+use rustfrac_core::problem::{Boundary, CrackKind, CrackSpec, Domain, Growth, Problem, SlaParams};
 use rustfrac_core::xfem::DEFAULT_AREA_THRESHOLD;
 use std::f64::consts::PI;
 
@@ -29,11 +28,12 @@ pub fn rel(a: f64, b: f64) -> f64 {
 /// A coarse version of the paper's CCM-PD plate (dx = 1/5 keeps x2 = 10.5 and x1 = 1.1 between
 /// nodes), with a larger PD rectangle (4.4 x 2.4, ~600 PD dofs) so that hundreds of steps stay
 /// inside it.
-pub fn coarse(fast: bool, steps: usize) -> CcmPdParams {
-    let mut p = CcmPdParams::paper();
-    p.model.dx = 0.2;
-    p.model.pd_regions = vec![[0.3, 9.3, 4.7, 11.7]];
-    p.sla = SlaParams {
+pub fn coarse(fast: bool, steps: usize) -> Problem {
+    let mut p = Problem::paper("ccm_pd");
+    let pd = p.pd_mut();
+    pd.dx = 0.2;
+    pd.regions = vec![[0.3, 9.3, 4.7, 11.7]];
+    pd.sla = SlaParams {
         max_steps: steps,
         fast,
         ..SlaParams::default()
@@ -41,25 +41,41 @@ pub fn coarse(fast: bool, steps: usize) -> CcmPdParams {
     p
 }
 
-/// The paper's parameters ([`CcmPdParams::paper`]: material, G0, PD rectangle, pre-crack, load, SLA
-/// options) on a `width` x `height` plate with grid spacing `dx` and horizon factor `m`.
-pub fn pd_plate(method: Method, width: f64, height: f64, dx: f64, m: usize) -> CcmPdParams {
-    let mut p = CcmPdParams::paper();
-    p.model.method = method;
-    p.model.width = width;
-    p.model.height = height;
-    p.model.dx = dx;
-    p.model.m = m;
+/// The paper's problem ([`Problem::paper`]: material, G0, PD rectangle, pre-crack, load, SLA
+/// options) solved by `method` ("pd" or "ccm_pd") on a `width` x `height` plate with grid
+/// spacing `dx` and horizon factor `m`.
+pub fn pd_plate(method: &str, width: f64, height: f64, dx: f64, m: usize) -> Problem {
+    let mut p = Problem::paper(method);
+    p.domain = Domain { width, height };
+    let pd = p.pd_mut();
+    pd.dx = dx;
+    pd.m = m;
     p
+}
+
+/// Replaces the pre-crack of `p` by an edge crack from the left edge of length `a0` at height
+/// `y` (no crack for `a0 = 0`).
+pub fn set_precrack(p: &mut Problem, a0: f64, y: f64) {
+    p.cracks = if a0 > 0.0 {
+        vec![CrackSpec {
+            kind: CrackKind::Edge,
+            a0,
+            y,
+            angle: 0.0,
+            x: 0.0,
+            side: Side::Left,
+        }]
+    } else {
+        Vec::new()
+    };
 }
 
 /// A pure PD strip 1.2 x 2.2 (dx = 0.2, m = 2) with an edge pre-crack of 0.5 at mid-height: the SLA
 /// cuts its ligament through (status "separated") within the 2000 steps allowed.
-pub fn pd_strip(fast: bool, grip: Grip) -> CcmPdParams {
-    let mut p = pd_plate(Method::Pd, 1.2, 2.2, 0.2, 2);
-    p.model.precrack = vec![[0.0, 1.1], [0.5, 1.1]];
-    p.model.load.grip = grip;
-    p.sla = SlaParams {
+pub fn pd_strip(fast: bool, grip: Grip) -> Problem {
+    let mut p = pd_plate("pd", 1.2, 2.2, 0.2, 2).with_grip(grip);
+    set_precrack(&mut p, 0.5, 1.1);
+    p.pd_mut().sla = SlaParams {
         max_steps: 2000,
         fast,
         ..SlaParams::default()

@@ -11,14 +11,21 @@
 //! Format (little endian, no external serialiser): magic `RFSLACK\0`, version (u32), model
 //! fingerprint (u64), step count (u64), then per step: step, lambda, sigma22, cmod, u0,
 //! crack_length, node_i, node_j (u64 / f64 bits), the broken bonds and the detached nodes (each a
-//! u64 count and u64 values); finally an FNV-1a checksum (u64) of everything before it. Files are
-//! written to a temporary name in the same directory and renamed, so a reader never sees a
-//! partial file. A checkpoint is refused with a clear error when its version, fingerprint,
-//! checksum or contents do not fit the model.
+//! u64 count and u64 values); finally an FNV-1a checksum (u64) of everything before it.
+//!
+//! Writing: the file goes to a temporary name beside it, created exclusively under a random name
+//! (never following a planted symlink), synced, then renamed into place, so a reader never sees a
+//! partial file; `checkpoint_path` may name a new file or an existing checkpoint, never another
+//! file. Reading: regular files only (a FIFO or device is refused before it is opened), at most
+//! the size a checkpoint of the model can have; a checkpoint is refused with a clear error when
+//! its version, fingerprint, checksum or contents (finite values, positive load factors, every
+//! bond once) do not fit the model.
 
-use super::params::CcmPdParams;
 use super::result::SlaStep;
 use crate::error::{Error, Result};
+use crate::fe::loading::Grip;
+use crate::problem::Problem;
+use std::io::{Read, Write};
 use std::path::Path;
 
 const MAGIC: &[u8; 8] = b"RFSLACK\0";
@@ -58,31 +65,41 @@ impl Fnv {
 }
 
 /// Fingerprint of everything that determines an SLA's sequence of floating-point operations: the
-/// model (method, plate, grid, horizon, material, G0, PD rectangles, pre-crack, load) and the
-/// solver options (fast, refactor_every, tie_tol), plus the built model's counts. The step limit,
-/// stop length, damage snapshots and checkpoint options may change between the runs.
-pub fn fingerprint(p: &CcmPdParams, n_dofs: usize, n_bonds: usize) -> u64 {
-    let (m, sla) = (&p.model, &p.sla);
+/// model (method, plate, grid, horizon, material, G0, PD rectangles, pre-crack polyline, the load
+/// that acts) and the solver options (fast, refactor_every, tie_tol), plus the built model's
+/// counts. The step limit, stop length, damage snapshots and checkpoint options may change
+/// between the runs.
+pub fn fingerprint(p: &Problem, precrack: &[[f64; 2]], n_dofs: usize, n_bonds: usize) -> u64 {
+    let pd = p.pd().expect("a PD problem");
+    let (d, mat, sla) = (&p.domain, &p.material.elastic, &pd.sla);
+    let load = p.boundary.plate_load();
     let mut h = Fnv::default();
     h.u64(VERSION as u64);
-    h.str(m.method.name());
-    for v in [m.width, m.height, m.dx, m.g0, m.material.e, m.material.nu] {
+    h.str(p.method.name());
+    for v in [d.width, d.height, pd.dx, p.material.g0, mat.e, mat.nu] {
         h.f64(v);
     }
-    h.f64(m.material.thickness);
-    h.str(&format!("{:?}", m.material.plane));
-    h.u64(m.m as u64);
-    h.u64(m.pd_regions.len() as u64);
-    for r in &m.pd_regions {
+    h.f64(mat.thickness);
+    h.str(&format!("{:?}", mat.plane));
+    h.u64(pd.m as u64);
+    h.u64(pd.regions.len() as u64);
+    for r in &pd.regions {
         r.iter().for_each(|&v| h.f64(v));
     }
-    h.u64(m.precrack.len() as u64);
-    for q in &m.precrack {
+    h.u64(precrack.len() as u64);
+    for q in precrack {
         q.iter().for_each(|&v| h.f64(v));
     }
-    h.str(m.load.grip.name());
-    h.f64(m.load.u0);
-    h.f64(m.load.traction);
+    // only the load that acts: u0 under displacement grips, the traction under the traction
+    // grip (the other is hashed as 0, so changing it does not invalidate a checkpoint)
+    let traction = if load.grip == Grip::Traction {
+        load.traction
+    } else {
+        0.0
+    };
+    h.str(load.grip.name());
+    h.f64(load.u0);
+    h.f64(traction);
     h.u64(sla.fast as u64);
     h.u64(sla.refactor_every as u64);
     h.f64(sla.tie_tol);
@@ -123,18 +140,89 @@ pub(crate) fn write(path: &Path, fingerprint: u64, steps: &[SlaStep]) -> Result<
     let mut h = Fnv::default();
     h.bytes(&buf);
     put(&mut buf, h.finish());
+    refuse_foreign_target(path)?;
+    let (tmp, mut file) = exclusive_temporary(path)?;
+    let written = file
+        .write_all(&buf)
+        .and_then(|()| file.sync_all())
+        .map_err(|e| io_err(&tmp, "writing the checkpoint", e));
+    drop(file);
+    let placed = written.and_then(|()| {
+        std::fs::rename(&tmp, path)
+            .map_err(|e| io_err(path, "renaming the checkpoint into place", e))
+    });
+    if placed.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    placed?;
+    // the rename itself is durable once the directory is synced
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        if let Ok(d) = std::fs::File::open(dir) {
+            let _ = d.sync_all();
+        }
+    }
+    Ok(())
+}
+
+/// A checkpoint may replace only a checkpoint: an existing `path` that is not a regular file
+/// starting with the checkpoint magic is refused (a scene's `pd.checkpoint_path` cannot
+/// overwrite other files).
+fn refuse_foreign_target(path: &Path) -> Result<()> {
+    let Ok(meta) = std::fs::symlink_metadata(path) else {
+        return Ok(()); // nothing there yet
+    };
+    let mut head = [0u8; 8];
+    let is_checkpoint = meta.is_file()
+        && std::fs::File::open(path)
+            .and_then(|mut f| f.read_exact(&mut head))
+            .is_ok()
+        && &head == MAGIC;
+    if is_checkpoint {
+        Ok(())
+    } else {
+        Err(Error::invalid(
+            "pd.checkpoint_path",
+            "a new file or an existing rustfrac checkpoint (other files are never overwritten)",
+            format!(
+                "{} (an existing file that is not a checkpoint)",
+                path.display()
+            ),
+        ))
+    }
+}
+
+/// A new temporary file beside `path`, created exclusively (O_CREAT | O_EXCL: an existing name
+/// or a planted symlink is never followed) under an unpredictable name.
+fn exclusive_temporary(path: &Path) -> Result<(std::path::PathBuf, std::fs::File)> {
+    use std::hash::{BuildHasher, Hasher};
     let name = path
         .file_name()
-        .ok_or_else(|| Error::invalid("checkpoint_path", "a file path", path.display()))?;
-    let mut tmp_name = std::ffi::OsString::from(".");
-    tmp_name.push(name);
-    tmp_name.push(format!(".tmp{}", std::process::id()));
-    let tmp = path.with_file_name(tmp_name);
-    std::fs::write(&tmp, &buf).map_err(|e| io_err(&tmp, "writing the checkpoint", e))?;
-    std::fs::rename(&tmp, path).map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        io_err(path, "renaming the checkpoint into place", e)
-    })
+        .ok_or_else(|| Error::invalid("pd.checkpoint_path", "a file path", path.display()))?;
+    let mut last = None;
+    for attempt in 0..16u64 {
+        // RandomState is seeded from the OS per process and per instance
+        let mut h = std::collections::hash_map::RandomState::new().build_hasher();
+        h.write_u64(attempt);
+        h.write_u32(std::process::id());
+        let mut tmp_name = std::ffi::OsString::from(".");
+        tmp_name.push(name);
+        tmp_name.push(format!(".tmp-{:016x}", h.finish()));
+        let tmp = path.with_file_name(tmp_name);
+        match std::fs::OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(&tmp)
+        {
+            Ok(f) => return Ok((tmp, f)),
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => last = Some(e),
+            Err(e) => return Err(io_err(&tmp, "creating the checkpoint's temporary file", e)),
+        }
+    }
+    Err(io_err(
+        path,
+        "creating the checkpoint's temporary file",
+        last.expect("16 attempts"),
+    ))
 }
 
 struct Reader<'a> {
@@ -146,7 +234,7 @@ impl Reader<'_> {
     fn u64(&mut self) -> Result<u64> {
         let s = self.b.get(self.pos..self.pos + 8).ok_or_else(|| {
             Error::invalid(
-                "resume_from",
+                "pd.resume_from",
                 "a complete checkpoint file",
                 "a truncated file",
             )
@@ -158,13 +246,55 @@ impl Reader<'_> {
         let v = self.u64()?;
         if v >= limit as u64 {
             return Err(Error::invalid(
-                "resume_from",
+                "pd.resume_from",
                 &format!("a checkpoint of this model ({what} < {limit})"),
                 format!("{what} {v}"),
             ));
         }
         Ok(v as usize)
     }
+}
+
+/// The largest checkpoint of a model with `n_bonds` bonds and `n_nodes` nodes: the header, at
+/// most [`crate::problem::schema::MAX_STEPS`] steps of 11 words, every bond once and every node
+/// grounded at most twice (one word each).
+fn size_limit(n_bonds: usize, n_nodes: usize) -> u64 {
+    let words = 11 * crate::problem::schema::MAX_STEPS as u64 + n_bonds as u64 + 2 * n_nodes as u64;
+    36 + 8 * words
+}
+
+/// The bytes of the checkpoint at `path`: a regular file (a FIFO, device or directory is refused
+/// before it is opened) of at most [`size_limit`] bytes (read with that bound, so a file that
+/// grows while it is read cannot exhaust memory).
+fn read_bounded(path: &Path, n_bonds: usize, n_nodes: usize) -> Result<Vec<u8>> {
+    let meta = std::fs::metadata(path).map_err(|e| io_err(path, "reading the checkpoint", e))?;
+    if !meta.is_file() {
+        return Err(Error::invalid(
+            "pd.resume_from",
+            "a regular checkpoint file",
+            format!("{} (not a regular file)", path.display()),
+        ));
+    }
+    let limit = size_limit(n_bonds, n_nodes);
+    let too_big = |len: u64| {
+        Error::invalid(
+            "pd.resume_from",
+            &format!("a checkpoint of this model: at most {limit} bytes"),
+            format!("{} ({len} bytes)", path.display()),
+        )
+    };
+    if meta.len() > limit {
+        return Err(too_big(meta.len()));
+    }
+    let f = std::fs::File::open(path).map_err(|e| io_err(path, "reading the checkpoint", e))?;
+    let mut b = Vec::with_capacity(meta.len() as usize);
+    f.take(limit + 1)
+        .read_to_end(&mut b)
+        .map_err(|e| io_err(path, "reading the checkpoint", e))?;
+    if b.len() as u64 > limit {
+        return Err(too_big(b.len() as u64));
+    }
+    Ok(b)
 }
 
 /// Reads and validates a checkpoint written by [`write()`] for the model with this `fingerprint`.
@@ -174,8 +304,8 @@ pub(crate) fn read(
     n_bonds: usize,
     n_nodes: usize,
 ) -> Result<Vec<SlaStep>> {
-    let b = std::fs::read(path).map_err(|e| io_err(path, "reading the checkpoint", e))?;
-    let bad = |what: &str, got: String| Error::invalid("resume_from", what, got);
+    let bad = |what: &str, got: String| Error::invalid("pd.resume_from", what, got);
+    let b = read_bounded(path, n_bonds, n_nodes)?;
     if b.len() < 36 || &b[..8] != MAGIC {
         return Err(bad(
             "a rustfrac SLA checkpoint file",
@@ -228,6 +358,23 @@ pub(crate) fn read(
             .collect::<Result<Vec<_>>>()?;
         if bonds.is_empty() {
             return Err(bad("at least one bond per step", format!("step {step}")));
+        }
+        let mut sorted = bonds.clone();
+        sorted.sort_unstable();
+        if sorted.windows(2).any(|w| w[0] == w[1]) {
+            return Err(bad(
+                "every bond of a step once",
+                format!("step {step} lists a bond twice"),
+            ));
+        }
+        if !(v.iter().all(|x| x.is_finite()) && v[0] > 0.0) {
+            return Err(bad(
+                "finite recorded values and a positive load factor",
+                format!(
+                    "step {step}: lambda {}, sigma22 {}, cmod {}, u0 {}, crack length {}",
+                    v[0], v[1], v[2], v[3], v[4]
+                ),
+            ));
         }
         let nd = r.u64()? as usize;
         let detached = (0..nd)

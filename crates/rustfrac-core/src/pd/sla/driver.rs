@@ -15,13 +15,13 @@ use super::fast::Fast;
 use super::grounding::{Grounding, DEBRIS_LIMIT};
 use super::memory::{keep_large_blocks_mmapped, peak_memory_bytes};
 use super::oracle::Oracle;
-use super::params::{CcmPdParams, SlaParams};
-use super::result::{CcmPdResult, SlaStep};
+use super::result::{CcmPdResult, SlaStatus, SlaStep};
 use crate::error::{Error, Result};
 use crate::fe::loading::Grip;
 use crate::la::CscMatrix;
 use crate::pd::splice::{SpliceModel, Spring, StaticSolution};
 use crate::pd::{damage, BYTES_PER_BOND};
+use crate::problem::{validate, Problem, SlaParams};
 use crate::warning::{Warning, WarningKind};
 use std::path::Path;
 use std::time::Instant;
@@ -30,41 +30,63 @@ use std::time::Instant;
 /// oracle runs.
 const DENSE_LIMIT: usize = 6000;
 
-/// Runs a CCM-PD (or pure PD) model: linear solution at the reference load, then the SLA.
+/// Runs a CCM-PD (or pure PD) problem: linear solution at the reference load, then the SLA.
 /// `progress(step, max_steps)` is called after every step; returning `false` stops the run
-/// (status "cancelled", a checkpoint is written first when `checkpoint_path` is set).
-pub fn run(
-    params: &CcmPdParams,
-    progress: &(dyn Fn(usize, usize) -> bool + Sync),
-) -> Result<CcmPdResult> {
-    params.sla.validate()?;
+/// (status [`SlaStatus::Cancelled`], a checkpoint is written first when `checkpoint_path` is set).
+pub fn run(p: &Problem, progress: &(dyn Fn(usize, usize) -> bool + Sync)) -> Result<CcmPdResult> {
+    validate::problem(p)?;
+    validate::reference_load(p)?;
     keep_large_blocks_mmapped();
     let t0 = Instant::now();
-    let model = SpliceModel::new(&params.model)?;
+    let model = SpliceModel::new(p)?;
     timing("model built", t0);
-    let mut st = RunState::new(&model);
-    let springs0 = st.ground_precrack(&model);
+    run_from(&model, t0, progress)
+}
+
+/// [`run`] on a model built by hand ([`SpliceModel::with_precrack`]).
+pub fn run_model(
+    model: &SpliceModel,
+    progress: &(dyn Fn(usize, usize) -> bool + Sync),
+) -> Result<CcmPdResult> {
+    validate::reference_load(&model.problem)?;
+    keep_large_blocks_mmapped();
+    run_from(model, Instant::now(), progress)
+}
+
+fn run_from(
+    model: &SpliceModel,
+    t0: Instant,
+    progress: &(dyn Fn(usize, usize) -> bool + Sync),
+) -> Result<CcmPdResult> {
+    let sla = &model.pd_method().sla;
+    let mut st = RunState::new(model);
+    let springs0 = st.ground_precrack(model);
     let k0 = model.assemble_with(&st.broken, &springs0);
     let (mut engine, solver, refactor_interval) =
-        engine_for(&model, &params.sla, &k0, &st.broken, &springs0)?;
+        engine_for(model, sla, &k0, &st.broken, &springs0)?;
     timing("engine ready", t0);
     // reference solution before breaking (u from the engine, reactions from the full matrix)
     let u0_full = engine.full_u()?;
     let sol0 = model.postprocess(&k0, u0_full, 0.0);
     drop(k0);
-    let fp = checkpoint::fingerprint(params, model.n_dofs(), model.bonds.len());
+    let fp = checkpoint::fingerprint(
+        &model.problem,
+        &model.precrack,
+        model.n_dofs(),
+        model.bonds.len(),
+    );
     // resume: replay the checkpoint's steps exactly
     let mut resumed_steps = 0;
-    if let Some(path) = &params.sla.resume_from {
-        st.replay(params, &model, engine.as_mut(), path, fp)?;
+    if let Some(path) = &sla.resume_from {
+        st.replay(sla, model, engine.as_mut(), path, fp)?;
         resumed_steps = st.history.len();
     }
     let setup_seconds = t0.elapsed().as_secs_f64();
     timing("setup done", t0);
 
     let t1 = Instant::now();
-    let n_checkpoints = st.steps(params, &model, engine.as_mut(), fp, sol0.sigma22, progress)?;
-    let u_final = if st.status == "separated" {
+    let n_checkpoints = st.steps(sla, model, engine.as_mut(), fp, sol0.sigma22, progress)?;
+    let u_final = if st.status == SlaStatus::Separated {
         Vec::new()
     } else {
         engine.full_u()?
@@ -80,7 +102,7 @@ pub fn run(
         setup_seconds,
         sla_seconds,
     };
-    Ok(results(params, &model, st, sol0, u_final, info))
+    Ok(results(model, st, sol0, u_final, info))
 }
 
 /// The solver: the fast one when asked for and its dense condensed system fits
@@ -126,7 +148,7 @@ struct RunState {
     detached_nodes: Vec<(usize, usize)>,
     history: Vec<SlaStep>,
     damage_at: Vec<(usize, Vec<f64>)>,
-    status: String,
+    status: SlaStatus,
 }
 
 impl RunState {
@@ -137,7 +159,7 @@ impl RunState {
             detached_nodes: Vec::new(),
             history: Vec::new(),
             damage_at: Vec::new(),
-            status: "completed".to_string(),
+            status: SlaStatus::Completed,
         }
     }
 
@@ -166,17 +188,17 @@ impl RunState {
     /// the run that wrote it, in the same order; the recorded numbers come from their stored bits.
     fn replay(
         &mut self,
-        params: &CcmPdParams,
+        sla: &SlaParams,
         model: &SpliceModel,
         engine: &mut dyn Engine,
         path: &Path,
         fp: u64,
     ) -> Result<()> {
         let steps = checkpoint::read(path, fp, model.bonds.len(), model.grid.n_nodes())?;
-        for st in steps.into_iter().take(params.sla.max_steps) {
+        for st in steps.into_iter().take(sla.max_steps) {
             if st.bonds.iter().any(|&b| self.broken[b]) {
                 return Err(Error::invalid(
-                    "resume_from",
+                    "pd.resume_from",
                     "a checkpoint breaking every bond once",
                     format!("step {} breaks a bond twice", st.step),
                 ));
@@ -190,10 +212,10 @@ impl RunState {
             )?;
             self.detached_nodes
                 .extend(det.iter().map(|&n| (st.step, n)));
-            self.record_damage(params, model, st.step);
+            self.record_damage(sla, model, st.step);
             self.history.push(st);
             if sep {
-                self.status = "separated".into();
+                self.status = SlaStatus::Separated;
                 break;
             }
         }
@@ -205,7 +227,7 @@ impl RunState {
     /// the intact model. Returns the number of checkpoints written.
     fn steps(
         &mut self,
-        params: &CcmPdParams,
+        sla: &SlaParams,
         model: &SpliceModel,
         engine: &mut dyn Engine,
         fp: u64,
@@ -213,33 +235,34 @@ impl RunState {
         progress: &(dyn Fn(usize, usize) -> bool + Sync),
     ) -> Result<usize> {
         let s0 = model.pd.s0;
-        let max_steps = params.sla.max_steps;
+        let load = model.problem.boundary.plate_load();
+        let max_steps = sla.max_steps;
         let mut n_checkpoints = 0;
         let mut lam = vec![f64::INFINITY; model.bonds.len()];
         let first_step = self.history.len() + 1;
         for step in first_step..=max_steps {
-            if self.status != "completed" {
+            if self.status != SlaStatus::Completed {
                 break;
             }
             let st = match engine.state() {
                 Ok(s) => s,
                 Err(Error::Separated { .. }) => {
-                    self.status = "separated".into();
+                    self.status = SlaStatus::Separated;
                     break;
                 }
                 Err(e) => return Err(e),
             };
             // under displacement grips a cut load path leaves both parts held by their own grip:
             // the system stays regular but carries no load any more
-            if params.model.load.grip != Grip::Traction && st.sigma22.abs() <= 1e-9 * sigma0.abs() {
-                self.status = "separated".into();
+            if load.grip != Grip::Traction && st.sigma22.abs() <= 1e-9 * sigma0.abs() {
+                self.status = SlaStatus::Separated;
                 break;
             }
-            let tie_tol = params.sla.tie_tol;
+            let tie_tol = sla.tie_tol;
             let Some((lmin, sel)) =
                 critical_bonds(model, &self.broken, engine.u(), s0, tie_tol, &mut lam)
             else {
-                self.status = "no_bond_in_tension".into();
+                self.status = SlaStatus::NoBondInTension;
                 break;
             };
             let first = sel[0];
@@ -254,30 +277,30 @@ impl RunState {
                 lambda: lmin,
                 sigma22: lmin * st.sigma22,
                 cmod: lmin * st.cmod,
-                u0: lmin * params.model.load.u0,
+                u0: lmin * load.u0,
                 bonds: sel,
                 nodes: [bf.i as usize, bf.j as usize],
                 detached,
                 crack_length: cl,
             });
-            self.record_damage(params, model, step);
-            let every = params.sla.checkpoint_every;
+            self.record_damage(sla, model, step);
+            let every = sla.checkpoint_every;
             if every > 0 && step % every == 0 {
-                self.checkpoint(params, fp, &mut n_checkpoints)?;
+                self.checkpoint(sla, fp, &mut n_checkpoints)?;
             }
             let go_on = progress(step, max_steps);
             if sep {
-                self.status = "separated".into();
+                self.status = SlaStatus::Separated;
                 break;
             }
             if !go_on {
-                self.status = "cancelled".into();
-                self.checkpoint(params, fp, &mut n_checkpoints)?;
+                self.status = SlaStatus::Cancelled;
+                self.checkpoint(sla, fp, &mut n_checkpoints)?;
                 break;
             }
-            if let Some(l) = params.sla.stop_crack_length {
+            if let Some(l) = sla.stop_crack_length {
                 if cl >= l {
-                    self.status = "crack_length_reached".into();
+                    self.status = SlaStatus::CrackLengthReached;
                     break;
                 }
             }
@@ -286,8 +309,8 @@ impl RunState {
     }
 
     /// Stores the damage field after `step` when it is one of `damage_at_steps`.
-    fn record_damage(&mut self, params: &CcmPdParams, model: &SpliceModel, step: usize) {
-        if params.sla.damage_at_steps.contains(&step) {
+    fn record_damage(&mut self, sla: &SlaParams, model: &SpliceModel, step: usize) {
+        if sla.damage_at_steps.contains(&step) {
             self.damage_at.push((
                 step,
                 damage(
@@ -301,8 +324,8 @@ impl RunState {
     }
 
     /// Writes the history so far to `checkpoint_path` (when set) and counts it in `n`.
-    fn checkpoint(&self, params: &CcmPdParams, fp: u64, n: &mut usize) -> Result<()> {
-        if let Some(path) = &params.sla.checkpoint_path {
+    fn checkpoint(&self, sla: &SlaParams, fp: u64, n: &mut usize) -> Result<()> {
+        if let Some(path) = &sla.checkpoint_path {
             checkpoint::write(path, fp, &self.history)?;
             *n += 1;
         }
@@ -387,7 +410,7 @@ fn advance(
 }
 
 fn crack_length(model: &SpliceModel, broken: &[bool]) -> f64 {
-    let pc = &model.spec.precrack;
+    let pc = &model.precrack;
     let (p0, t, l0) = if pc.len() >= 2 {
         let d = [pc[1][0] - pc[0][0], pc[1][1] - pc[0][1]];
         let l = (d[0] * d[0] + d[1] * d[1]).sqrt();
@@ -425,7 +448,6 @@ struct RunInfo {
 /// The result of a run: the model's counts and constants, the reference solution `sol0`, the
 /// final displacements, the history, the damage, and a warning when nodes were grounded.
 fn results(
-    params: &CcmPdParams,
     model: &SpliceModel,
     st: RunState,
     sol0: StaticSolution,
@@ -450,8 +472,8 @@ fn results(
     let broken = st.broken;
     let nn = model.grid.n_nodes();
     CcmPdResult {
-        method: params.model.method.name().into(),
-        grip: params.model.load.grip.name().into(),
+        method: model.problem.method.name().into(),
+        grip: model.problem.boundary.plate_load().grip.name().into(),
         solver: info.solver,
         u: sol0.u,
         u_final,
@@ -473,6 +495,7 @@ fn results(
         anchor_node: model.anchor,
         anchor_xy: model.grid.xy(model.anchor),
         history: st.history,
+        initial_crack_length: model.problem.cracks.first().map_or(0.0, |c| c.a0),
         damage: damage(nn, &model.bonds, &broken, &model.pd_nodes),
         damage_at: st.damage_at,
         pd_node_xy: model.pd_nodes.iter().map(|&n| model.grid.xy(n)).collect(),

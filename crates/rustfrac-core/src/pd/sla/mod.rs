@@ -21,17 +21,17 @@
 //! broken-bond sequence and the history are written; `resume_from` replays them and continues, bit
 //! for bit the same as an uninterrupted run.
 //!
-//! Entry point for the bindings: build [`CcmPdParams`] (start from [`CcmPdParams::paper`] and
-//! override fields of its `model` ([`ModelSpec`]; `model.method` = [`Method::CcmPd`] or
-//! [`Method::Pd`]) and `sla` ([`SlaParams`])), call [`run`]`(&params, &|step, max_steps| true)`
-//! (return `false` to stop: status "cancelled"), read [`CcmPdResult`]. Every parameter is
-//! validated ([`crate::Error::InvalidInput`] names it and its range): the SLA options by
-//! [`SlaParams::validate`], the model when it is built ([`crate::pd::splice::SpliceModel::new`]);
-//! a separated body ends the run with status "separated" (never NaN); faer panics are caught
-//! inside the solver wrappers.
+//! Entry point: [`run`]`(&problem, &|step, max_steps| true)` for a [`crate::problem::Problem`]
+//! of method "pd" or "ccm_pd" (start from `Problem::paper("ccm_pd")` and change what you need:
+//! `p.pd_mut().sla.max_steps = 100`; return `false` from the callback to stop: status
+//! [`SlaStatus::Cancelled`]), then read [`CcmPdResult`]. Every rule of the problem is checked
+//! first ([`crate::problem::validate`]; [`crate::Error::InvalidInput`] names the scene key and
+//! its range); a separated body ends the run with [`SlaStatus::Separated`] (never NaN); faer
+//! panics are caught inside the solver wrappers. [`run_model`] runs a model built by hand
+//! ([`crate::pd::splice::SpliceModel::with_precrack`]).
 //!
-//! The inputs (`params.rs`) and the records (`result.rs`: [`SlaStep`], [`CcmPdResult`]) are leaf
-//! modules, so the checkpoint format depends on them and not on the driver.
+//! The records (`result.rs`: [`SlaStep`], [`SlaStatus`], [`CcmPdResult`]) are a leaf module, so
+//! the checkpoint format depends on them and not on the driver.
 
 pub mod checkpoint;
 mod driver;
@@ -43,9 +43,8 @@ mod oracle;
 mod params;
 mod result;
 
-pub use crate::pd::splice::{Method, ModelSpec};
-pub use driver::run;
+pub use driver::{run, run_model};
 pub use grounding::DEBRIS_LIMIT;
 pub use memory::peak_memory_bytes;
-pub use params::{auto_refactor_every, CcmPdParams, SlaParams};
-pub use result::{CcmPdResult, SlaStep};
+pub use params::auto_refactor_every;
+pub use result::{CcmPdResult, SlaStatus, SlaStep};

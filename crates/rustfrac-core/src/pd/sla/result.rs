@@ -27,9 +27,62 @@ pub struct SlaStep {
     pub crack_length: f64,
 }
 
+impl SlaStep {
+    /// The unloaded origin (row 0 of a history, so sigma22 against CMOD starts from (0, 0)): no
+    /// load, the pre-crack's length `a0`, no bond (`nodes` = usize::MAX).
+    pub fn origin(a0: f64) -> Self {
+        Self {
+            step: 0,
+            lambda: 0.0,
+            sigma22: 0.0,
+            cmod: 0.0,
+            u0: 0.0,
+            bonds: Vec::new(),
+            nodes: [usize::MAX; 2],
+            detached: Vec::new(),
+            crack_length: a0,
+        }
+    }
+}
+
+/// How an SLA run ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SlaStatus {
+    /// every requested step ran
+    Completed,
+    /// the crack reached `stop_crack_length`
+    CrackLengthReached,
+    /// a part of the body is no longer held (the Schur pivot vanished or the load path is cut)
+    Separated,
+    /// no intact bond is in tension
+    NoBondInTension,
+    /// the progress callback asked to stop
+    Cancelled,
+}
+
+impl SlaStatus {
+    /// The stable snake_case name (the bindings' `meta["status"]`).
+    pub fn name(&self) -> &'static str {
+        match self {
+            SlaStatus::Completed => "completed",
+            SlaStatus::CrackLengthReached => "crack_length_reached",
+            SlaStatus::Separated => "separated",
+            SlaStatus::NoBondInTension => "no_bond_in_tension",
+            SlaStatus::Cancelled => "cancelled",
+        }
+    }
+}
+
+impl std::fmt::Display for SlaStatus {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
 /// Result of a run.
 #[derive(Debug, Clone)]
 pub struct CcmPdResult {
+    /// "pd" | "ccm_pd"
     pub method: String,
     /// grip variant that ran ("free" | "clamped" | "traction")
     pub grip: String,
@@ -59,7 +112,10 @@ pub struct CcmPdResult {
     /// the node carrying u1 = 0 (grip "free") and its coordinates
     pub anchor_node: usize,
     pub anchor_xy: [f64; 2],
+    /// one row per step (the origin is [`CcmPdResult::origin`])
     pub history: Vec<SlaStep>,
+    /// the pre-crack's length (the history's origin)
+    pub initial_crack_length: f64,
     /// damage index of every PD node (order of `pd_nodes`) at the end
     pub damage: Vec<f64>,
     /// (step, damage of every PD node after that step) for the requested steps
@@ -70,8 +126,7 @@ pub struct CcmPdResult {
     pub broken: Vec<bool>,
     /// bond end nodes
     pub bond_nodes: Vec<[usize; 2]>,
-    /// "completed" | "crack_length_reached" | "separated" | "no_bond_in_tension" | "cancelled"
-    pub status: String,
+    pub status: SlaStatus,
     pub n_refactorisations: usize,
     /// largest number of low-rank update vectors the fast solver held at once (0 for the oracle);
     /// bounded by the re-condensation interval
@@ -90,4 +145,11 @@ pub struct CcmPdResult {
     pub sla_seconds: f64,
     /// peak resident memory of the process (VmHWM), if the OS reports it
     pub peak_memory_bytes: Option<u64>,
+}
+
+impl CcmPdResult {
+    /// The history's unloaded origin ([`SlaStep::origin`] at the pre-crack's length).
+    pub fn origin(&self) -> SlaStep {
+        SlaStep::origin(self.initial_crack_length)
+    }
 }

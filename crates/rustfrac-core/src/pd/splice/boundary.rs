@@ -5,11 +5,11 @@
 //! family of prescribed neighbours. The u1 anchor of the "free" grip is the bottom-right corner
 //! node (reported).
 
-use super::ModelSpec;
 use crate::error::Result;
 use crate::fe::loading::{plate_conditions, tributary_lengths, PlateEdges};
 use crate::fe::Dirichlet;
 use crate::pd::Grid;
+use crate::problem::Problem;
 
 /// The loading of a model: the loaded node rows, the displacement conditions, the external forces
 /// (traction grip), the anchor node and the constrained dofs with their reference values.
@@ -22,11 +22,13 @@ pub(super) struct Loading {
     pub(super) prescribed: Vec<f64>,
 }
 
-/// The loading of the model on `grid` ([`crate::fe::loading::plate_conditions`] on [`edges`]).
-pub(super) fn loading(spec: &ModelSpec, grid: &Grid) -> Result<Loading> {
+/// The loading of `p` on `grid` ([`crate::fe::loading::plate_conditions`] on [`edges`] of
+/// `layers` node rows: 1 for the coupled model, m for pure PD).
+pub(super) fn loading(p: &Problem, layers: usize, grid: &Grid) -> Result<Loading> {
     let ndof = 2 * grid.n_nodes();
-    let edges = edges(spec, grid);
-    let (bc, f, anchor) = plate_conditions(&edges, &spec.load, ndof, spec.material.thickness)?;
+    let edges = edges(layers, grid);
+    let load = p.boundary.plate_load();
+    let (bc, f, anchor) = plate_conditions(&edges, &load, ndof, p.material.elastic.thickness)?;
     let (mask, prescribed) = bc.to_mask(ndof)?;
     Ok(Loading {
         edges,
@@ -39,14 +41,10 @@ pub(super) fn loading(spec: &ModelSpec, grid: &Grid) -> Result<Loading> {
 }
 
 /// The loaded node rows with their tributary lengths: the edge rows (coupled), or volumetric layers
-/// of m rows (pure PD; only the outer row carries a traction length).
-fn edges(spec: &ModelSpec, grid: &Grid) -> PlateEdges {
+/// of m rows (pure PD, at most half the grid; only the outer row carries a traction length).
+fn edges(layers: usize, grid: &Grid) -> PlateEdges {
     let (nx, ny, dx) = (grid.nx, grid.ny, grid.dx);
-    let layers = if spec.all_pd() {
-        spec.m.min(ny / 2).max(1)
-    } else {
-        1
-    };
+    let layers = layers.min(ny / 2).max(1);
     let mut top = Vec::new();
     let mut bottom = Vec::new();
     let mut top_len = Vec::new();

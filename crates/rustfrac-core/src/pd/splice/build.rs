@@ -1,36 +1,57 @@
 //! [`SpliceModel::new`] in named phases: the grid and the PD constants, the node classes (PD
 //! rectangles or pure PD), the pre-crack (`precrack.rs`), the hybrid elements, the bonds, the
 //! blocks of the matrix pattern, the loading (`boundary.rs`), the crack-mouth nodes and the
-//! node -> bonds incidence. Each phase validates its part of the spec, in this order.
+//! node -> bonds incidence. The problem's rules are checked first ([`validate::problem`]).
 
 use super::boundary::loading;
 use super::precrack;
-use super::{ModelSpec, SpliceModel};
-use crate::error::{check_positive, Error, Result};
+use super::SpliceModel;
+use crate::error::{Error, Result};
 use crate::fe::q4::element_stiffness;
 use crate::fe::quadrature::subquad_rule;
 use crate::la::Pattern;
 use crate::pd::{find_bonds, Bond, Grid, PdConstants};
+use crate::problem::{validate, Method, PdMethod, Problem};
 use crate::warning::{Warning, WarningKind};
 
 impl SpliceModel {
-    /// Validates the spec and builds node classes, elements, bonds, pre-crack, pattern and loads.
-    pub fn new(spec: &ModelSpec) -> Result<Self> {
-        let (grid, pd) = grid_and_constants(spec)?;
-        let (is_pd, pd_nodes, warnings) = node_classes(spec, &grid, &pd)?;
-        let crack = precrack::in_grid_units(spec, &grid)?;
-        let (ke, elements, n_removed) = hybrid_elements(spec, &grid, &is_pd, &crack);
-        let bonds = find_bonds(&grid, spec.m, &is_pd)?;
+    /// The model of a PD or CCM-PD problem (its rules checked first, [`validate::problem`]),
+    /// pre-cracked by the problem's edge crack ([`Problem::pd_precrack`]).
+    pub fn new(p: &Problem) -> Result<Self> {
+        Self::with_precrack(p, p.pd_precrack())
+    }
+
+    /// [`SpliceModel::new`] with another pre-crack: any polyline (plate coordinates, mouth first;
+    /// validated here: inside the plate, passing between grid nodes), e.g. a closed loop.
+    pub fn with_precrack(p: &Problem, precrack: Vec<[f64; 2]>) -> Result<Self> {
+        validate::problem(p)?;
+        let Some(pm) = p.pd() else {
+            return Err(Error::invalid(
+                "method",
+                "'pd' or 'ccm_pd' for the splice model",
+                format!("'{}'", p.method.name()),
+            ));
+        };
+        let all_pd = matches!(p.method, Method::Pd(_));
+        let (grid, pd) = grid_and_constants(p, pm)?;
+        let (is_pd, pd_nodes, warnings) = node_classes(pm, &grid)?;
+        let crack = precrack::in_grid_units(&precrack, &p.domain, &grid)?;
+        let ke = element_matrix(p, &grid);
+        let (elements, n_removed) = hybrid_elements(&grid, &is_pd, &crack);
+        let bonds = find_bonds(&grid, pm.m, &is_pd)?;
         let precrack_broken = precrack::broken_bonds(&crack, &grid, &bonds);
         let (rows_of, cols_of, pattern) = blocks(&grid, &elements, &bonds, &is_pd)?;
-        let lo = loading(spec, &grid)?;
+        let layers = if all_pd { pm.m } else { 1 };
+        let lo = loading(p, layers, &grid)?;
         let cmod_nodes = precrack::mouth_nodes(&crack, &grid);
         let (node_bond_ptr, node_bonds) = incidence(grid.n_nodes(), &bonds);
         Ok(Self {
             node_bond_ptr,
             node_bonds,
             warnings,
-            spec: spec.clone(),
+            problem: p.clone(),
+            all_pd,
+            precrack,
             grid,
             pd,
             is_pd,
@@ -54,44 +75,14 @@ impl SpliceModel {
     }
 }
 
-pub(crate) fn grid_count(len: f64, dx: f64, name: &str) -> Result<usize> {
-    let r = len / dx;
-    let n = r.round();
-    if !(1.0..=1e7).contains(&n) || (r - n).abs() > 1e-6 * n.max(1.0) {
-        return Err(Error::invalid(
-            name,
-            "a multiple of dx (the grid must fit the plate exactly), at most 1e7 cells",
-            format!("{len} / dx = {r}"),
-        ));
-    }
-    Ok(n as usize)
-}
-
-/// The grid (W / dx and L / dx integers, the same spacing along both axes, at most
-/// [`crate::fe::mesh::MAX_ELEMENTS`] nodes) and the PD constants on it.
-fn grid_and_constants(spec: &ModelSpec) -> Result<(Grid, PdConstants)> {
-    check_positive("width", spec.width)?;
-    check_positive("height", spec.height)?;
-    check_positive("dx", spec.dx)?;
-    let nx = grid_count(spec.width, spec.dx, "width")?;
-    let ny = grid_count(spec.height, spec.dx, "height")?;
-    let dx = spec.width / nx as f64;
-    if ((spec.height / ny as f64) - dx).abs() > 1e-9 * dx {
-        return Err(Error::invalid(
-            "dx",
-            "the same spacing along x1 and x2",
-            spec.dx,
-        ));
-    }
-    // the same memory guard as the FEM meshes (a finer PD grid also makes each SLA step slow)
-    if (nx + 1) * (ny + 1) > crate::fe::mesh::MAX_ELEMENTS {
-        return Err(Error::invalid(
-            "dx",
-            &format!("at most {} grid nodes", crate::fe::mesh::MAX_ELEMENTS),
-            (nx + 1) * (ny + 1),
-        ));
-    }
-    let pd = PdConstants::new(&spec.material, spec.g0, dx, spec.m)?;
+/// The grid (its fit and node count are rules of the problem, [`validate::problem`]) and the PD
+/// constants on it.
+fn grid_and_constants(p: &Problem, pm: &PdMethod) -> Result<(Grid, PdConstants)> {
+    let d = &p.domain;
+    let fit = |len: f64| validate::grid_count(len, pm.dx).expect("checked by validate::problem");
+    let (nx, ny) = (fit(d.width), fit(d.height));
+    let dx = d.width / nx as f64;
+    let pd = PdConstants::new(&p.material.elastic, p.material.g0, dx, pm.m)?;
     let grid = Grid {
         nx,
         ny,
@@ -105,52 +96,36 @@ fn grid_and_constants(spec: &ModelSpec) -> Result<(Grid, PdConstants)> {
 /// Node classes: every node PD (pure PD model, the plate at least two horizons wide and high), or
 /// the nodes inside the PD rectangles. Returns the PD flags, the PD node ids (ascending) and the
 /// discretisation warnings.
-fn node_classes(
-    spec: &ModelSpec,
-    grid: &Grid,
-    pd: &PdConstants,
-) -> Result<(Vec<bool>, Vec<usize>, Vec<Warning>)> {
-    let (dx, nn) = (grid.dx, grid.n_nodes());
-    let mut is_pd = vec![spec.all_pd(); nn];
-    if spec.all_pd() {
-        let two_h = 2.0 * pd.delta;
-        for (name, len) in [("width", spec.width), ("height", spec.height)] {
-            if len < two_h - 1e-9 * dx {
-                return Err(Error::invalid(
-                    name,
-                    &format!("at least two horizons (2 m dx = {two_h:.6}) for the pure PD model"),
-                    len,
-                ));
-            }
-        }
-    }
-    let warnings = horizon_warnings(spec);
-    if !spec.all_pd() {
-        mark_pd_regions(spec, grid, pd, &mut is_pd)?;
+fn node_classes(pm: &PdMethod, grid: &Grid) -> Result<(Vec<bool>, Vec<usize>, Vec<Warning>)> {
+    let nn = grid.n_nodes();
+    // pure PD has no rectangle, CCM-PD at least one (validated)
+    let mut is_pd = vec![pm.regions.is_empty(); nn];
+    for &r in &pm.regions {
+        mark_pd_region(r, grid, &mut is_pd);
     }
     let pd_nodes: Vec<usize> = (0..nn).filter(|&n| is_pd[n]).collect();
     if pd_nodes.is_empty() {
         return Err(Error::invalid(
-            "pd_regions",
-            "rectangles containing at least one grid node",
-            format!("{:?}", spec.pd_regions),
+            "pd.size",
+            "a PD rectangle containing at least one grid node",
+            format!("{:?}", pm.regions),
         ));
     }
-    Ok((is_pd, pd_nodes, warnings))
+    Ok((is_pd, pd_nodes, horizon_warnings(pm.m)))
 }
 
 /// The warning of a horizon factor m < 2 (too few bonds per node).
-fn horizon_warnings(spec: &ModelSpec) -> Vec<Warning> {
+fn horizon_warnings(m: usize) -> Vec<Warning> {
     let mut warnings = Vec::new();
-    if spec.m < 2 {
+    if m < 2 {
         warnings.push(Warning::new(
             WarningKind::Discretisation,
             format!(
                 "horizon factor m = {}: a bulk node has only {} bonds (m = 2: {}, the paper's m = \
              4: {}); too few bonds for a peridynamic continuum, expect errors of several \
              percent in stiffness and fracture (use m >= 2, preferably 3-4)",
-                spec.m,
-                crate::pd::family_stencil(spec.m).len(),
+                m,
+                crate::pd::family_stencil(m).len(),
                 crate::pd::family_stencil(2).len(),
                 crate::pd::family_stencil(4).len()
             ),
@@ -159,77 +134,32 @@ fn horizon_warnings(spec: &ModelSpec) -> Vec<Warning> {
     warnings
 }
 
-/// Validates the PD rectangles (finite, inside the plate, at least two horizons wide and high) and
-/// flags the grid nodes inside them (closed, tolerance 1e-9 dx).
-fn mark_pd_regions(
-    spec: &ModelSpec,
-    grid: &Grid,
-    pd: &PdConstants,
-    is_pd: &mut [bool],
-) -> Result<()> {
+/// Flags the grid nodes inside the PD rectangle (closed, tolerance 1e-9 dx; its size and place
+/// are rules of the problem, [`validate::problem`]).
+fn mark_pd_region(r: [f64; 4], grid: &Grid, is_pd: &mut [bool]) {
+    let tol = 1e-9 * grid.dx;
+    for (n, flag) in is_pd.iter_mut().enumerate() {
+        let q = grid.xy(n);
+        if q[0] >= r[0] - tol && q[0] <= r[2] + tol && q[1] >= r[1] - tol && q[1] <= r[3] + tol {
+            *flag = true;
+        }
+    }
+}
+
+/// The element stiffness of the dx x dx square (exact 2 x 2 Gauss, row-major 8 x 8; every FEM
+/// element of the grid is this square).
+fn element_matrix(p: &Problem, grid: &Grid) -> Vec<f64> {
     let dx = grid.dx;
-    if spec.pd_regions.is_empty() {
-        return Err(Error::invalid(
-            "pd_regions",
-            "at least one rectangle [x0, y0, x1, y1] (or the pure PD method)",
-            "none",
-        ));
-    }
-    let tol = 1e-9 * dx;
-    for (k, r) in spec.pd_regions.iter().enumerate() {
-        if r.iter().any(|v| !v.is_finite())
-            || r[2] <= r[0]
-            || r[3] <= r[1]
-            || r[0] < -tol
-            || r[1] < -tol
-            || r[2] > spec.width + tol
-            || r[3] > spec.height + tol
-        {
-            return Err(Error::invalid(
-                &format!("pd_regions[{k}]"),
-                "finite [x0, y0, x1, y1] with x0 < x1, y0 < y1 inside the plate",
-                format!("{r:?}"),
-            ));
-        }
-        // a region thinner than two horizons has no node with a full family: every node
-        // is a boundary node of the PD region and the coupling dominates the solution
-        let two_h = 2.0 * pd.delta;
-        if r[2] - r[0] < two_h - tol || r[3] - r[1] < two_h - tol {
-            return Err(Error::invalid(
-                &format!("pd_regions[{k}]"),
-                &format!(
-                    "a rectangle at least two horizons wide and high (2 m dx = {two_h:.6} \
-                     with m = {}, dx = {dx:.6}): x1 - x0 >= {two_h:.6} and \
-                     y1 - y0 >= {two_h:.6}",
-                    spec.m
-                ),
-                format!("{:.6} x {:.6}", r[2] - r[0], r[3] - r[1]),
-            ));
-        }
-        for (n, flag) in is_pd.iter_mut().enumerate() {
-            let p = grid.xy(n);
-            if p[0] >= r[0] - tol && p[0] <= r[2] + tol && p[1] >= r[1] - tol && p[1] <= r[3] + tol
-            {
-                *flag = true;
-            }
-        }
-    }
-    Ok(())
+    let mut ke = Vec::new();
+    let sq = [[0.0, 0.0], [dx, 0.0], [dx, dx], [0.0, dx]];
+    element_stiffness(&sq, &p.material.elastic, &subquad_rule(1, 2), &mut ke);
+    ke
 }
 
 /// The FEM elements: every Q4 element with at least one FEM node (hybrid elements included) whose
-/// interior the pre-crack does not cut, and the element stiffness of the dx x dx square (exact
-/// 2 x 2 Gauss, row-major 8 x 8). Returns (stiffness, elements, number removed by the pre-crack).
-fn hybrid_elements(
-    spec: &ModelSpec,
-    grid: &Grid,
-    is_pd: &[bool],
-    crack: &[[f64; 2]],
-) -> (Vec<f64>, Vec<[usize; 4]>, usize) {
-    let (nx, ny, dx) = (grid.nx, grid.ny, grid.dx);
-    let mut ke = Vec::new();
-    let sq = [[0.0, 0.0], [dx, 0.0], [dx, dx], [0.0, dx]];
-    element_stiffness(&sq, &spec.material, &subquad_rule(1, 2), &mut ke);
+/// interior the pre-crack does not cut. Returns (elements, number removed by the pre-crack).
+fn hybrid_elements(grid: &Grid, is_pd: &[bool], crack: &[[f64; 2]]) -> (Vec<[usize; 4]>, usize) {
+    let (nx, ny) = (grid.nx, grid.ny);
     let mut elements = Vec::new();
     let mut n_removed = 0;
     for j in 0..ny {
@@ -246,7 +176,7 @@ fn hybrid_elements(
             elements.push(e);
         }
     }
-    (ke, elements, n_removed)
+    (elements, n_removed)
 }
 
 /// The blocks of the splice matrix and their pattern: an element writes the rows of its FEM nodes

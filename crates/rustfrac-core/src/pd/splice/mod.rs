@@ -22,111 +22,25 @@ mod precrack;
 mod springs;
 
 pub use crate::geometry::bond_crosses;
-pub(crate) use build::grid_count;
 pub(crate) use springs::Spring;
 
-use crate::error::{Error, Result};
-use crate::fe::loading::{PlateEdges, PlateLoad};
-use crate::fe::material::Elastic;
+use crate::error::Result;
+use crate::fe::loading::PlateEdges;
 use crate::fe::Dirichlet;
 use crate::la::Lu;
 use crate::la::{CscMatrix, Pattern, Reduction};
 use crate::pd::{Bond, Grid, PdConstants};
+use crate::problem::{PdMethod, Problem};
 use crate::warning::Warning;
-
-/// Model choice: splice coupling with PD rectangles, or PD everywhere.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Method {
-    CcmPd,
-    Pd,
-}
-
-impl Method {
-    /// Parses "ccm_pd" | "pd".
-    pub fn parse(s: &str) -> Result<Self> {
-        match s {
-            "ccm_pd" => Ok(Method::CcmPd),
-            "pd" => Ok(Method::Pd),
-            _ => Err(Error::invalid("method", "'ccm_pd' or 'pd'", s)),
-        }
-    }
-    pub fn name(&self) -> &'static str {
-        match self {
-            Method::CcmPd => "ccm_pd",
-            Method::Pd => "pd",
-        }
-    }
-}
-
-/// Geometry, material and loading of a coupled (or pure PD) plate model (the paper's values in
-/// [`ModelSpec::paper`]).
-#[derive(Debug, Clone)]
-pub struct ModelSpec {
-    /// splice coupling with the PD rectangles, or every node PD (pure PD model with volumetric
-    /// boundary layers)
-    pub method: Method,
-    /// plate width W along x1 (the paper: 11)
-    pub width: f64,
-    /// plate height L along x2 (the paper: 21)
-    pub height: f64,
-    /// grid spacing; W / dx and L / dx must be integers (within 1e-6)
-    pub dx: f64,
-    /// horizon ratio m = delta / dx
-    pub m: usize,
-    pub material: Elastic,
-    /// critical energy release rate G0
-    pub g0: f64,
-    /// PD rectangles [x0, y0, x1, y1] (ignored by [`Method::Pd`])
-    pub pd_regions: Vec<[f64; 4]>,
-    /// pre-crack polyline (first point = crack mouth); empty for none
-    pub precrack: Vec<[f64; 2]>,
-    pub load: PlateLoad,
-}
-
-impl ModelSpec {
-    /// The paper's benchmark: W = 11, L = 21, dx = 1/15, m = 4, PD rectangle 2.73 x 1.67 centred at
-    /// (1.70, 10.5), E = 10000, nu = 0.25, G0 = 0.367, plane strain, h = 1, pre-crack a = 1.1 along
-    /// x2 = 10.5, u0 = 0.01, u1 free.
-    pub fn paper() -> Self {
-        use crate::fe::loading::Grip;
-        use crate::fe::material::Plane;
-        Self {
-            method: Method::CcmPd,
-            width: 11.0,
-            height: 21.0,
-            dx: 1.0 / 15.0,
-            m: 4,
-            material: Elastic {
-                e: 10000.0,
-                nu: 0.25,
-                plane: Plane::Strain,
-                thickness: 1.0,
-            },
-            g0: 0.367,
-            pd_regions: vec![[
-                1.70 - 2.73 / 2.0,
-                10.5 - 1.67 / 2.0,
-                1.70 + 2.73 / 2.0,
-                10.5 + 1.67 / 2.0,
-            ]],
-            precrack: vec![[0.0, 10.5], [1.1, 10.5]],
-            load: PlateLoad {
-                grip: Grip::Free,
-                u0: 0.01,
-                traction: 0.0,
-            },
-        }
-    }
-
-    /// Every node PD (the pure PD model)?
-    pub fn all_pd(&self) -> bool {
-        self.method == Method::Pd
-    }
-}
 
 /// The assembled description of a coupled model (everything but the matrix values).
 pub struct SpliceModel {
-    pub spec: ModelSpec,
+    /// the problem it discretises (method "pd" or "ccm_pd")
+    pub problem: Problem,
+    /// every node PD (method "pd": the pure PD model with volumetric boundary layers)
+    pub all_pd: bool,
+    /// the pre-crack polyline in plate coordinates (first point = crack mouth; empty for none)
+    pub precrack: Vec<[f64; 2]>,
     pub grid: Grid,
     pub pd: PdConstants,
     pub is_pd: Vec<bool>,
@@ -178,6 +92,13 @@ pub struct StaticSolution {
 }
 
 impl SpliceModel {
+    /// The PD options of the problem.
+    pub fn pd_method(&self) -> &PdMethod {
+        self.problem
+            .pd()
+            .expect("a PD problem (checked when the model was built)")
+    }
+
     pub fn n_dofs(&self) -> usize {
         2 * self.grid.n_nodes()
     }
@@ -230,7 +151,7 @@ impl SpliceModel {
     /// sigma22 from the full displacement vector: (sum over top nodes of (K u)_2) / (W h).
     pub(crate) fn sigma22_from(&self, ku: &[f64]) -> f64 {
         let fy: f64 = self.edges.top.iter().map(|&n| ku[2 * n + 1]).sum();
-        fy / (self.spec.width * self.spec.material.thickness)
+        fy / (self.problem.domain.width * self.problem.material.elastic.thickness)
     }
 
     /// Crack-mouth opening (u_above - u_below) . n, zero without a pre-crack.

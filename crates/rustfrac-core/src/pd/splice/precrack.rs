@@ -13,32 +13,32 @@
 //! Here: the validation of the polyline (in grid units), the cells it cuts, the bonds it breaks,
 //! and the crack-mouth nodes of the CMOD.
 
-use super::ModelSpec;
 use crate::error::{check_finite, Error, Result};
 use crate::geometry::{bond_crosses, clipped_length};
 use crate::pd::{Bond, Grid};
+use crate::problem::Domain;
 
 /// The pre-crack polyline in grid units, validated: none or at least 2 points, every point inside
 /// the plate, segments of positive length, no grid node on a segment.
-pub(super) fn in_grid_units(spec: &ModelSpec, grid: &Grid) -> Result<Vec<[f64; 2]>> {
+pub(super) fn in_grid_units(
+    precrack: &[[f64; 2]],
+    d: &Domain,
+    grid: &Grid,
+) -> Result<Vec<[f64; 2]>> {
     let (nx, ny, dx) = (grid.nx, grid.ny, grid.dx);
-    let crack: Vec<[f64; 2]> = spec
-        .precrack
-        .iter()
-        .map(|p| [p[0] / dx, p[1] / dx])
-        .collect();
-    if spec.precrack.len() == 1 {
+    let crack: Vec<[f64; 2]> = precrack.iter().map(|p| [p[0] / dx, p[1] / dx]).collect();
+    if precrack.len() == 1 {
         return Err(Error::invalid(
             "precrack",
             "a polyline of at least 2 points (or none)",
             1,
         ));
     }
-    for (k, p) in spec.precrack.iter().enumerate() {
+    for (k, p) in precrack.iter().enumerate() {
         check_finite(&format!("precrack[{k}][0]"), p[0])?;
         check_finite(&format!("precrack[{k}][1]"), p[1])?;
         let tol = 1e-9 * dx;
-        if p[0] < -tol || p[0] > spec.width + tol || p[1] < -tol || p[1] > spec.height + tol {
+        if p[0] < -tol || p[0] > d.width + tol || p[1] < -tol || p[1] > d.height + tol {
             return Err(Error::invalid(
                 &format!("precrack[{k}]"),
                 "a point inside the plate",

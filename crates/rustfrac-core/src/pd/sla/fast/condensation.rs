@@ -296,7 +296,7 @@ fn coupling_sets(model: &SpliceModel, k: &CscMatrix, dc: &DofClasses) -> Couplin
 /// The sigma22 and CMOD functionals before the Z correction ([`Functionals`]).
 fn functionals(model: &SpliceModel, k: &CscMatrix, dc: &DofClasses, y0: &[f64]) -> Functionals {
     let (n, cls, idx, np) = (model.n_dofs(), &dc.cls, &dc.idx, dc.p_dofs.len());
-    let wh = model.spec.width * model.spec.material.thickness;
+    let wh = model.problem.domain.width * model.problem.material.elastic.thickness;
     let mut is_top_y = vec![false; n];
     for &t in &model.edges.top {
         is_top_y[2 * t + 1] = true;
