@@ -77,11 +77,27 @@ def test_missing_file_exit_code_2(tmp_path: Path, capsys: pytest.CaptureFixture[
     assert "cannot read scene" in capsys.readouterr().err
 
 
-def test_singular_exit_code_1(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+def test_singular_exit_code_1(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
     f = tmp_path / "s.toml"
-    f.write_text('method = "fem"\n[crack]\nkind = "none"\n[mesh]\ngauss = 1\n')
+    f.write_text('method = "fem"\n[crack]\nkind = "none"\n')
+
+    def singular(*_a: object, **_k: object) -> None:
+        raise rf.SingularSystemError("singular stiffness (a rigid mode)")
+
+    monkeypatch.setattr("rustfrac.runner.run", singular)
     assert main(["run", str(f), "--out", str(tmp_path / "o")]) == 1
     assert "SingularSystemError" in capsys.readouterr().err
+
+
+def test_one_point_gauss_is_invalid_input_exit_code_2(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    f = tmp_path / "s.toml"
+    f.write_text('method = "fem"\n[crack]\nkind = "none"\n[mesh]\ngauss = 1\n')
+    assert main(["run", str(f), "--out", str(tmp_path / "o")]) == 2
+    assert "mesh.gauss" in capsys.readouterr().err
 
 
 def test_console_script(root: Path, tmp_path: Path) -> None:

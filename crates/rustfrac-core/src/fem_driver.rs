@@ -13,7 +13,7 @@ use crate::fe::{FemModel, LinearSystem};
 use crate::la::{condition_warning, ConditionEstimate};
 use crate::problem::parse::crack_name;
 use crate::problem::{validate, CrackKind, FemMethod, Method, Problem};
-use crate::warning::Warning;
+use crate::warning::{Warning, WarningKind};
 use std::time::Instant;
 
 /// Results of a FEM plate run.
@@ -36,6 +36,9 @@ pub struct FemPlateResult {
     pub anchor_node: usize,
     /// y of the seam actually used (grid line nearest to the requested one)
     pub seam_y: Option<f64>,
+    /// length of the seam actually cut: from x1 = 0 to the first grid node at or beyond a0
+    /// (a warning says so when it differs from a0)
+    pub seam_length: Option<f64>,
     pub wall_time_s: f64,
     /// condition estimate of the solve (see [`ConditionEstimate`]); None when not computed
     /// ([`FemMethod::condition`] false: without it only the free pivot-ratio bound guards
@@ -53,6 +56,9 @@ struct SeamedMesh {
     mouth: Option<(usize, usize)>,
     /// y of the grid line the seam lies on
     seam_y: Option<f64>,
+    /// the seam's real length and the warning when it is not the crack's a0
+    seam_length: Option<f64>,
+    warning: Option<Warning>,
 }
 
 /// Builds and solves the FEM plate of `p` (method "fem").
@@ -72,6 +78,8 @@ pub fn run(p: &Problem) -> Result<FemPlateResult> {
         mesh,
         mouth,
         seam_y,
+        seam_length,
+        warning,
     } = seamed_mesh(p, method)?;
     let model = FemModel::new(mesh, material, method.gauss)?;
     let edges = PlateEdges::of_mesh(&model.mesh);
@@ -106,6 +114,7 @@ pub fn run(p: &Problem) -> Result<FemPlateResult> {
         reactions: sol.reactions,
         anchor_node: anchor,
         seam_y,
+        seam_length,
         wall_time_s: t0.elapsed().as_secs_f64(),
         condition,
         warnings: material
@@ -116,6 +125,7 @@ pub fn run(p: &Problem) -> Result<FemPlateResult> {
                     .as_ref()
                     .and_then(|c| condition_warning("solve", c)),
             )
+            .chain(warning)
             .collect(),
     })
 }
@@ -136,6 +146,8 @@ fn seamed_mesh(p: &Problem, method: &FemMethod) -> Result<SeamedMesh> {
             mesh,
             mouth: None,
             seam_y: None,
+            seam_length: None,
+            warning: None,
         });
     };
     let (j, _) = Mesh::nearest_line(&mesh.ys, c.y);
@@ -157,8 +169,37 @@ fn seamed_mesh(p: &Problem, method: &FemMethod) -> Result<SeamedMesh> {
         },
         e => e,
     })?;
+    // the seam ends at the first grid node not duplicated: at or beyond a0
+    let tip = pairs.len();
+    let nx = grid.nx;
+    if tip >= nx {
+        return Err(Error::invalid(
+            &format!("{}.a0", crack_name(k)),
+            &format!(
+                "a seam that leaves at least one element of ligament: a0 <= {:.6} (the last \
+                 interior node of the seam's grid line, mesh.nx = {nx})",
+                mesh.xs[nx - 1] - mesh.xs[0]
+            ),
+            c.a0,
+        ));
+    }
+    let length = mesh.xs[tip] - mesh.xs[0];
+    let warning = ((length - c.a0).abs() > 1e-9 * d.width).then(|| {
+        Warning::new(
+            WarningKind::Discretisation,
+            format!(
+                "the seam crack runs along grid lines from node to node: its real length is \
+                 {length:.6} (the first grid node at or beyond {}.a0 = {}); refine mesh.nx or \
+                 choose a0 on a node to cut exactly a0",
+                crack_name(k),
+                c.a0
+            ),
+        )
+    });
     Ok(SeamedMesh {
         seam_y: Some(m.ys[j]),
+        seam_length: Some(length),
+        warning,
         mouth: Some(pairs[0]),
         mesh: m,
     })

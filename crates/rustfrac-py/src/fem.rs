@@ -15,7 +15,7 @@ use rustfrac_core::problem::Problem;
 
 /// Runs the FEM plate of `p`: fields coords, elements, u, reactions, nodal_stress,
 /// gauss_points, gauss_stress; scalars energy, residual, condition, condition_pivot_ratio; meta
-/// anchor_node, seam_y, timings.
+/// anchor_node, seam_y, seam_length, timings.
 pub fn run<'py>(py: Python<'py>, p: &Problem, prog: &Progress) -> PyResult<Bound<'py, PyDict>> {
     let r = detached(py, "fem plate", || {
         prog.report(0, 1, "fem: assemble + factorise + solve", true);
@@ -52,6 +52,7 @@ pub fn run<'py>(py: Python<'py>, p: &Problem, prog: &Progress) -> PyResult<Bound
         .set_item("condition_pivot_ratio", r.condition.map(|c| c.pivot_ratio))?;
     s.anchor(p, r.anchor_node)?;
     s.meta.set_item("seam_y", r.seam_y)?;
+    s.meta.set_item("seam_length", r.seam_length)?;
     let t = PyDict::new(py);
     t.set_item("rust_s", r.wall_time_s)?;
     s.meta.set_item("timings", t)?;

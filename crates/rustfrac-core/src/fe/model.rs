@@ -24,8 +24,14 @@ pub struct FemModel {
 impl FemModel {
     /// Builds the model and its sparsity pattern (once). `gauss` is the points per direction.
     pub fn new(mesh: Mesh, material: Elastic, gauss: usize) -> Result<Self> {
-        if !(1..=5).contains(&gauss) {
-            return Err(Error::invalid("gauss", "1..=5 points per direction", gauss));
+        // one point per direction leaves the hourglass modes of Q4 elasticity (rank 3 of 5
+        // deformation modes): refused, not stabilised
+        if !(2..=5).contains(&gauss) {
+            return Err(Error::invalid(
+                "mesh.gauss",
+                "2..=5 points per direction (1 leaves the hourglass modes)",
+                gauss,
+            ));
         }
         let blocks: Vec<Vec<usize>> = mesh
             .elements

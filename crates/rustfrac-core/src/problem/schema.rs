@@ -258,9 +258,11 @@ fn build() -> Vec<KeySpec> {
           "Q4 elements along x1 (FEM, XFEM)", |v| v.i() >= 1),
         k("mesh", "ny", Int, Val::Int(83), "an integer >= 1",
           "Q4 elements along x2 (FEM, XFEM)", |v| v.i() >= 1),
-        k("mesh", "gauss", Int, Val::Int(2), "an integer in 1..5",
+        k("mesh", "gauss", Int, Val::Int(2),
+          "an integer in 2..5 (1 point per direction leaves the Q4 element's hourglass modes: \
+           the stiffness is rank deficient)",
           "Gauss points per direction of the standard elements (2 is exact for rectangles)",
-          |v| (1..=5).contains(&v.i())),
+          |v| (2..=5).contains(&v.i())),
         k("xfem", "nsub", Int, Val::Int(4), "an integer in 1..32",
           "sub-quads per direction of split and branch-enriched elements, 2 x 2 Gauss points \
            each (eq. 35)", |v| (1..=32).contains(&v.i())),

@@ -265,27 +265,78 @@ fn side_name(s: Side) -> &'static str {
     }
 }
 
-/// The precondition of a run that scales a critical state (XFEM, PD, CCM-PD): a reference load
-/// that is not zero (a zero load has no critical load factor). A scene with a zero load is still
-/// a valid description (FEM solves it).
+/// Smallest (and, inverted, largest) magnitude of the reference load's products with the
+/// material and the geometry: far from the subnormal range (2.2e-308), so the solver's own
+/// products keep full precision. Smaller loads underflow (a wrong sign, K_I = 0, no bond in
+/// tension) and are refused.
+pub const LOAD_RANGE: [f64; 2] = [1e-200, 1e200];
+
+/// The preconditions of a run on the reference load: a load that is not zero for the methods
+/// that scale a critical state (XFEM, PD, CCM-PD; a zero load has no critical load factor; a
+/// scene with a zero load is still a valid description, FEM solves it), and, for every method, a
+/// non-zero load whose displacement, strain, stress and edge force lie in [`LOAD_RANGE`].
 pub fn reference_load(p: &Problem) -> Result<()> {
-    if matches!(p.method, Method::Fem(_)) {
-        return Ok(());
-    }
     let l = p.boundary.plate_load();
-    match l.grip {
-        Grip::Traction if l.traction == 0.0 => Err(Error::invalid(
-            "load.traction",
-            "a non-zero reference traction for bc = 'traction'",
-            0.0,
-        )),
-        Grip::Free | Grip::Clamped if l.u0 == 0.0 => Err(Error::invalid(
-            "load.u0",
-            "a non-zero reference displacement for displacement grips",
-            0.0,
-        )),
-        _ => Ok(()),
+    let zero_ok = matches!(p.method, Method::Fem(_));
+    let (d, e, t) = (
+        &p.domain,
+        p.material.elastic.e,
+        p.material.elastic.thickness,
+    );
+    let (key, value, products) = match l.grip {
+        Grip::Traction => {
+            let strain = l.traction / e;
+            (
+                "load.traction",
+                l.traction,
+                [
+                    ("the traction", l.traction),
+                    ("the strain traction / E", strain),
+                    ("the displacement strain L", strain * d.height),
+                    ("the edge force traction W t", l.traction * d.width * t),
+                ],
+            )
+        }
+        Grip::Free | Grip::Clamped => {
+            let strain = l.u0 / d.height;
+            (
+                "load.u0",
+                l.u0,
+                [
+                    ("the displacement u0", l.u0),
+                    ("the strain u0 / L", strain),
+                    ("the stress E u0 / L", e * strain),
+                    ("the edge force E u0 W t / L", e * strain * d.width * t),
+                ],
+            )
+        }
+    };
+    let what = if l.grip == Grip::Traction {
+        "a non-zero reference traction for bc = 'traction'"
+    } else {
+        "a non-zero reference displacement for displacement grips"
+    };
+    if value == 0.0 {
+        return if zero_ok {
+            Ok(())
+        } else {
+            Err(Error::invalid(key, what, 0.0))
+        };
     }
+    let [lo, hi] = LOAD_RANGE;
+    for (name, v) in products {
+        if !(lo..=hi).contains(&v.abs()) {
+            return Err(Error::invalid(
+                key,
+                &format!(
+                    "{what} whose displacement, strain, stress and edge force lie in [{lo:e}, \
+                     {hi:e}] in magnitude (solved in floating point: smaller values underflow)"
+                ),
+                format!("{value:e} ({name} = {v:e})"),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// The crack lies inside the plate (tips strictly inside, edge cracks pointing inwards).
