@@ -366,7 +366,7 @@ def test_progress_exception_reraised() -> None:
 
 
 def test_cli_plots_and_vtu(root: Path, tmp_path: Path) -> None:
-    scene = rf.Scene.from_toml(root / "examples" / "paper_xfem_free.toml")
+    scene = rf.Scene.from_toml(rf.examples.path("paper_xfem_free.toml"))
     f = tmp_path / "s.toml"
     scene.replace(xfem__growth_steps=3).save_toml(f)
     assert main(["run", str(f), "--out", str(tmp_path / "o"), "--plot", "-q"]) == 0
@@ -393,7 +393,7 @@ EXAMPLES = [
 def test_example_runs_with_cli(
     name: str, root: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    path = root / "examples" / name
+    path = rf.examples.path(name)
     scene = rf.Scene.from_toml(path)
     assert scene.method == "xfem"
     assert main(["run", str(path), "--out", str(tmp_path), "--no-vtu"]) == 0

@@ -13,7 +13,7 @@ Units are consistent; the paper's case uses N, mm and MPa.
 
 from __future__ import annotations
 
-from . import scenes
+from . import examples, scenes
 from ._core import __version__
 from .errors import (
     AccuracyWarning,
@@ -52,6 +52,7 @@ __all__ = [
     "SingularSystemError",
     "UnknownParameterError",
     "__version__",
+    "examples",
     "load",
     "run",
     "scenes",

@@ -1,6 +1,7 @@
-"""Command line: ``rustfrac run SCENE.toml --out DIR [--quiet]`` and
+"""Command line (also ``python -m rustfrac``): ``rustfrac run SCENE.toml --out DIR [--quiet]`` and
 ``rustfrac fig7 --out DIR [--preset paper|fast] [--bc free|clamped] [--quiet]`` and
-``rustfrac sweep --out DIR [--preset tiny|full] [--scheduler ADDR] [--workers N] [--quiet]``.
+``rustfrac sweep --out DIR [--preset tiny|full] [--scheduler ADDR] [--workers N] [--quiet]`` and
+``rustfrac examples [NAME]`` (the shipped example scenes and their paths).
 
 Exit codes: 0 success, 1 the run failed (singular system, internal error), 2 bad input (unreadable
 or invalid scene file, bad arguments).
@@ -120,7 +121,25 @@ def _parser() -> argparse.ArgumentParser:
     )
     w.add_argument("--workers", type=int, default=None, help="local processes (default: cores)")
     w.add_argument("--quiet", "-q", action="store_true", help="print nothing but errors")
+    e = sub.add_parser(
+        "examples", help="list the example scenes shipped with rustfrac (name and path)"
+    )
+    e.add_argument(
+        "name", nargs="?", default=None,
+        help="print only this example's path (e.g. rustfrac run $(rustfrac examples pd_coarse))",
+    )
     return p
+
+
+def _cmd_examples(args: argparse.Namespace) -> int:
+    from . import examples
+
+    if args.name is not None:
+        print(examples.path(args.name))
+        return 0
+    for name in examples.list():
+        print(f"{name:30s} {examples.path(name)}")
+    return 0
 
 
 def _cmd_sweep(args: argparse.Namespace) -> int:
@@ -367,7 +386,7 @@ def _log_pd(log: Callable[..., None], res: _Result) -> None:
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``rustfrac`` console script; returns the exit code."""
     args = _parser().parse_args(argv)
-    commands = {"run": _cmd_run, "fig7": _cmd_fig7, "sweep": _cmd_sweep}
+    commands = {"run": _cmd_run, "fig7": _cmd_fig7, "sweep": _cmd_sweep, "examples": _cmd_examples}
     # one mapping of errors to exit codes for every command (commands handle only their own
     # special cases, such as an unreadable scene file or an interrupted sweep)
     try:
