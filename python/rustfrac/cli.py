@@ -13,52 +13,16 @@ import argparse
 import sys
 import time
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Callable, TextIO
+from typing import TYPE_CHECKING, Any, Callable
 
 from .errors import InvalidParameterError, MethodNotAvailableError, RustfracError
+from .progress import ProgressBar
 
 if TYPE_CHECKING:
     from .result import Result as _Result
     from .scene import Scene as _Scene
 
 __all__ = ["ProgressBar", "main"]
-
-
-class ProgressBar:
-    """A plain-text progress bar on a stream; draws only once a run has lasted ``delay`` seconds
-    (short runs stay quiet), at most every 0.1 s (the native side throttles too). Once two reports
-    with different ``done`` counts arrived (e.g. SLA steps after the model setup), it also shows
-    the estimated time left, from the rate since the first of them."""
-
-    def __init__(self, stream: TextIO = sys.stderr, width: int = 30, delay: float = 0.5) -> None:
-        self.stream, self.width, self.delay = stream, width, delay
-        self.t0 = time.perf_counter()
-        self.drawn = False
-        self._first: tuple[float, int] | None = None
-
-    def __call__(self, done: int, total: int, message: str) -> None:
-        now = time.perf_counter()
-        elapsed = now - self.t0
-        if self._first is None and done > 0:
-            self._first = (now, done)
-        eta = ""
-        if self._first is not None and 0 < done < total and done > self._first[1]:
-            rate = (now - self._first[0]) / (done - self._first[1])
-            eta = f"  ETA {rate * (total - done):.1f} s"
-        if elapsed < self.delay and not self.drawn:
-            return
-        frac = done / total if total > 0 else 0.0
-        n = round(self.width * min(max(frac, 0.0), 1.0))
-        bar = "#" * n + "." * (self.width - n)
-        end = "\r" if self.stream.isatty() else "\n"
-        self.stream.write(f"[{bar}] {100 * frac:5.1f}% {elapsed:7.1f} s  {message}{eta}{end}")
-        self.stream.flush()
-        self.drawn = True
-
-    def close(self) -> None:
-        if self.drawn and self.stream.isatty():
-            self.stream.write("\n")
-            self.stream.flush()
 
 
 def _parser() -> argparse.ArgumentParser:
