@@ -395,7 +395,8 @@ def test_cli_runs_the_coarse_pd_example(
     back = rf.load(tmp_path)
     assert back.method == "pd" and len(back.history["step"]) == 201
     assert back.fields["damage_at_steps"].tolist() == [50, 100]
-    assert (tmp_path / "result.vtu").exists() and (tmp_path / "damage.png").exists()
+    for name in ("result.vtu", "damage.png", "crack_path.png", "u2.png", "load_path.png"):
+        assert (tmp_path / name).exists(), name
 
 
 @pytest.mark.parametrize(

@@ -41,8 +41,8 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument(
         "--plot",
         action="store_true",
-        help="also save PNGs: the s22 field (u2 for XFEM), the tip deformation x50 (XFEM) and "
-        "the load path (growth runs)",
+        help="also save PNGs: the s22 field (u2 without nodal stresses: XFEM, PD), the crack "
+        "path, the damage (PD), the tip deformation x50 (XFEM) and the load path (growth runs)",
     )
     r.add_argument(
         "--checkpoint", type=Path, default=None, metavar="FILE",
@@ -269,23 +269,19 @@ def _cmd_run(args: argparse.Namespace) -> int:
     out = res.save(args.out, vtu=not args.no_vtu)
     plots: list[str] = []
     if args.plot:
-        from .plotting import plot_load_path, plot_tip_deformation, save_damage_plot, save_plot
+        from . import plotting
 
-        if "nodal_stress" in res.fields or res.method == "xfem":
-            name = "s22.png" if "nodal_stress" in res.fields else "u2.png"
-            save_plot(res, out / name)
-            plots.append(name)
+        figs = {"s22.png" if "nodal_stress" in res.fields else "u2.png": plotting.plot_field(res)}
+        figs["crack_path.png"] = plotting.plot_crack_path(res)
         if res.damage is not None:
-            save_damage_plot(res, out / "damage.png")
-            plots.append("damage.png")
+            figs["damage.png"] = plotting.plot_damage(res)
         if "deformed_cells" in res.fields:
-            plot_tip_deformation(res, scale=50.0).figure.savefig(
-                out / "tip_x50.png", dpi=150, bbox_inches="tight"
-            )
-            plots.append("tip_x50.png")
+            figs["tip_x50.png"] = plotting.plot_tip_deformation(res, scale=50.0)
         if res.history:
-            plot_load_path(res).figure.savefig(out / "load_path.png", dpi=150, bbox_inches="tight")
-            plots.append("load_path.png")
+            figs["load_path.png"] = plotting.plot_load_path(res)
+        for name, fig in figs.items():
+            fig.savefig(out / name, dpi=150, bbox_inches="tight")
+            plots.append(name)
     log(
         f"saved   {out}/ (result.json, fields.npz{'' if args.no_vtu else ', result.vtu'}"
         + "".join(", " + p for p in plots)
