@@ -1,8 +1,8 @@
 """Plots of one result, for notebooks and scripts (``rf.plotting``).
 
-Every ``plot_*`` function returns a :class:`matplotlib.figure.Figure`, which Jupyter shows
-inline as a cell's value; ``ax=`` draws into existing axes instead (the returned figure is then
-theirs). Figures are built with ``matplotlib.figure`` (no pyplot state), so they also work
+Every ``plot_*`` function returns a :class:`matplotlib.figure.Figure` (a
+:class:`NotebookFigure`, which Jupyter shows inline as a cell's value, pyplot or not); ``ax=``
+draws into existing axes instead (the returned figure is then theirs). Figures are built with ``matplotlib.figure`` (no pyplot state), so they also work
 headless. Axis labels carry units: rustfrac is unit-agnostic (any consistent set), so the labels
 say "length" and "force/length^2" unless a :class:`Units` names them (``units=PAPER_UNITS``:
 the paper's N, mm and MPa).
@@ -18,6 +18,7 @@ the paper's N, mm and MPa).
 
 from __future__ import annotations
 
+import io
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -37,6 +38,7 @@ __all__ = [
     "DEFAULT_UNITS",
     "HISTORY_QUANTITIES",
     "PAPER_UNITS",
+    "NotebookFigure",
     "Units",
     "damage_ridge",
     "field_components",
@@ -106,8 +108,18 @@ def _history_label(key: str, units: Units) -> str:
     return key if q is None else units.label(key, q)
 
 
+class NotebookFigure(Figure):
+    """A :class:`~matplotlib.figure.Figure` that shows itself as a PNG in Jupyter (``_repr_png_``)
+    without pyplot or ``%matplotlib inline`` (pyplot-free figures have no display otherwise)."""
+
+    def _repr_png_(self) -> bytes:
+        buf = io.BytesIO()
+        self.savefig(buf, format="png", dpi=100, bbox_inches="tight")
+        return buf.getvalue()
+
+
 def _new_axes(ax: Axes | None, figsize: tuple[float, float]) -> Axes:
-    return Figure(figsize=figsize).add_subplot() if ax is None else ax
+    return NotebookFigure(figsize=figsize).add_subplot() if ax is None else ax
 
 
 def _figure(ax: Axes) -> Figure:

@@ -24,8 +24,12 @@ class ProgressBar:
     with different ``done`` counts arrived (e.g. SLA steps after the model setup), it also shows
     the estimated time left, from the rate since the first of them."""
 
-    def __init__(self, stream: TextIO = sys.stderr, width: int = 30, delay: float = 0.5) -> None:
-        self.stream, self.width, self.delay = stream, width, delay
+    def __init__(
+        self, stream: TextIO | None = None, width: int = 30, delay: float = 0.5
+    ) -> None:
+        # default: the sys.stderr of the moment (not of import time: redirections apply)
+        self.stream = sys.stderr if stream is None else stream
+        self.width, self.delay = width, delay
         self.t0 = time.perf_counter()
         self.drawn = False
         self._first: tuple[float, int] | None = None
@@ -60,11 +64,14 @@ class TqdmProgress:
     between the phases of a run, e.g. model setup, then SLA steps). Needs tqdm."""
 
     def __init__(self, desc: str = "rustfrac", **tqdm_kwargs: Any) -> None:
-        from tqdm.auto import tqdm
+        from tqdm.auto import tqdm  # ImportError without tqdm
 
-        self.bar = tqdm(total=None, desc=desc, leave=True, **tqdm_kwargs)
+        self._tqdm, self.desc, self.kwargs = tqdm, desc, tqdm_kwargs
+        self.bar: Any = None  # drawn at the first report, which knows the total
 
     def __call__(self, done: int, total: int, message: str) -> None:
+        if self.bar is None:
+            self.bar = self._tqdm(total=total or None, desc=self.desc, **self.kwargs)
         b = self.bar
         if total > 0 and b.total != total:
             b.total = total
@@ -73,7 +80,8 @@ class TqdmProgress:
         b.refresh()
 
     def close(self) -> None:
-        self.bar.close()
+        if self.bar is not None:
+            self.bar.close()
 
 
 def callback(

@@ -64,7 +64,7 @@ def run(
             f"invalid condition: expected True or False, got {condition!r}", "condition"
         )
     scene = _as_scene(scene)
-    logger.info("run %s", scene.describe())
+    logger.debug("run %s", scene.describe())
     cb = _progress.callback(progress, desc=f"rustfrac {scene.method}")
     t0 = time.perf_counter()
     try:
@@ -74,7 +74,7 @@ def run(
         if cb is not progress and close is not None:
             close()  # a bar made here
     res.meta.setdefault("timings", {})["total_s"] = time.perf_counter() - t0
-    logger.info("done %s", res.summary())
+    logger.debug("done %s", res.summary())
     msgs = res.meta.setdefault("warnings", [])
     for msg, kind in zip(msgs, res.meta.get("warning_kinds", [None] * len(msgs))):
         warnings.warn(
