@@ -18,7 +18,7 @@ E, NU, U0, L = 10000.0, 0.25, 0.01, 21.0
 
 def test_run_uncracked(root: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     code = main(
-        ["run", str(root / "examples" / "paper_fem_uncracked.toml"), "--out", str(tmp_path / "out")]
+        ["run", str(rf.examples.path("paper_fem_uncracked.toml")), "--out", str(tmp_path / "out")]
     )
     assert code == 0
     log = capsys.readouterr().out
@@ -35,7 +35,7 @@ def test_run_seam_quiet_plot(
     code = main(
         [
             "run",
-            str(root / "examples" / "paper_fem_seam.toml"),
+            str(rf.examples.path("paper_fem_seam.toml")),
             "--out",
             str(tmp_path),
             "--quiet",
@@ -104,7 +104,7 @@ def test_console_script(root: Path, tmp_path: Path) -> None:
     exe = shutil.which("rustfrac", path=str(Path(sys.executable).parent))
     cmd = [exe] if exe else [sys.executable, "-m", "rustfrac.cli"]
     p = subprocess.run(
-        [*cmd, "run", str(root / "examples" / "paper_fem_uncracked.toml"), "--out", str(tmp_path)],
+        [*cmd, "run", str(rf.examples.path("paper_fem_uncracked.toml")), "--out", str(tmp_path)],
         capture_output=True,
         text=True,
         check=False,

@@ -385,7 +385,7 @@ def test_cli_runs_the_coarse_pd_example(
     root: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     code = main(
-        ["run", str(root / "examples" / "pd_coarse.toml"), "--out", str(tmp_path), "--plot"]
+        ["run", str(rf.examples.path("pd_coarse.toml")), "--out", str(tmp_path), "--plot"]
     )
     assert code == 0
     log = capsys.readouterr().out
@@ -395,14 +395,15 @@ def test_cli_runs_the_coarse_pd_example(
     back = rf.load(tmp_path)
     assert back.method == "pd" and len(back.history["step"]) == 201
     assert back.fields["damage_at_steps"].tolist() == [50, 100]
-    assert (tmp_path / "result.vtu").exists() and (tmp_path / "damage.png").exists()
+    for name in ("result.vtu", "damage.png", "crack_path.png", "u2.png", "load_path.png"):
+        assert (tmp_path / name).exists(), name
 
 
 @pytest.mark.parametrize(
     ("name", "bc"), [("paper_ccm_pd.toml", "free"), ("paper_ccm_pd_clamped.toml", "clamped")]
 )
 def test_paper_examples_are_valid(root: Path, name: str, bc: str) -> None:
-    s = rf.Scene.from_toml(root / "examples" / name)
+    s = rf.Scene.from_toml(rf.examples.path(name))
     assert s.method == "ccm_pd" and s.load.bc == bc and s.pd.sla_steps == 500
     assert s.pd == rf.scenes.edge_crack_plate(method="ccm_pd", tie_tol=s.pd.tie_tol).pd
 

@@ -190,13 +190,13 @@ def test_replace_validates() -> None:
 
 def test_example_files_load(root: Path) -> None:
     for name in ("paper_fem_uncracked.toml", "paper_fem_seam.toml"):
-        s = Scene.from_toml(root / "examples" / name)
+        s = Scene.from_toml(rf.examples.path(name))
         assert s.method == "fem"
 
 
 def test_run_accepts_dict_and_path(root: Path) -> None:
-    r1 = rf.run(root / "examples" / "paper_fem_uncracked.toml")
-    r2 = rf.run(Scene.from_toml(root / "examples" / "paper_fem_uncracked.toml").to_dict())
+    r1 = rf.run(rf.examples.path("paper_fem_uncracked.toml"))
+    r2 = rf.run(Scene.from_toml(rf.examples.path("paper_fem_uncracked.toml")).to_dict())
     assert r1.sigma22 == r2.sigma22
     with pytest.raises(rf.InvalidTypeError):
         rf.run(42)  # type: ignore[arg-type]

@@ -344,13 +344,13 @@ def test_save_load_round_trip(growth: rf.Result, tmp_path: Path) -> None:
 def test_plots(growth: rf.Result, tmp_path: Path) -> None:
     from rustfrac.plotting import plot_load_path, plot_tip_deformation, save_plot
 
-    ax = plot_tip_deformation(growth, scale=50)
-    assert len(ax.collections[0].get_paths()) == len(growth.fields["deformed_cells"])
-    ax.figure.savefig(tmp_path / "tip.png")
-    ax = plot_load_path(growth, x="cmod")
-    assert len(ax.lines[0].get_xdata()) == len(growth.history["a"])
+    fig = plot_tip_deformation(growth, scale=50)
+    assert len(fig.axes[0].collections[0].get_paths()) == len(growth.fields["deformed_cells"])
+    fig.savefig(tmp_path / "tip.png")
+    fig = plot_load_path(growth, x="cmod")
+    assert len(fig.axes[0].lines[0].get_xdata()) == len(growth.history["a"])
     assert save_plot(growth, tmp_path / "u2.png").stat().st_size > 0  # no nodal stress: u2
-    with pytest.raises(ValueError, match="history"):
+    with pytest.raises(rf.PlotDataError, match="history"):
         plot_load_path(rf.Result("fem", 1.0, 0.0, 1, 0.0))
 
 
@@ -366,11 +366,11 @@ def test_progress_exception_reraised() -> None:
 
 
 def test_cli_plots_and_vtu(root: Path, tmp_path: Path) -> None:
-    scene = rf.Scene.from_toml(root / "examples" / "paper_xfem_free.toml")
+    scene = rf.Scene.from_toml(rf.examples.path("paper_xfem_free.toml"))
     f = tmp_path / "s.toml"
     scene.replace(xfem__growth_steps=3).save_toml(f)
     assert main(["run", str(f), "--out", str(tmp_path / "o"), "--plot", "-q"]) == 0
-    for name in ("u2.png", "tip_x50.png", "load_path.png", "result.vtu"):
+    for name in ("u2.png", "crack_path.png", "tip_x50.png", "load_path.png", "result.vtu"):
         assert (tmp_path / "o" / name).stat().st_size > 0, name
     vtu = (tmp_path / "o" / "result.vtu").read_text()
     assert 'Name="displacement"' in vtu and 'Name="enrichment"' in vtu
@@ -393,7 +393,7 @@ EXAMPLES = [
 def test_example_runs_with_cli(
     name: str, root: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    path = root / "examples" / name
+    path = rf.examples.path(name)
     scene = rf.Scene.from_toml(path)
     assert scene.method == "xfem"
     assert main(["run", str(path), "--out", str(tmp_path), "--no-vtu"]) == 0

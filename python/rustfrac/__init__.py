@@ -13,7 +13,7 @@ Units are consistent; the paper's case uses N, mm and MPa.
 
 from __future__ import annotations
 
-from . import scenes
+from . import examples, plotting, scenes
 from ._core import __version__
 from .errors import (
     AccuracyWarning,
@@ -25,6 +25,7 @@ from .errors import (
     InvalidTypeError,
     LockingWarning,
     MethodNotAvailableError,
+    PlotDataError,
     RustfracError,
     SeparatedError,
     SingularSystemError,
@@ -45,6 +46,7 @@ __all__ = [
     "InvalidTypeError",
     "LockingWarning",
     "MethodNotAvailableError",
+    "PlotDataError",
     "Result",
     "RustfracError",
     "Scene",
@@ -52,7 +54,9 @@ __all__ = [
     "SingularSystemError",
     "UnknownParameterError",
     "__version__",
+    "examples",
     "load",
+    "plotting",
     "run",
     "scenes",
 ]

@@ -8,6 +8,25 @@ from typing import Any, Callable
 import numpy as np
 import numpy.typing as npt
 
+# the module's exports; _progress_demo and _panic_demo only in builds with "test-hooks" (the
+# stub check, tests/test_packaging.py::test_core_stub_matches_the_native_module, allows both)
+__all__ = [
+    "COND_SINGULAR",
+    "COND_WARN",
+    "PROGRESS_INTERVAL_S",
+    "WARNING_KINDS",
+    "__version__",
+    "_panic_demo",
+    "_progress_demo",
+    "check_scene",
+    "check_section",
+    "crack_polylines",
+    "run",
+    "scene_constants",
+    "scene_schema",
+    "solve_fem_grid",
+]
+
 __version__: str
 PROGRESS_INTERVAL_S: float
 #: condition estimate above which a result carries a warning (rustfrac_core::solver::COND_WARN)
@@ -19,7 +38,8 @@ COND_SINGULAR: float
 #: (Python classes: rustfrac.errors.WARNING_CLASSES)
 WARNING_KINDS: list[str]
 
-ProgressCallback = Callable[[int, int, str], Any]
+#: ``progress(done, total, message)`` (stub only: rustfrac.progress.ProgressCallback at runtime)
+_ProgressCallback = Callable[[int, int, str], Any]
 
 def scene_schema() -> list[dict[str, Any]]:
     """Every scene key: dicts with section, key, kind ("float" | "int" | "str" | "bool" | "pair"
@@ -42,7 +62,7 @@ def crack_polylines(scene: Any) -> list[list[list[float]]]:
     """The polylines [[x1, x2], ...] of a scene's cracks (empty for an uncracked scene)."""
 
 def run(
-    scene: Any, progress: ProgressCallback | None = None, condition: bool = True
+    scene: Any, progress: _ProgressCallback | None = None, condition: bool = True
 ) -> dict[str, Any]:
     """Runs a scene dict without the GIL: ``{method, sigma22, cmod, n_dofs, wall_time_s, fields,
     history, scalars, meta}`` (the fields of :class:`rustfrac.Result`). ``condition=False`` skips
@@ -68,5 +88,5 @@ def solve_fem_grid(
     numerically singular."""
 
 # test hooks: present only in builds with the cargo feature "test-hooks" (the test suite's)
-def _progress_demo(steps: int, step_s: float, progress: ProgressCallback | None = None) -> int: ...
+def _progress_demo(steps: int, step_s: float, progress: _ProgressCallback | None = None) -> int: ...
 def _panic_demo() -> None: ...

@@ -1,6 +1,7 @@
-"""Command line: ``rustfrac run SCENE.toml --out DIR [--quiet]`` and
+"""Command line (also ``python -m rustfrac``): ``rustfrac run SCENE.toml --out DIR [--quiet]`` and
 ``rustfrac fig7 --out DIR [--preset paper|fast] [--bc free|clamped] [--quiet]`` and
-``rustfrac sweep --out DIR [--preset tiny|full] [--scheduler ADDR] [--workers N] [--quiet]``.
+``rustfrac sweep --out DIR [--preset tiny|full] [--scheduler ADDR] [--workers N] [--quiet]`` and
+``rustfrac examples [NAME]`` (the shipped example scenes and their paths).
 
 Exit codes: 0 success, 1 the run failed (singular system, internal error), 2 bad input (unreadable
 or invalid scene file, bad arguments).
@@ -12,52 +13,16 @@ import argparse
 import sys
 import time
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Callable, TextIO
+from typing import TYPE_CHECKING, Any, Callable
 
 from .errors import InvalidParameterError, MethodNotAvailableError, RustfracError
+from .progress import ProgressBar
 
 if TYPE_CHECKING:
     from .result import Result as _Result
     from .scene import Scene as _Scene
 
 __all__ = ["ProgressBar", "main"]
-
-
-class ProgressBar:
-    """A plain-text progress bar on a stream; draws only once a run has lasted ``delay`` seconds
-    (short runs stay quiet), at most every 0.1 s (the native side throttles too). Once two reports
-    with different ``done`` counts arrived (e.g. SLA steps after the model setup), it also shows
-    the estimated time left, from the rate since the first of them."""
-
-    def __init__(self, stream: TextIO = sys.stderr, width: int = 30, delay: float = 0.5) -> None:
-        self.stream, self.width, self.delay = stream, width, delay
-        self.t0 = time.perf_counter()
-        self.drawn = False
-        self._first: tuple[float, int] | None = None
-
-    def __call__(self, done: int, total: int, message: str) -> None:
-        now = time.perf_counter()
-        elapsed = now - self.t0
-        if self._first is None and done > 0:
-            self._first = (now, done)
-        eta = ""
-        if self._first is not None and 0 < done < total and done > self._first[1]:
-            rate = (now - self._first[0]) / (done - self._first[1])
-            eta = f"  ETA {rate * (total - done):.1f} s"
-        if elapsed < self.delay and not self.drawn:
-            return
-        frac = done / total if total > 0 else 0.0
-        n = round(self.width * min(max(frac, 0.0), 1.0))
-        bar = "#" * n + "." * (self.width - n)
-        end = "\r" if self.stream.isatty() else "\n"
-        self.stream.write(f"[{bar}] {100 * frac:5.1f}% {elapsed:7.1f} s  {message}{eta}{end}")
-        self.stream.flush()
-        self.drawn = True
-
-    def close(self) -> None:
-        if self.drawn and self.stream.isatty():
-            self.stream.write("\n")
-            self.stream.flush()
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -76,8 +41,8 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument(
         "--plot",
         action="store_true",
-        help="also save PNGs: the s22 field (u2 for XFEM), the tip deformation x50 (XFEM) and "
-        "the load path (growth runs)",
+        help="also save PNGs: the s22 field (u2 without nodal stresses: XFEM, PD), the crack "
+        "path, the damage (PD), the tip deformation x50 (XFEM) and the load path (growth runs)",
     )
     r.add_argument(
         "--checkpoint", type=Path, default=None, metavar="FILE",
@@ -120,7 +85,25 @@ def _parser() -> argparse.ArgumentParser:
     )
     w.add_argument("--workers", type=int, default=None, help="local processes (default: cores)")
     w.add_argument("--quiet", "-q", action="store_true", help="print nothing but errors")
+    e = sub.add_parser(
+        "examples", help="list the example scenes shipped with rustfrac (name and path)"
+    )
+    e.add_argument(
+        "name", nargs="?", default=None,
+        help="print only this example's path (e.g. rustfrac run $(rustfrac examples pd_coarse))",
+    )
     return p
+
+
+def _cmd_examples(args: argparse.Namespace) -> int:
+    from . import examples
+
+    if args.name is not None:
+        print(examples.path(args.name))
+        return 0
+    for name in examples.list():
+        print(f"{name:30s} {examples.path(name)}")
+    return 0
 
 
 def _cmd_sweep(args: argparse.Namespace) -> int:
@@ -286,23 +269,19 @@ def _cmd_run(args: argparse.Namespace) -> int:
     out = res.save(args.out, vtu=not args.no_vtu)
     plots: list[str] = []
     if args.plot:
-        from .plotting import plot_load_path, plot_tip_deformation, save_damage_plot, save_plot
+        from . import plotting
 
-        if "nodal_stress" in res.fields or res.method == "xfem":
-            name = "s22.png" if "nodal_stress" in res.fields else "u2.png"
-            save_plot(res, out / name)
-            plots.append(name)
+        figs = {"s22.png" if "nodal_stress" in res.fields else "u2.png": plotting.plot_field(res)}
+        figs["crack_path.png"] = plotting.plot_crack_path(res)
         if res.damage is not None:
-            save_damage_plot(res, out / "damage.png")
-            plots.append("damage.png")
+            figs["damage.png"] = plotting.plot_damage(res)
         if "deformed_cells" in res.fields:
-            plot_tip_deformation(res, scale=50.0).figure.savefig(
-                out / "tip_x50.png", dpi=150, bbox_inches="tight"
-            )
-            plots.append("tip_x50.png")
+            figs["tip_x50.png"] = plotting.plot_tip_deformation(res, scale=50.0)
         if res.history:
-            plot_load_path(res).figure.savefig(out / "load_path.png", dpi=150, bbox_inches="tight")
-            plots.append("load_path.png")
+            figs["load_path.png"] = plotting.plot_load_path(res)
+        for name, fig in figs.items():
+            fig.savefig(out / name, dpi=150, bbox_inches="tight")
+            plots.append(name)
     log(
         f"saved   {out}/ (result.json, fields.npz{'' if args.no_vtu else ', result.vtu'}"
         + "".join(", " + p for p in plots)
@@ -367,7 +346,7 @@ def _log_pd(log: Callable[..., None], res: _Result) -> None:
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``rustfrac`` console script; returns the exit code."""
     args = _parser().parse_args(argv)
-    commands = {"run": _cmd_run, "fig7": _cmd_fig7, "sweep": _cmd_sweep}
+    commands = {"run": _cmd_run, "fig7": _cmd_fig7, "sweep": _cmd_sweep, "examples": _cmd_examples}
     # one mapping of errors to exit codes for every command (commands handle only their own
     # special cases, such as an unreadable scene file or an interrupted sweep)
     try:

@@ -104,3 +104,12 @@ WARNING_CLASSES: dict[str, type[Warning]] = {
     "locking": LockingWarning,
     "discretisation": DiscretisationWarning,
 }
+
+
+class PlotDataError(RustfracError, ValueError):
+    """A plot or view needs data the result does not carry (e.g. the damage map of an XFEM
+    result, the load path of a single solve); the message says what is missing and for which
+    methods it exists."""
+
+
+__all__ += ["PlotDataError"]

@@ -30,6 +30,7 @@ from typing import Any
 import numpy as np
 
 from . import figures, handbook
+from ._log import logger
 from .result import Result, _atomic
 from .runner import run
 from .scene import Scene
@@ -145,7 +146,7 @@ def fig7(
     *,
     preset: str = "paper",
     bc: str = "free",
-    log: Log | None = print,
+    log: Log | None = logger.info,
     progress: Callable[[str], Callable[[int, int, str], Any] | None] | None = None,
 ) -> dict[str, Any]:
     """Runs the Fig. 7 job into ``out`` and returns the summary dict (also written as JSON).
@@ -153,7 +154,7 @@ def fig7(
     Args:
         preset: "paper" (the paper's discretisations) or "fast" (coarse, seconds).
         bc: grip variant of the displacement load: "free" or "clamped".
-        log: line logger (None: silent).
+        log: line logger (default: ``logging.getLogger("rustfrac").info``; None: silent).
         progress: factory ``progress(name)`` returning a progress callback for one run, or None.
     """
     if preset not in PRESETS:

@@ -172,6 +172,8 @@ def plot_discretisations(
     ax.set_aspect("equal")
     ax.set_title("XFEM: split (blue), tip (orange) and blending (grey) elements", fontsize=9)
     ax.legend(fontsize=7, loc="upper right")
+    ax.set_xlabel("x1 [mm]")
+    ax.set_ylabel("x2 [mm]")
 
     ax = fig.add_subplot(1, 2, 2)
     nxy, is_pd, gel = pd["node_xy"], np.asarray(pd["is_pd"], bool), pd["elements"]
@@ -204,6 +206,8 @@ def plot_discretisations(
     ax.set_aspect("equal")
     ax.set_title("CCM-PD: PD nodes, FEM and hybrid elements", fontsize=9)
     ax.legend(fontsize=7, loc="upper right")
+    ax.set_xlabel("x1 [mm]")
+    ax.set_ylabel("x2 [mm]")
     return fig
 
 

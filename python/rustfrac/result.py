@@ -192,6 +192,24 @@ class Result:
     def __repr__(self) -> str:
         return f"<Result {self.summary()}>"
 
+    def _repr_html_(self) -> str:
+        """Jupyter's view: a table of the scalars, status, history columns and fields."""
+        from ._html import result_html
+
+        return result_html(self)
+
+    def history_frame(self) -> Any:
+        """``history`` as a pandas DataFrame, one column per history array (empty for a single
+        solve). Needs pandas (``pip install pandas``); without it raises ImportError saying so."""
+        try:
+            import pandas as pd
+        except ImportError as e:
+            raise ImportError(
+                "Result.history_frame() needs pandas, which is not installed: pip install pandas "
+                "(or read Result.history, a dict of numpy arrays)"
+            ) from e
+        return pd.DataFrame({k: np.asarray(v) for k, v in self.history.items()})
+
     # -- files --------------------------------------------------------------------------------
 
     def save(self, directory: PathLike, *, vtu: bool = True) -> Path:

@@ -15,19 +15,19 @@ from pathlib import Path
 from typing import Any, Callable
 
 from . import _core
+from . import progress as _progress
+from ._log import logger
 from .errors import WARNING_CLASSES, AccuracyWarning, InvalidTypeError
+from .progress import ProgressCallback
 from .result import Result
 from .scene import METHODS, Scene
 
 __all__ = ["ProgressCallback", "run"]
 
-#: ``progress(done, total, message)``; called from the solver at most every ~0.1 s.
-ProgressCallback = Callable[[int, int, str], Any]
-
 
 def run(
     scene: Scene | Mapping[str, Any] | str | Path,
-    progress: ProgressCallback | None = None,
+    progress: ProgressCallback | bool | None = None,
     *,
     condition: bool = True,
 ) -> Result:
@@ -37,7 +37,9 @@ def run(
         scene: a :class:`Scene`, a scene dict, or the path of a scene TOML file.
         progress: optional callable ``progress(done, total, message)``; the native solver calls it
             (holding the GIL only then) at most every ~0.1 s and once at the end. Raising from it
-            (e.g. KeyboardInterrupt) stops the run and re-raises.
+            (e.g. KeyboardInterrupt) stops the run and re-raises. ``True``: a ``tqdm.auto`` bar
+            (a widget in Jupyter) when tqdm is installed, else a text bar on stderr
+            (:func:`rustfrac.progress.callback`).
         condition: FEM and XFEM: compute the condition estimate of every solve (2 extra solves
             each: +15 % of a 1e5- and +20 % of a 1e6-unknown FEM run, benches/RESULTS.md);
             ``False`` leaves ``result.condition`` None ("not computed") and ``history`` without a
@@ -62,9 +64,17 @@ def run(
             f"invalid condition: expected True or False, got {condition!r}", "condition"
         )
     scene = _as_scene(scene)
+    logger.debug("run %s", scene.describe())
+    cb = _progress.callback(progress, desc=f"rustfrac {scene.method}")
     t0 = time.perf_counter()
-    res = _RUNNERS[scene.method](scene, progress, condition)
+    try:
+        res = _RUNNERS[scene.method](scene, cb, condition)
+    finally:
+        close = getattr(cb, "close", None)
+        if cb is not progress and close is not None:
+            close()  # a bar made here
     res.meta.setdefault("timings", {})["total_s"] = time.perf_counter() - t0
+    logger.debug("done %s", res.summary())
     msgs = res.meta.setdefault("warnings", [])
     for msg, kind in zip(msgs, res.meta.get("warning_kinds", [None] * len(msgs))):
         warnings.warn(

@@ -393,6 +393,12 @@ class Scene:
         p.write_text(self.to_toml(), encoding="utf-8")
         return p
 
+    def _repr_html_(self) -> str:
+        """Jupyter's view: the description line and a table of each section's keys."""
+        from ._html import scene_html
+
+        return scene_html(self)
+
     def describe(self) -> str:
         """One line: method, plate, crack, load variant and discretisation."""
         c = self.crack

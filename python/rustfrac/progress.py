@@ -1,0 +1,108 @@
+"""Progress reports of a run: ``progress(done, total, message)`` callbacks.
+
+- :class:`ProgressBar`: a plain-text bar on a stream (the CLI's);
+- :class:`TqdmProgress`: a ``tqdm.auto`` bar (a widget in Jupyter, text in a terminal);
+- :func:`callback`: what ``rf.run(scene, progress=...)`` makes of its argument (``True``: a tqdm
+  bar when tqdm is installed, else a :class:`ProgressBar` on stderr).
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+from typing import Any, Callable, TextIO
+
+__all__ = ["ProgressBar", "ProgressCallback", "TqdmProgress", "callback"]
+
+#: ``progress(done, total, message)``; called from the solver at most every ~0.1 s.
+ProgressCallback = Callable[[int, int, str], Any]
+
+
+class ProgressBar:
+    """A plain-text progress bar on a stream; draws only once a run has lasted ``delay`` seconds
+    (short runs stay quiet), at most every 0.1 s (the native side throttles too). Once two reports
+    with different ``done`` counts arrived (e.g. SLA steps after the model setup), it also shows
+    the estimated time left, from the rate since the first of them."""
+
+    def __init__(
+        self, stream: TextIO | None = None, width: int = 30, delay: float = 0.5
+    ) -> None:
+        # default: the sys.stderr of the moment (not of import time: redirections apply)
+        self.stream = sys.stderr if stream is None else stream
+        self.width, self.delay = width, delay
+        self.t0 = time.perf_counter()
+        self.drawn = False
+        self._first: tuple[float, int] | None = None
+
+    def __call__(self, done: int, total: int, message: str) -> None:
+        now = time.perf_counter()
+        elapsed = now - self.t0
+        if self._first is None and done > 0:
+            self._first = (now, done)
+        eta = ""
+        if self._first is not None and 0 < done < total and done > self._first[1]:
+            rate = (now - self._first[0]) / (done - self._first[1])
+            eta = f"  ETA {rate * (total - done):.1f} s"
+        if elapsed < self.delay and not self.drawn:
+            return
+        frac = done / total if total > 0 else 0.0
+        n = round(self.width * min(max(frac, 0.0), 1.0))
+        bar = "#" * n + "." * (self.width - n)
+        end = "\r" if self.stream.isatty() else "\n"
+        self.stream.write(f"[{bar}] {100 * frac:5.1f}% {elapsed:7.1f} s  {message}{eta}{end}")
+        self.stream.flush()
+        self.drawn = True
+
+    def close(self) -> None:
+        if self.drawn and self.stream.isatty():
+            self.stream.write("\n")
+            self.stream.flush()
+
+
+class TqdmProgress:
+    """A ``tqdm.auto`` bar fed by ``(done, total, message)`` reports (the total may change
+    between the phases of a run, e.g. model setup, then SLA steps). Needs tqdm."""
+
+    def __init__(self, desc: str = "rustfrac", **tqdm_kwargs: Any) -> None:
+        from tqdm.auto import tqdm  # ImportError without tqdm
+
+        self._tqdm, self.desc, self.kwargs = tqdm, desc, tqdm_kwargs
+        self.bar: Any = None  # drawn at the first report, which knows the total
+
+    def __call__(self, done: int, total: int, message: str) -> None:
+        if self.bar is None:
+            self.bar = self._tqdm(total=total or None, desc=self.desc, **self.kwargs)
+        b = self.bar
+        if total > 0 and b.total != total:
+            b.total = total
+        b.n = max(0, done)
+        b.set_postfix_str(message, refresh=False)
+        b.refresh()
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.close()
+
+
+def callback(
+    progress: bool | ProgressCallback | None, desc: str = "rustfrac"
+) -> ProgressCallback | None:
+    """The callback for ``run(..., progress=...)``: None/False: none; True: a
+    :class:`TqdmProgress` if tqdm is installed, else a :class:`ProgressBar` on stderr (no delay);
+    a callable: itself. Bars made here have a ``close()`` the runner calls at the end."""
+    if progress is None or progress is False:
+        return None
+    if progress is True:
+        try:
+            return TqdmProgress(desc)
+        except ImportError:
+            return ProgressBar(delay=0.0)
+    if callable(progress):
+        return progress
+    from .errors import InvalidTypeError
+
+    raise InvalidTypeError(
+        "invalid progress: expected True, False, None or a callable progress(done, total, "
+        f"message), got {type(progress).__name__}",
+        "progress",
+    )
