@@ -214,7 +214,16 @@ def _cmd_run(args: argparse.Namespace) -> int:
     bar = None if args.quiet else ProgressBar(delay=0.0 if growth else 0.5)
     try:
         res: Result = run(scene, progress=bar)
-    except KeyboardInterrupt:
+    except KeyboardInterrupt as e:
+        partial = getattr(e, "result", None)
+        if isinstance(partial, Result):
+            # keep what finished (XFEM growth and the SLA stop with status "cancelled")
+            partial.save(args.out, vtu=not args.no_vtu)
+            print(
+                f"rustfrac: interrupted; the finished part ({partial.summary()}) was written "
+                f"to {args.out}",
+                file=sys.stderr,
+            )
         if scene.method in ("pd", "ccm_pd") and scene.pd.checkpoint_path:
             print(
                 f"rustfrac: interrupted; checkpoint written to {scene.pd.checkpoint_path} "

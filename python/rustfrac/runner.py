@@ -37,7 +37,9 @@ def run(
         scene: a :class:`Scene`, a scene dict, or the path of a scene TOML file.
         progress: optional callable ``progress(done, total, message)``; the native solver calls it
             (holding the GIL only then) at most every ~0.1 s and once at the end. Raising from it
-            (e.g. KeyboardInterrupt) stops the run and re-raises. ``True``: a ``tqdm.auto`` bar
+            (e.g. KeyboardInterrupt) stops the run and re-raises. Ctrl-C stops a long run with
+            or without a callback: the ``KeyboardInterrupt`` carries the finished part as
+            ``.result`` (XFEM growth and the SLA: the steps so far, status "cancelled"). ``True``: a ``tqdm.auto`` bar
             (a widget in Jupyter) when tqdm is installed, else a text bar on stderr
             (:func:`rustfrac.progress.callback`).
         condition: FEM and XFEM: compute the condition estimate of every solve (2 extra solves
@@ -99,7 +101,16 @@ def _as_scene(scene: Scene | Mapping[str, Any] | str | Path) -> Scene:
 def _run_native(scene: Scene, progress: ProgressCallback | None, condition: bool) -> Result:
     """The core's run of the scene, as a :class:`Result` (meta gains the scene itself)."""
     d = scene.to_dict()
-    out = _core.run(d, progress, condition)
+    try:
+        out = _core.run(d, progress, condition)
+    except KeyboardInterrupt as e:
+        # the core stopped the run (XFEM growth and the SLA with status "cancelled") and attached
+        # what finished; it travels on as ``e.result``
+        partial = getattr(e, "partial", None)
+        if isinstance(partial, dict):
+            partial["meta"]["scene"] = d
+            e.result = Result(**partial)  # type: ignore[attr-defined]
+        raise
     out["meta"]["scene"] = d
     return Result(**out)
 

@@ -59,11 +59,11 @@ fn benches(c: &mut Criterion) {
     });
     g.bench_function("xfem_single_solve_sifs", |b| {
         let p = single_params(44, 83);
-        b.iter(|| black_box(run(&p, &|_, _| {}).unwrap().k_i))
+        b.iter(|| black_box(run(&p, &|_, _| true).unwrap().k_i))
     });
     g.bench_function("xfem_growth_1.1_to_0.7W", |b| {
         let p = growth_params();
-        b.iter(|| black_box(run(&p, &|_, _| {}).unwrap().history.len()))
+        b.iter(|| black_box(run(&p, &|_, _| true).unwrap().history.len()))
     });
     g.finish();
     let mut g = c.benchmark_group("xfem_352x664");
@@ -73,7 +73,7 @@ fn benches(c: &mut Criterion) {
     });
     g.bench_function("xfem_single_solve_sifs", |b| {
         let p = single_params(352, 664);
-        b.iter(|| black_box(run(&p, &|_, _| {}).unwrap().k_i))
+        b.iter(|| black_box(run(&p, &|_, _| true).unwrap().k_i))
     });
     g.finish();
 }

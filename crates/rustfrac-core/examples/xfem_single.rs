@@ -21,7 +21,7 @@ fn main() {
     x.extra_radii = vec![];
     for _ in 0..reps {
         let t = Instant::now();
-        let r = run(&p, &|_, _| {}).unwrap();
+        let r = run(&p, &|_, _| true).unwrap();
         println!(
             "{nx} x {ny}: {:.3} s, K_I {:.12}, sigma22 {:.12}, CMOD {:.12e}",
             t.elapsed().as_secs_f64(),

@@ -52,6 +52,9 @@ fn run<'py>(
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    // load NumPy's C API now: loading it later, while a Ctrl-C is pending, fails inside numpy's
+    // import and panicked ("Failed to access NumPy array API capsule")
+    let _ = numpy::PyArray1::<f64>::zeros(m.py(), 0, false);
     m.add("PROGRESS_INTERVAL_S", PROGRESS_INTERVAL_S)?;
     m.add("COND_WARN", rustfrac_core::la::COND_WARN)?;
     m.add("COND_SINGULAR", rustfrac_core::la::COND_SINGULAR)?;

@@ -43,15 +43,13 @@ pub fn run<'py>(py: Python<'py>, p: &Problem, prog: &Progress) -> PyResult<Bound
         Ok(r)
     });
     let wall = t0.elapsed().as_secs_f64();
-    if let Some(err) = prog.take_error() {
-        return Err(err);
-    }
-    let r = r?;
-    let s = Shaped::new(py, p, (r.sigma22, r.cmod, r.n_dofs, wall), &r.warnings)?;
-    history(&s, &r)?;
-    fields(&s, &r)?;
-    meta(&s, &r, p, wall)?;
-    s.finish()
+    prog.deliver(py, r, |r| {
+        let s = Shaped::new(py, p, (r.sigma22, r.cmod, r.n_dofs, wall), &r.warnings)?;
+        history(&s, &r)?;
+        fields(&s, &r)?;
+        meta(&s, &r, p, wall)?;
+        s.finish()
+    })
 }
 
 fn history(s: &Shaped<'_>, r: &CcmPdResult) -> PyResult<()> {

@@ -3,9 +3,12 @@
 //! Long runs take an optional callable `progress(done, total, message)`. It is called at most
 //! every [`PROGRESS_INTERVAL_S`] seconds (plus the forced first and last reports), and the GIL
 //! is acquired only for that call. If the callback raises (e.g. `KeyboardInterrupt`), the run is
-//! asked to stop and the exception is re-raised afterwards.
+//! asked to stop and the exception is re-raised afterwards, with the finished part of the run
+//! attached as its `partial` attribute (the shaped result dict; XFEM growth and the SLA stop
+//! with status "cancelled"). Without a callback the same reports check for a pending Ctrl-C.
 
 use pyo3::prelude::*;
+use pyo3::types::PyDict;
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
@@ -42,9 +45,6 @@ impl Progress {
     /// Reports progress; `force` bypasses the throttle (first and last report). Returns `false`
     /// when the run should stop (the callback raised).
     pub fn report(&self, done: usize, total: usize, message: &str, force: bool) -> bool {
-        let Some(cb) = &self.callback else {
-            return true;
-        };
         // a throttled report from one of several worker threads never waits for another's callback
         let mut st = if force {
             self.state.lock().unwrap_or_else(|p| p.into_inner())
@@ -67,8 +67,15 @@ impl Progress {
             return true;
         }
         st.last = Some(now);
-        st.calls += 1;
-        let r = Python::attach(|py| cb.call1(py, (done, total, message)).map(|_| ()));
+        // without a callback, a pending Ctrl-C (SIGINT) still stops the run: the interpreter's
+        // signal handlers run here (on the main thread) and raise KeyboardInterrupt
+        let r = match &self.callback {
+            Some(cb) => {
+                st.calls += 1;
+                Python::attach(|py| cb.call1(py, (done, total, message)).map(|_| ()))
+            }
+            None => Python::attach(|py| py.check_signals()),
+        };
         match r {
             Ok(()) => true,
             Err(e) => {
@@ -91,5 +98,25 @@ impl Progress {
             .unwrap_or_else(|p| p.into_inner())
             .error
             .take()
+    }
+
+    /// The shaped result of a finished run `r` (`shape`), or, when the callback raised or Ctrl-C
+    /// came, that exception with the shaped finished part attached as `partial`.
+    pub fn deliver<'py, T>(
+        &self,
+        py: Python<'py>,
+        r: PyResult<T>,
+        shape: impl FnOnce(T) -> PyResult<Bound<'py, PyDict>>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        match (self.take_error(), r) {
+            (Some(e), Ok(r)) => {
+                if let Ok(d) = shape(r) {
+                    e.value(py).setattr("partial", d)?;
+                }
+                Err(e)
+            }
+            (Some(e), Err(_)) => Err(e),
+            (None, r) => shape(r?),
+        }
     }
 }

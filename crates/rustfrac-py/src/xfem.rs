@@ -34,26 +34,25 @@ pub fn run<'py>(py: Python<'py>, p: &Problem, prog: &Progress) -> PyResult<Bound
     let t0 = Instant::now();
     let r = detached(py, "xfem plate", || {
         prog.report(0, total, "xfem: enrich + assemble + solve", true);
-        let r = xfem::run(p, &|done, _| {
-            if let (Some(est), Some(g)) = (est, &growth) {
+        let r = xfem::run(p, &|done, _| match (est, &growth) {
+            (Some(est), Some(g)) => {
                 let msg = format!("xfem: growth step {done} of ~{est} (a_stop {})", g.a_stop);
-                prog.report(done.min(est), est, &msg, false);
+                prog.report(done.min(est), est, &msg, false)
             }
+            _ => true,
         });
         prog.report(total, total, "xfem: done", true);
         r
     });
     let wall = t0.elapsed().as_secs_f64();
-    if let Some(err) = prog.take_error() {
-        return Err(err);
-    }
-    let r = r?;
-    let s = Shaped::new(py, p, (r.sigma22, r.cmod, r.n_dofs, wall), &r.warnings)?;
-    mesh_fields(&s, &r)?;
-    sif_fields(&s, &r)?;
-    growth_fields(&s, &r, p)?;
-    scalars_and_meta(&s, &r, p, wall)?;
-    s.finish()
+    prog.deliver(py, r, |r| {
+        let s = Shaped::new(py, p, (r.sigma22, r.cmod, r.n_dofs, wall), &r.warnings)?;
+        mesh_fields(&s, &r)?;
+        sif_fields(&s, &r)?;
+        growth_fields(&s, &r, p)?;
+        scalars_and_meta(&s, &r, p, wall)?;
+        s.finish()
+    })
 }
 
 fn mesh_fields(s: &Shaped<'_>, r: &XfemResult) -> PyResult<()> {

@@ -95,17 +95,21 @@ pub struct XfemResult {
 /// Runs the XFEM plate model of `problem` (method [`Method::Xfem`]): a single solve with SIFs at
 /// the reference load, and with `growth = Some(..)` quasi-static LEFM growth (the criterion, the
 /// load factor of each step, the extension of the critical tips and the stop statuses:
-/// [`crate::xfem::growth`]). `progress(step, max_steps)` is called after each step.
+/// [`crate::xfem::growth`]). `progress(step, max_steps)` is called after each step; returning
+/// `false` stops the growth with the steps so far (status `cancelled`).
 ///
 /// Phases: `build` (validation, mesh, model), the initial solve, `initial_result` (SIFs at
 /// every tip and radius, node sets, deformed patch), and the growth loop. Errors name the scene
 /// key to change ("mesh.nx", "crack.a0", "xfem.r_I", ...).
-pub fn run(problem: &Problem, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<XfemResult> {
+pub fn run(
+    problem: &Problem,
+    progress: &(dyn Fn(usize, usize) -> bool + Sync),
+) -> Result<XfemResult> {
     let (x, model, plate) = build(problem)?;
     let first = plate.solve(&model, "initial solve")?;
     let mut res = initial_result(problem, x, &model, &first)?;
     let Some(g) = x.growth else {
-        progress(1, 1);
+        let _ = progress(1, 1);
         return Ok(res);
     };
     let g0 = problem.material.g0;

@@ -106,6 +106,8 @@ pub enum GrowthStatus {
     CracksMeet,
     /// no tip has K_eq > 0
     CrackCloses,
+    /// the progress callback asked to stop (the steps so far are kept)
+    Cancelled,
 }
 
 impl GrowthStatus {
@@ -118,6 +120,7 @@ impl GrowthStatus {
             GrowthStatus::MaxStepsReached => "max_steps_reached",
             GrowthStatus::CracksMeet => "cracks_meet",
             GrowthStatus::CrackCloses => "crack_closes",
+            GrowthStatus::Cancelled => "cancelled",
         }
     }
 }
@@ -336,14 +339,15 @@ impl Growth {
 
 /// The growth loop (see the module documentation) from the initial model and its solve `first`
 /// at the reference load of `plate`, with the fracture energy `g0` (K_Ic = sqrt(G0 E'));
-/// `progress(step, max_steps)` is called after each step.
+/// `progress(step, max_steps)` is called after each step; `false` stops the growth
+/// ([`GrowthStatus::Cancelled`]).
 pub(super) fn grow(
     mut model: XfemModel,
     first: PlateSolve,
     plate: &PlateProblem,
     (g, g0): (&GrowthOptions, f64),
     (r_i_factor, tie): (f64, f64),
-    progress: &(dyn Fn(usize, usize) + Sync),
+    progress: &(dyn Fn(usize, usize) -> bool + Sync),
 ) -> Result<Growth> {
     let kic = (g0 * model.material.e_prime()).sqrt();
     let refs = match plate.load.grip {
@@ -378,7 +382,10 @@ pub(super) fn grow(
             break;
         };
         out.record(&model, &sol, &st, &crit, refs)?;
-        progress(step + 1, g.max_steps);
+        if !progress(step + 1, g.max_steps) {
+            out.status = Some(GrowthStatus::Cancelled);
+            break;
+        }
         let ext = extend_tips(&model, &st, &crit.grows, g.da, plate);
         if ext.ligament {
             out.status = Some(GrowthStatus::LigamentUsedUp);

@@ -17,8 +17,10 @@ pub fn go_on(_: usize, _: usize) -> bool {
     true
 }
 
-/// XFEM progress callback that ignores the reports.
-pub fn quiet(_: usize, _: usize) {}
+/// XFEM progress callback that ignores the reports (and never cancels).
+pub fn quiet(_: usize, _: usize) -> bool {
+    true
+}
 
 /// |a - b| / |b|
 pub fn rel(a: f64, b: f64) -> f64 {
@@ -290,7 +292,7 @@ pub fn solve_fem_plate(model: &FemModel, load: &PlateLoad) -> (PlateEdges, Vec<f
 /// Runs the XFEM driver on the problem of `case`.
 pub fn run(
     case: &XfemCase,
-    progress: &(dyn Fn(usize, usize) + Sync),
+    progress: &(dyn Fn(usize, usize) -> bool + Sync),
 ) -> rustfrac_core::Result<rustfrac_core::xfem::XfemResult> {
     rustfrac_core::xfem::run(&case.problem(), progress)
 }
