@@ -315,3 +315,13 @@ def test_version_1_results_still_load(tmp_path: Path) -> None:
     doc["format_version"] = 1
     (tmp_path / "result.json").write_text(json.dumps(doc))
     assert rf.load(tmp_path).meta["writer"] == 1
+
+
+def test_long_lists_are_written_compactly(tmp_path: Path) -> None:
+    steps = list(range(1, 100_001))
+    r = make(1, n=10)
+    r.meta["scene"] = {"method": "pd", "pd": {"damage_at_steps": steps}}
+    r.save(tmp_path)
+    size = (tmp_path / "result.json").stat().st_size
+    assert size < 1.1 * len(json.dumps(steps)) + 10_000  # not an indented line per item
+    assert rf.load(tmp_path).meta["scene"]["pd"]["damage_at_steps"] == steps

@@ -21,6 +21,7 @@ import hashlib
 import io
 import json
 import math
+import re
 import secrets
 import zipfile
 import zlib
@@ -256,8 +257,7 @@ class Result:
         doc["files"] = {
             n: {"sha256": _sha256(p), "bytes": p.stat().st_size} for n, p in files.items()
         }
-        text = json.dumps(_jsonable(doc), indent=2, allow_nan=False) + "\n"
-        w.stage(JSON_NAME).write_text(text, encoding="utf-8")
+        w.stage(JSON_NAME).write_text(_dumps(_jsonable(doc)), encoding="utf-8")
         return str(doc["save_id"])
 
 
@@ -362,6 +362,25 @@ def _jsonable(v: Any) -> Any:
     if isinstance(v, float) and not math.isfinite(v):
         return None
     return v
+
+
+def _dumps(doc: Any) -> str:
+    """JSON indented by 2, but each list of plain values on one line (a long list in the scene
+    then costs its length, not an indented line per item)."""
+    token, lists = secrets.token_hex(8), []
+
+    def fold(v: Any) -> Any:
+        if isinstance(v, dict):
+            return {k: fold(x) for k, x in v.items()}
+        if isinstance(v, list):
+            if v and all(x is None or isinstance(x, (bool, int, float, str)) for x in v):
+                lists.append(json.dumps(v, allow_nan=False))
+                return f"{token}:{len(lists) - 1}"
+            return [fold(x) for x in v]
+        return v
+
+    text = json.dumps(fold(doc), indent=2, allow_nan=False)
+    return re.sub(f'"{token}:(\\d+)"', lambda m: lists[int(m.group(1))], text) + "\n"
 
 
 def _sha256(p: Path) -> str:
