@@ -149,6 +149,12 @@ class FolderWriter:
         self._staged[name] = p
         return p
 
+    def discard(self, name: str) -> None:
+        """Drops a staged file (e.g. a plot interrupted half-written): it is not committed."""
+        p = self._staged.pop(name, None)
+        if p is not None:
+            _unlink(p)
+
     def under_lock(self, fn: Callable[[], None]) -> None:
         """Runs ``fn`` at the commit while the folder's lock is held, before the renames (e.g.
         saving the result folders inside a fig7 folder)."""

@@ -2,8 +2,11 @@
 ``rustfrac fig7 --out DIR [--preset paper|fast] [--bc free|clamped] [--quiet]`` and
 ``rustfrac sweep --out DIR [--preset tiny|full] [--scheduler ADDR] [--workers N] [--quiet]``.
 
-Exit codes: 0 success, 1 the run failed (singular system, internal error), 2 bad input (unreadable
-or invalid scene file, bad arguments).
+Exit codes: 0 success, 1 the run failed (singular system, internal error) or its output could not
+be written at the end (the output is then saved to a temporary folder the message names), 2 bad
+input (unreadable or invalid scene file, bad arguments, an ``--out`` that cannot be written:
+checked before computing), 130 interrupted (what finished is written and the message, and for
+``fig7`` / ``sweep`` the summary, lists what is missing).
 """
 
 from __future__ import annotations
@@ -14,7 +17,8 @@ import time
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Callable, TextIO
 
-from .errors import InvalidParameterError, MethodNotAvailableError, RustfracError
+from ._folder import FolderWriter, check_writable, with_fallback, writing
+from .errors import InvalidParameterError, MethodNotAvailableError, OutputError, RustfracError
 
 if TYPE_CHECKING:
     from .result import Result as _Result
@@ -210,7 +214,7 @@ def _cmd_fig7(args: argparse.Namespace) -> int:
 
 
 def _cmd_run(args: argparse.Namespace) -> int:
-    from .result import Result
+    from .result import JSON_NAME, OWNED_NAMES, Result
     from .runner import run
     from .scene import Scene
 
@@ -226,6 +230,11 @@ def _cmd_run(args: argparse.Namespace) -> int:
         print(f"rustfrac: error: invalid scene {args.scene}: {e}", file=sys.stderr)
         return 2
     scene = _checkpoint_options(scene, args)
+    try:
+        check_writable(args.out)  # before computing: a bad --out must not cost the run
+    except OutputError as e:
+        print(f"rustfrac: error: invalid --out: {e}", file=sys.stderr)
+        return 2
     log(f"scene   {args.scene}: {scene.describe()}")
     growth = scene.method == "xfem" and scene.xfem.growth_steps > 0
     bar = None if args.quiet else ProgressBar(delay=0.0 if growth else 0.5)
@@ -283,32 +292,60 @@ def _cmd_run(args: argparse.Namespace) -> int:
             else ""
         )
         log(f"status  {res.meta['status']}{extra}")
-    out = res.save(args.out, vtu=not args.no_vtu)
     plots: list[str] = []
-    if args.plot:
-        from .plotting import plot_load_path, plot_tip_deformation, save_damage_plot, save_plot
+    missing: list[str] = []
 
-        if "nodal_stress" in res.fields or res.method == "xfem":
-            name = "s22.png" if "nodal_stress" in res.fields else "u2.png"
-            save_plot(res, out / name)
-            plots.append(name)
-        if res.damage is not None:
-            save_damage_plot(res, out / "damage.png")
-            plots.append("damage.png")
-        if "deformed_cells" in res.fields:
-            plot_tip_deformation(res, scale=50.0).figure.savefig(
-                out / "tip_x50.png", dpi=150, bbox_inches="tight"
-            )
-            plots.append("tip_x50.png")
-        if res.history:
-            plot_load_path(res).figure.savefig(out / "load_path.png", dpi=150, bbox_inches="tight")
-            plots.append("load_path.png")
+    def write(d: Path) -> Path:
+        plots.clear()
+        missing.clear()
+        with writing(d, owned=OWNED_NAMES, last=JSON_NAME) as w:
+            res._stage(w, vtu=not args.no_vtu)
+            if args.plot:
+                _stage_plots(res, w, plots, missing)
+        return d
+
+    try:
+        out = with_fallback(args.out, write, "run")
+    except OutputError as e:
+        print(f"rustfrac: error: {e}", file=sys.stderr)
+        return 1
     log(
         f"saved   {out}/ (result.json, fields.npz{'' if args.no_vtu else ', result.vtu'}"
         + "".join(", " + p for p in plots)
         + ")"
     )
+    if missing:
+        print(
+            f"rustfrac: interrupted while plotting; the result was saved to {out}/ without "
+            f"{', '.join(missing)}",
+            file=sys.stderr,
+        )
+        return 130
     return 0
+
+
+def _stage_plots(res: _Result, w: FolderWriter, plots: list[str], missing: list[str]) -> None:
+    """``rustfrac run --plot``: the PNGs of a result, staged into its folder; Ctrl-C drops the
+    plot being drawn and lists it and the rest in ``missing`` (the result is still written)."""
+    from .plotting import plot_damage, plot_field, plot_load_path, plot_tip_deformation
+
+    todo: list[tuple[str, Callable[[], Any]]] = []
+    if "nodal_stress" in res.fields or res.method == "xfem":
+        todo.append(("s22.png" if "nodal_stress" in res.fields else "u2.png", lambda: plot_field(res)))
+    if res.damage is not None:
+        todo.append(("damage.png", lambda: plot_damage(res)))
+    if "deformed_cells" in res.fields:
+        todo.append(("tip_x50.png", lambda: plot_tip_deformation(res, scale=50.0)))
+    if res.history:
+        todo.append(("load_path.png", lambda: plot_load_path(res)))
+    for k, (name, draw) in enumerate(todo):
+        try:
+            draw().figure.savefig(w.stage(name), format="png", dpi=150, bbox_inches="tight")
+        except KeyboardInterrupt:
+            w.discard(name)
+            missing.extend(n for n, _ in todo[k:])
+            return
+        plots.append(name)
 
 
 def _checkpoint_options(scene: _Scene, args: argparse.Namespace) -> _Scene:
