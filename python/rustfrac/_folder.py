@@ -138,7 +138,7 @@ class FolderWriter:
         self.owned = frozenset(owned)
         self.last = last
         self._staged: dict[str, Path] = {}
-        self._hooks: list[Callable[[], None]] = []
+        self._hooks: dict[str, Callable[[], None]] = {}
 
     def stage(self, name: str) -> Path:
         """A fresh temporary path in the folder where the caller writes the file ``name``; it is
@@ -155,10 +155,10 @@ class FolderWriter:
         if p is not None:
             _unlink(p)
 
-    def under_lock(self, fn: Callable[[], None]) -> None:
-        """Runs ``fn`` at the commit while the folder's lock is held, before the renames (e.g.
-        saving the result folders inside a fig7 folder)."""
-        self._hooks.append(fn)
+    def under_lock(self, name: str, fn: Callable[[], None]) -> None:
+        """Has ``fn`` write the entry ``name`` at the commit while the folder's lock is held,
+        before the renames (e.g. a result folder inside a fig7 folder)."""
+        self._hooks[name] = fn
 
     def _commit(self) -> None:
         staged = {n: p for n, p in self._staged.items() if p.exists()}
@@ -169,14 +169,14 @@ class FolderWriter:
             finally:
                 os.close(fd)
         with locked(self.path, exclusive=True):
-            for fn in self._hooks:
+            for fn in self._hooks.values():
                 fn()
             _remove_stale_tmps(self.path)
             # in staging order (a result's fields.npz first), the last file last
             order = sorted(staged, key=lambda n: n == self.last)
             for name in order:
                 os.replace(staged[name], self.path / name)
-            for name in sorted(self.owned - set(staged)):
+            for name in sorted(self.owned - set(staged) - set(self._hooks)):
                 _remove_owned(self.path / name)
             _fsync_dir(self.path)
 

@@ -189,8 +189,13 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
 
 
 def _cmd_fig7(args: argparse.Namespace) -> int:
-    from .fig7 import fig7
+    from .fig7 import Fig7Interrupted, fig7
 
+    try:
+        check_writable(args.out)  # before computing: a bad --out must not cost the runs
+    except OutputError as e:
+        print(f"rustfrac: error: invalid --out: {e}", file=sys.stderr)
+        return 2
     log = None if args.quiet else (lambda s: print(s, flush=True))
     bars: list[ProgressBar] = []
 
@@ -204,8 +209,20 @@ def _cmd_fig7(args: argparse.Namespace) -> int:
 
     try:
         fig7(args.out, preset=args.preset, bc=args.bc, log=log, progress=progress)
+    except Fig7Interrupted as e:
+        missing = e.summary["missing"]
+        print(
+            f"rustfrac: interrupted; the finished parts were written to {args.out}/"
+            + (f"; missing: {', '.join(missing)}" if missing else ""),
+            file=sys.stderr,
+        )
+        return 130
     except KeyboardInterrupt:
-        print("rustfrac: interrupted; finished parts were written", file=sys.stderr)
+        print(
+            f"rustfrac: interrupted while writing {args.out}/: it may hold parts of two runs "
+            "(rustfrac.fig7.load_summary refuses those)",
+            file=sys.stderr,
+        )
         return 130
     finally:
         for b in bars:
@@ -415,6 +432,9 @@ def main(argv: list[str] | None = None) -> int:
     except (InvalidParameterError, MethodNotAvailableError) as e:
         print(f"rustfrac: error: invalid input: {e}", file=sys.stderr)
         return 2
+    except OutputError as e:  # at the end of a run: the message says where the output went
+        print(f"rustfrac: error: {e}", file=sys.stderr)
+        return 1
     except RustfracError as e:
         print(f"rustfrac: run failed: {type(e).__name__}: {e}", file=sys.stderr)
         return 1

@@ -217,8 +217,11 @@ class Result:
             OutputError: the folder cannot be written (it is a file, read-only, the disk is
                 full, ...); the folder is left as it was.
         """
+        return self._save(directory, vtu=vtu)
+
+    def _save(self, directory: PathLike, *, vtu: bool = True, save_id: str | None = None) -> Path:
         with writing(directory, owned=OWNED_NAMES, last=JSON_NAME) as w:
-            self._stage(w, vtu=vtu)
+            self._stage(w, vtu=vtu, save_id=save_id)
         return w.path
 
     def _stage(self, w: FolderWriter, *, vtu: bool, save_id: str | None = None) -> str:
