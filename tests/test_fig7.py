@@ -84,7 +84,7 @@ def test_interruption_keeps_what_finished(tmp_path: Path) -> None:
     assert (tmp_path / "fig7.png").is_file()
 
 
-# -- one unit, partial outputs marked (issue 17) ----------------------------------------------------
+# -- one unit, partial outputs marked (issue 17) --------------------------------------------
 
 
 def _stop_at(run: str):

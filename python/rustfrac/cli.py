@@ -130,6 +130,11 @@ def _parser() -> argparse.ArgumentParser:
 def _cmd_sweep(args: argparse.Namespace) -> int:
     from .sweep import SweepInterrupted, define_points, sweep, write_outputs
 
+    try:
+        check_writable(args.out)  # before computing: a bad --out must not cost the sweep
+    except OutputError as e:
+        print(f"rustfrac: error: invalid --out: {e}", file=sys.stderr)
+        return 2
     log = (lambda *a: None) if args.quiet else (lambda *a: print(*a, flush=True))
     points = define_points(args.preset)
     backend = f"dask {args.scheduler}" if args.scheduler else f"local, {args.workers or 'all'} workers"
@@ -150,26 +155,31 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     finally:
         if bar is not None:
             bar.close()
-    doc = write_outputs(
-        args.out,
-        points,
-        records,
-        extra={
-            "command": f"rustfrac sweep --out {args.out} --preset {args.preset}"
-            + (f" --scheduler {args.scheduler}" if args.scheduler else "")
-            + (f" --workers {args.workers}" if args.workers else ""),
-            "preset": args.preset,
-            "backend": backend,
-            "total_wall_time_s": time.perf_counter() - t0,
-            "interrupted": interrupted,
-            "points_done": len(records),
-            "points_total": len(points),
-        },
-    )
+    try:
+        doc = write_outputs(
+            args.out,
+            points,
+            records,
+            extra={
+                "command": f"rustfrac sweep --out {args.out} --preset {args.preset}"
+                + (f" --scheduler {args.scheduler}" if args.scheduler else "")
+                + (f" --workers {args.workers}" if args.workers else ""),
+                "preset": args.preset,
+                "backend": backend,
+                "total_wall_time_s": time.perf_counter() - t0,
+                "interrupted": interrupted,
+                "points_done": len(records),
+                "points_total": len(points),
+            },
+        )
+    except SweepInterrupted as e:
+        interrupted, doc = True, e.doc or {}
     if interrupted:
+        missing = doc.get("missing_files", [])
         print(
             f"rustfrac: interrupted; the {len(records)} finished points of {len(points)} were "
-            f"written to {args.out}/",
+            f"written to {args.out}/"
+            + (f"; missing: {', '.join(missing)}" if missing else ""),
             file=sys.stderr,
         )
         return 130
@@ -348,7 +358,8 @@ def _stage_plots(res: _Result, w: FolderWriter, plots: list[str], missing: list[
 
     todo: list[tuple[str, Callable[[], Any]]] = []
     if "nodal_stress" in res.fields or res.method == "xfem":
-        todo.append(("s22.png" if "nodal_stress" in res.fields else "u2.png", lambda: plot_field(res)))
+        name = "s22.png" if "nodal_stress" in res.fields else "u2.png"
+        todo.append((name, lambda: plot_field(res)))
     if res.damage is not None:
         todo.append(("damage.png", lambda: plot_damage(res)))
     if "deformed_cells" in res.fields:

@@ -424,8 +424,9 @@ def _read_json(path: Path, data: bytes) -> dict[str, Any]:
 
 def _bad(path: Path, key: str, expected: str, got: Any) -> InvalidResultError:
     r = repr(got)
+    r = r if len(r) <= 80 else r[:77] + "..."
     return InvalidResultError(
-        f"invalid {key} in {path}: expected {expected}, got {r if len(r) <= 80 else r[:77] + '...'}",
+        f"invalid {key} in {path}: expected {expected}, got {r}",
         path,
         key,
     )
