@@ -133,10 +133,11 @@ class FolderWriter:
     """The pending set of files of one output folder (see the module docstring); made by
     :func:`writing`."""
 
-    def __init__(self, path: Path, owned: Iterable[str], last: str) -> None:
+    def __init__(self, path: Path, owned: Iterable[str], last: str, inner: Iterable[str]) -> None:
         self.path = path
         self.owned = frozenset(owned)
         self.last = last
+        self.inner = tuple(inner)
         self._staged: dict[str, Path] = {}
         self._hooks: dict[str, Callable[[], None]] = {}
 
@@ -177,7 +178,7 @@ class FolderWriter:
             for name in order:
                 os.replace(staged[name], self.path / name)
             for name in sorted(self.owned - set(staged) - set(self._hooks)):
-                _remove_owned(self.path / name)
+                _remove_owned(self.path / name, self.inner)
             _fsync_dir(self.path)
 
     def _abort(self) -> None:
@@ -186,11 +187,14 @@ class FolderWriter:
 
 
 @contextmanager
-def writing(path: str | Path, *, owned: Iterable[str], last: str) -> Iterator[FolderWriter]:
+def writing(
+    path: str | Path, *, owned: Iterable[str], last: str, inner: Iterable[str] = ()
+) -> Iterator[FolderWriter]:
     """Writes an output folder as one unit: the caller writes each file to ``w.stage(name)``;
     when the block ends, the set is committed (see the module docstring). ``owned`` are the names
-    the folder's kind writes (removed when the new set lacks them), ``last`` the file renamed
-    last. An exception in the block, or a failure to write, leaves the folder as it was.
+    the folder's kind writes (removed when the new set lacks them; an owned subfolder loses the
+    ``inner`` names only, and goes if then empty), ``last`` the file renamed last. An exception
+    in the block, or a failure to write, leaves the folder as it was.
 
     Raises:
         OutputError: the folder cannot be created or written (naming it and the reason).
@@ -200,7 +204,7 @@ def writing(path: str | Path, *, owned: Iterable[str], last: str) -> Iterator[Fo
         d.mkdir(parents=True, exist_ok=True)
     except OSError as e:
         raise OutputError(f"cannot create output folder {d}: {_why(e)}", d) from e
-    w = FolderWriter(d, owned, last)
+    w = FolderWriter(d, owned, last, inner)
     try:
         yield w
         w._commit()
@@ -236,13 +240,11 @@ def with_fallback(out: Path, write: Callable[[Path], T], what: str) -> T:
         raise OutputError(f"{e}; the {what} output was saved to {fb} instead", out, fb) from e
 
 
-def _remove_owned(p: Path) -> None:
-    """Removes a name of the folder's kind: a file, or a result folder inside (its result files
-    only, then the folder if empty: nothing else of the user's is deleted)."""
+def _remove_owned(p: Path, inner: tuple[str, ...]) -> None:
+    """Removes a name of the folder's kind: a file, or a subfolder's ``inner`` files, then the
+    subfolder if empty (nothing else of the user's is deleted)."""
     if p.is_dir() and not p.is_symlink():
-        from .result import OWNED_NAMES
-
-        for n in OWNED_NAMES:
+        for n in inner:
             if (p / n).is_file():
                 _unlink(p / n)
         try:

@@ -38,7 +38,7 @@ import numpy as np
 from . import figures, handbook
 from ._folder import check_writable, locked, with_fallback, writing
 from .errors import InvalidResultError, ResultNotFoundError
-from .result import Result, _atomic, _read_json
+from .result import OWNED_NAMES, Result, _atomic, _read_json
 from .runner import run
 from .scene import Scene
 from .scenes import edge_crack_plate
@@ -238,7 +238,8 @@ class _Job:
         """Writes every output into ``outdir`` (summary.json last, naming the save id of each
         result folder) and returns the summary. A Ctrl-C while drawing stops the drawing; the
         summary then lists the files not drawn."""
-        with writing(outdir, owned=(*FILES, *PARTS.values()), last="summary.json") as w:
+        owned = (*FILES, *PARTS.values())
+        with writing(outdir, owned=owned, last="summary.json", inner=OWNED_NAMES) as w:
             parts: dict[str, str] = {}
             for name, part in PARTS.items():
                 if name in self.results:

@@ -515,8 +515,8 @@ def _check_arrays(
     path: Path, fields: dict[str, np.ndarray], history: dict[str, np.ndarray]
 ) -> None:
     """The shapes the Result's views rely on: coords (n, 2) finite with elements (m, 4) indexing
-    them and u of length 2n; node_xy (n, 2) finite with u, u_final of length 2n, pd_nodes indexing
-    it and damage one per PD node; history columns 1-D of one length."""
+    them and u of length 2n; node_xy (n, 2) finite with u, u_final of length 2n (u_final: or 0),
+    pd_nodes indexing it and damage one per PD node; history columns 1-D of one length."""
 
     def need(ok: bool, key: str, expected: str, a: np.ndarray) -> None:
         if not ok:
@@ -536,10 +536,11 @@ def _check_arrays(
         )
         need(bool(np.isfinite(xy).all()), pts, "finite", xy)
         n = len(xy)
-        for key in ("u", "u_final"):
+        for key in ("u", "u_final"):  # u_final is empty when the body separated
             if key in fields:
                 u = fields[key]
-                need(u.shape == (2 * n,) and u.dtype.kind == "f", key, f"({2 * n},) floats", u)
+                sizes = ((2 * n,), (0,)) if key == "u_final" else ((2 * n,),)
+                need(u.shape in sizes and u.dtype.kind == "f", key, f"({2 * n},) floats", u)
         idx = {"coords": ("elements",), "node_xy": ("pd_nodes",)}[pts]
         for key in idx:
             if key in fields:
