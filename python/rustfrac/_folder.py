@@ -139,7 +139,7 @@ class FolderWriter:
         self.last = last
         self.inner = tuple(inner)
         self._staged: dict[str, Path] = {}
-        self._hooks: dict[str, Callable[[], None]] = {}
+        self._hooks: dict[str, Callable[[], object]] = {}
 
     def stage(self, name: str) -> Path:
         """A fresh temporary path in the folder where the caller writes the file ``name``; it is
@@ -156,7 +156,7 @@ class FolderWriter:
         if p is not None:
             _unlink(p)
 
-    def under_lock(self, name: str, fn: Callable[[], None]) -> None:
+    def under_lock(self, name: str, fn: Callable[[], object]) -> None:
         """Has ``fn`` write the entry ``name`` at the commit while the folder's lock is held,
         before the renames (e.g. a result folder inside a fig7 folder)."""
         self._hooks[name] = fn

@@ -281,7 +281,7 @@ class _Job:
             )
         return summary
 
-    def _drawings(self) -> list[tuple[str, Callable[[Path], None]]]:
+    def _drawings(self) -> list[tuple[str, Callable[[Path], Any]]]:
         """(file name, writer into a path) of every file the finished runs give."""
         results, p = self.results, self.p
         ref = self.scenes["xfem"]  # the plate, material and crack every run shares
@@ -312,7 +312,7 @@ class _Job:
             ("LEFM handbook (long strip, traction)", hb[0], hb[1], {"ls": "--", "color": "0.4"})
         )
         title = f"edge-cracked plate, bc {self.bc}, preset {self.preset}"
-        out: list[tuple[str, Callable[[Path], None]]] = [
+        out: list[tuple[str, Callable[[Path], Any]]] = [
             (
                 "fig7.png",
                 lambda f: figures.save_figure(

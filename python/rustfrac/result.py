@@ -440,7 +440,7 @@ def _check_doc(path: Path, doc: dict[str, Any]) -> int:
         raise _bad(
             path, "format", "'rustfrac-result' (not a rustfrac result file)", doc.get("format")
         )
-    v = doc.get("format_version")
+    v: Any = doc.get("format_version")
     if type(v) is not int or not 1 <= v <= FORMAT_VERSION:
         raise _bad(path, "format_version", f"1 to {FORMAT_VERSION} (this rustfrac's)", v)
     if doc.get("method") not in METHODS:
@@ -448,10 +448,10 @@ def _check_doc(path: Path, doc: dict[str, Any]) -> int:
     for key in ("sigma22", "cmod"):  # null: a NaN the run produced
         if doc.get(key) is not None and (type(doc.get(key)) not in (int, float)):
             raise _bad(path, key, "a number or null", doc.get(key))
-    n = doc.get("n_dofs")
+    n: Any = doc.get("n_dofs")
     if type(n) is not int or n < 0:
         raise _bad(path, "n_dofs", "an integer >= 0", n)
-    t = doc.get("wall_time_s")
+    t: Any = doc.get("wall_time_s")
     if type(t) not in (int, float) or t < 0:
         raise _bad(path, "wall_time_s", "a finite number >= 0", t)
     for key in ("scalars", "meta"):
