@@ -2,11 +2,14 @@
 
 from __future__ import annotations
 
+import errno
 import json
+import os
 import shutil
 import subprocess
 import sys
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -111,3 +114,125 @@ def test_console_script(root: Path, tmp_path: Path) -> None:
     )
     assert p.returncode == 0, p.stderr
     assert "unknowns" in p.stdout
+
+
+# -- output problems are found before computing, or the result is kept (issue 17) ------------------
+
+UNCRACKED = "paper_fem_uncracked.toml"
+
+
+@pytest.fixture
+def no_run(monkeypatch: pytest.MonkeyPatch) -> list[object]:
+    """Records calls of rf.run instead of running (a bad --out must be refused before)."""
+    import rustfrac.runner
+
+    calls: list[object] = []
+    monkeypatch.setattr(rustfrac.runner, "run", lambda *a, **k: calls.append(a))
+    return calls
+
+
+def test_out_naming_a_file_is_refused_before_the_run(
+    root: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str], no_run: list[object]
+) -> None:
+    f = tmp_path / "file"
+    f.write_text("x")
+    assert main(["run", str(root / "examples" / UNCRACKED), "--out", str(f)]) == 2
+    err = capsys.readouterr().err
+    assert f"{f}: it is a file, not a folder" in err and "Traceback" not in err
+    assert no_run == []
+    assert main(["run", str(root / "examples" / UNCRACKED), "--out", str(f / "sub")]) == 2
+    assert "is a file, not a folder" in capsys.readouterr().err
+
+
+@pytest.mark.skipif(os.geteuid() == 0, reason="root writes into read-only folders")
+def test_read_only_out_is_refused_before_the_run(
+    root: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str], no_run: list[object]
+) -> None:
+    ro = tmp_path / "ro"
+    ro.mkdir()
+    ro.chmod(0o555)
+    try:
+        assert main(["run", str(root / "examples" / UNCRACKED), "--out", str(ro / "o")]) == 2
+    finally:
+        ro.chmod(0o755)
+    assert "Permission denied" in capsys.readouterr().err
+    assert no_run == []
+
+
+@pytest.mark.parametrize("problem", ["read-only", "full"])
+def test_unwritable_or_full_out_is_refused_before_the_run(
+    root: Path,
+    tmp_path: Path,
+    capsys: pytest.CaptureFixture[str],
+    monkeypatch: pytest.MonkeyPatch,
+    no_run: list[object],
+    problem: str,
+) -> None:
+    import rustfrac._folder as folder
+
+    if problem == "read-only":
+        real_open = os.open
+
+        def ro_open(path: object, flags: int, *a: object, **k: object) -> int:
+            if flags & os.O_CREAT:
+                raise OSError(errno.EROFS, "Read-only file system", str(path))
+            return real_open(path, flags, *a, **k)
+
+        monkeypatch.setattr(folder.os, "open", ro_open)
+    else:
+        real = os.statvfs
+        monkeypatch.setattr(
+            folder.os,
+            "statvfs",
+            lambda p: (
+                type("S", (), {"f_bavail": 3, "f_frsize": 4096})
+                if str(p) == str(tmp_path)
+                else real(p)
+            ),
+        )
+    assert main(["run", str(root / "examples" / UNCRACKED), "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err
+    assert str(tmp_path / "o") in err
+    assert ("Read-only file system" if problem == "read-only" else "12288 bytes free") in err
+    assert no_run == []
+
+
+def test_save_failing_at_the_end_keeps_the_result_in_a_fallback(
+    root: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from rustfrac.result import Result
+
+    out = tmp_path / "o"
+    real = Result._stage
+
+    def full_disk(self: Result, w: Any, **kw: Any) -> str:
+        if w.path == out:
+            raise OSError(errno.ENOSPC, "No space left on device", str(out / "fields.npz"))
+        return real(self, w, **kw)
+
+    monkeypatch.setattr(Result, "_stage", full_disk)
+    assert main(["run", str(root / "examples" / UNCRACKED), "--out", str(out), "-q"]) == 1
+    err = capsys.readouterr().err
+    assert "Traceback" not in err
+    assert f"cannot write output folder {out}: No space left on device" in err
+    fallback = Path(err.split("saved to ")[1].split(" instead")[0])
+    assert fallback != out and rf.load(fallback).method == "fem"
+    shutil.rmtree(fallback)
+
+
+def test_ctrl_c_while_plotting_keeps_the_result(
+    root: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import rustfrac.plotting
+
+    def interrupted(*a: object, **k: object) -> None:
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(rustfrac.plotting, "plot_field", interrupted)
+    code = main(
+        ["run", str(root / "examples" / "paper_fem_seam.toml"), "--out", str(tmp_path), "--plot"]
+    )
+    assert code == 130
+    assert "without s22.png" in capsys.readouterr().err
+    assert rf.load(tmp_path).cmod > 0
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["fields.npz", "result.json", "result.vtu"]

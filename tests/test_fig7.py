@@ -82,3 +82,94 @@ def test_interruption_keeps_what_finished(tmp_path: Path) -> None:
     x = rf.load(tmp_path / "xfem")
     assert len(x.history["sigma22"]) > 5
     assert (tmp_path / "fig7.png").is_file()
+
+
+# -- one unit, partial outputs marked (issue 17) --------------------------------------------
+
+
+def _stop_at(run: str):
+    """A progress factory that interrupts the run ``run`` (as Ctrl-C would)."""
+
+    def progress(name: str):
+        if name != run:
+            return None
+
+        def cb(done: int, total: int, message: str) -> None:
+            raise KeyboardInterrupt
+
+        return cb
+
+    return progress
+
+
+def test_summary_checks_its_result_folders(fast_run: tuple[Path, dict], tmp_path: Path) -> None:
+    import shutil
+
+    from rustfrac.fig7 import load_summary
+
+    out, summary = fast_run
+    assert load_summary(out)["parts"] == summary["parts"]
+    assert summary["complete"] is True and summary["missing"] == []
+    copy = tmp_path / "copy"
+    shutil.copytree(out, copy)
+    rf.load(copy / "xfem").save(copy / "xfem")  # the same numbers, but another save
+    with pytest.raises(rf.InvalidResultError, match="does not belong to") as e:
+        load_summary(copy)
+    assert e.value.path == copy / "xfem"
+
+
+def test_a_second_run_replaces_the_whole_folder(tmp_path: Path) -> None:
+    from rustfrac.fig7 import Fig7Interrupted, load_summary
+
+    fig7(tmp_path, preset="fast", log=None)
+    assert (tmp_path / "ccm_pd" / "result.json").is_file()
+    (tmp_path / "notes.txt").write_text("mine")
+    with pytest.raises(Fig7Interrupted) as e:
+        fig7(tmp_path, preset="fast", log=None, progress=_stop_at("xfem_growth"))
+    s = load_summary(tmp_path)  # the interrupted run's folder, whole: no part of the first run
+    assert s == e.value.summary
+    assert s["complete"] is False and s["parts"] == {}
+    assert {"run xfem_growth", "run ccm_pd", "xfem/", "ccm_pd/", "fig8a.png"} <= set(s["missing"])
+    assert not (tmp_path / "xfem").exists() and not (tmp_path / "ccm_pd").exists()
+    assert not (tmp_path / "fig8a.png").exists()
+    assert (tmp_path / "notes.txt").read_text() == "mine"  # not a fig7 file: kept
+
+
+def test_ctrl_c_while_plotting_lists_the_missing_files(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from rustfrac import figures
+    from rustfrac.cli import main
+
+    def interrupted(*a: object, **k: object) -> None:
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(figures, "plot_damage", interrupted)  # fig8a.png, after fig7.png/csv
+    assert main(["fig7", "--out", str(tmp_path), "--preset", "fast", "-q"]) == 130
+    err = capsys.readouterr().err
+    assert "missing: fig8a.png, fig8b.png, fig6.png" in err
+    s = json.loads((tmp_path / "summary.json").read_text())
+    assert s["interrupted"] is True and s["complete"] is False
+    assert s["missing"] == ["fig8a.png", "fig8b.png", "fig6.png"]
+    for f in s["files"]:
+        assert (tmp_path / f).is_file(), f
+    assert not (tmp_path / "fig8a.png").exists()
+    assert "**Missing:** fig8a.png, fig8b.png, fig6.png" in (tmp_path / "summary.md").read_text()
+    assert rf.load(tmp_path / "ccm_pd").method == "ccm_pd"  # the runs are kept
+
+
+def test_out_naming_a_file_fails_before_the_runs(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from rustfrac import fig7 as fig7_mod
+    from rustfrac.cli import main
+
+    calls: list[object] = []
+    monkeypatch.setattr(fig7_mod, "run", lambda *a, **k: calls.append(a))
+    f = tmp_path / "file"
+    f.write_text("x")
+    with pytest.raises(rf.OutputError, match="it is a file, not a folder"):
+        fig7(f, preset="fast", log=None)
+    assert main(["fig7", "--out", str(f), "--preset", "fast"]) == 2
+    assert "it is a file" in capsys.readouterr().err
+    assert calls == []

@@ -50,11 +50,11 @@ def test_cli_ctrl_c_keeps_the_finished_part(tmp_path: Path, method: str) -> None
 
 def test_rf_run_without_callback_is_interrupted(tmp_path: Path) -> None:
     script = textwrap.dedent(
-        f"""
+        """
         import rustfrac as rf
         try:
-            rf.run(rf.Scene.from_dict({{"method": "ccm_pd", "pd": {{"dx": 0.2,
-                   "sla_steps": 200000}}}}))
+            rf.run(rf.Scene.from_dict({"method": "ccm_pd", "pd": {"dx": 0.2,
+                   "sla_steps": 200000}}))
             print("finished")
         except KeyboardInterrupt as e:
             r = e.result

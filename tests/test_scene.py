@@ -116,6 +116,26 @@ BAD = [
     ("xfem r_I < 0", _kw(method="xfem", r_I=-2.5), rf.InvalidParameterError, "xfem.r_I"),
     ("gauss = 6", _kw(gauss=6), rf.InvalidParameterError, "mesh.gauss"),
     ("bad TOML syntax", lambda: Scene.from_toml_str("method = "), rf.InvalidParameterError, "TOML"),
+    (
+        "TOML nested 5000 deep",
+        lambda: Scene.from_toml_str('method = "fem"\nx = ' + "[" * 5000 + "]" * 5000),
+        rf.InvalidParameterError,
+        "nests arrays or tables too deeply",
+    ),
+    (
+        "TOML tables nested 5000 deep",
+        lambda: Scene.from_toml_str('method = "fem"\nx = ' + "{a = " * 5000 + "1" + "}" * 5000),
+        rf.InvalidParameterError,
+        "too deeply",
+    ),
+    (
+        "TOML text over the size limit",
+        lambda: Scene.from_toml_str(
+            'method = "pd"\n[pd]\ndamage_at_steps = [' + "1, " * 400_000 + "1]\n"
+        ),
+        rf.InvalidParameterError,
+        "larger than the limit of 1048576 bytes",
+    ),
 ]
 
 
@@ -127,6 +147,19 @@ def test_bad_input(case: str, build: Callable[[], Any], exc: type, text: str) ->
     assert text in msg, msg
     assert isinstance(info.value, rf.RustfracError)
     assert isinstance(info.value, ValueError)  # every bad input is a ValueError
+
+
+def test_scene_file_over_the_size_limit_names_file_and_limit(tmp_path: Path) -> None:
+    from rustfrac.scene import MAX_SCENE_BYTES
+
+    f = tmp_path / "huge.toml"
+    f.write_text('method = "pd"\n[pd]\ndamage_at_steps = [' + "1, " * MAX_SCENE_BYTES + "1]\n")
+    with pytest.raises(rf.InvalidParameterError, match="larger than the limit") as e:
+        Scene.from_toml(f)
+    assert str(f) in str(e.value) and str(MAX_SCENE_BYTES) in str(e.value)
+    ok = tmp_path / "ok.toml"
+    ok.write_text('method = "fem"\n' + "# padding\n" * 1000)  # below the limit: read
+    assert Scene.from_toml(ok).method == "fem"
 
 
 def test_unknown_key_lists_allowed() -> None:

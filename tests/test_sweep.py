@@ -125,3 +125,57 @@ def test_ctrl_c_keeps_finished_points(tmp_path: Path) -> None:
     doc = write_outputs(tmp_path, points, done, extra={"interrupted": True})
     assert doc["interrupted"] and len(doc["points"]) == len(done)
     assert (tmp_path / "sweep.csv").exists() and (tmp_path / "sweep.md").exists()
+
+
+# -- partial outputs marked (issue 17) ---------------------------------------------------------
+
+
+def test_ctrl_c_while_plotting_marks_the_sweep_incomplete(
+    tiny: tuple[Path, dict[str, Any]], tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from rustfrac import sweep as sweep_mod
+    from rustfrac.sweep import SweepInterrupted, write_outputs
+
+    _, full = tiny
+    assert full["complete"] is True and full["missing_points"] == full["missing_files"] == []
+    real = sweep_mod.plot
+
+    def plot(records: Any, method: str, path: Path) -> None:
+        if method == "xfem":
+            path.write_bytes(b"half a png")
+            raise KeyboardInterrupt
+        real(records, method, path)
+
+    monkeypatch.setattr(sweep_mod, "plot", plot)
+    with pytest.raises(SweepInterrupted) as e:
+        write_outputs(tmp_path, define_points("tiny"), full["points"])
+    doc = json.loads((tmp_path / "sweep.json").read_text())
+    assert doc == e.value.doc
+    assert doc["interrupted"] is True and doc["complete"] is False
+    assert doc["missing_files"] == ["sweep_xfem.png"] and doc["missing_points"] == []
+    assert not (tmp_path / "sweep_xfem.png").exists() and (tmp_path / "sweep_ccm_pd.png").exists()
+    assert not list(tmp_path.glob(".*.tmp"))
+
+
+def test_missing_points_are_listed(tiny: tuple[Path, dict[str, Any]], tmp_path: Path) -> None:
+    from rustfrac.sweep import write_outputs
+
+    _, full = tiny
+    points = define_points("tiny")
+    doc = write_outputs(tmp_path, points, full["points"][:-2])
+    assert doc["complete"] is False
+    assert doc["missing_points"] == [p["scene"]["name"] for p in points[-2:]]
+
+
+def test_out_naming_a_file_fails_before_the_sweep(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from rustfrac import sweep as sweep_mod
+
+    calls: list[object] = []
+    monkeypatch.setattr(sweep_mod, "sweep", lambda *a, **k: calls.append(a))
+    f = tmp_path / "file"
+    f.write_text("x")
+    assert main(["sweep", "--out", str(f), "--preset", "tiny", "-q"]) == 2
+    assert "it is a file, not a folder" in capsys.readouterr().err
+    assert calls == []

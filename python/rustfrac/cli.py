@@ -3,8 +3,11 @@
 ``rustfrac sweep --out DIR [--preset tiny|full] [--scheduler ADDR] [--workers N] [--quiet]`` and
 ``rustfrac examples [NAME]`` (the shipped example scenes and their paths).
 
-Exit codes: 0 success, 1 the run failed (singular system, internal error), 2 bad input (unreadable
-or invalid scene file, bad arguments).
+Exit codes: 0 success, 1 the run failed (singular system, internal error) or its output could not
+be written at the end (the output is then saved to a temporary folder the message names), 2 bad
+input (unreadable or invalid scene file, bad arguments, an ``--out`` that cannot be written:
+checked before computing), 130 interrupted (what finished is written and the message, and for
+``fig7`` / ``sweep`` the summary, lists what is missing).
 """
 
 from __future__ import annotations
@@ -15,7 +18,8 @@ import time
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Callable
 
-from .errors import InvalidParameterError, MethodNotAvailableError, RustfracError
+from ._folder import FolderWriter, check_writable, with_fallback, writing
+from .errors import InvalidParameterError, MethodNotAvailableError, OutputError, RustfracError
 from .progress import ProgressBar
 
 if TYPE_CHECKING:
@@ -109,6 +113,11 @@ def _cmd_examples(args: argparse.Namespace) -> int:
 def _cmd_sweep(args: argparse.Namespace) -> int:
     from .sweep import SweepInterrupted, define_points, sweep, write_outputs
 
+    try:
+        check_writable(args.out)  # before computing: a bad --out must not cost the sweep
+    except OutputError as e:
+        print(f"rustfrac: error: invalid --out: {e}", file=sys.stderr)
+        return 2
     log = (lambda *a: None) if args.quiet else (lambda *a: print(*a, flush=True))
     points = define_points(args.preset)
     backend = f"dask {args.scheduler}" if args.scheduler else f"local, {args.workers or 'all'} workers"
@@ -129,26 +138,31 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     finally:
         if bar is not None:
             bar.close()
-    doc = write_outputs(
-        args.out,
-        points,
-        records,
-        extra={
-            "command": f"rustfrac sweep --out {args.out} --preset {args.preset}"
-            + (f" --scheduler {args.scheduler}" if args.scheduler else "")
-            + (f" --workers {args.workers}" if args.workers else ""),
-            "preset": args.preset,
-            "backend": backend,
-            "total_wall_time_s": time.perf_counter() - t0,
-            "interrupted": interrupted,
-            "points_done": len(records),
-            "points_total": len(points),
-        },
-    )
+    try:
+        doc = write_outputs(
+            args.out,
+            points,
+            records,
+            extra={
+                "command": f"rustfrac sweep --out {args.out} --preset {args.preset}"
+                + (f" --scheduler {args.scheduler}" if args.scheduler else "")
+                + (f" --workers {args.workers}" if args.workers else ""),
+                "preset": args.preset,
+                "backend": backend,
+                "total_wall_time_s": time.perf_counter() - t0,
+                "interrupted": interrupted,
+                "points_done": len(records),
+                "points_total": len(points),
+            },
+        )
+    except SweepInterrupted as e:
+        interrupted, doc = True, e.doc or {}
     if interrupted:
+        missing = doc.get("missing_files", [])
         print(
             f"rustfrac: interrupted; the {len(records)} finished points of {len(points)} were "
-            f"written to {args.out}/",
+            f"written to {args.out}/"
+            + (f"; missing: {', '.join(missing)}" if missing else ""),
             file=sys.stderr,
         )
         return 130
@@ -168,8 +182,13 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
 
 
 def _cmd_fig7(args: argparse.Namespace) -> int:
-    from .fig7 import fig7
+    from .fig7 import Fig7Interrupted, fig7
 
+    try:
+        check_writable(args.out)  # before computing: a bad --out must not cost the runs
+    except OutputError as e:
+        print(f"rustfrac: error: invalid --out: {e}", file=sys.stderr)
+        return 2
     log = None if args.quiet else (lambda s: print(s, flush=True))
     bars: list[ProgressBar] = []
 
@@ -183,8 +202,20 @@ def _cmd_fig7(args: argparse.Namespace) -> int:
 
     try:
         fig7(args.out, preset=args.preset, bc=args.bc, log=log, progress=progress)
+    except Fig7Interrupted as e:
+        missing = e.summary["missing"]
+        print(
+            f"rustfrac: interrupted; the finished parts were written to {args.out}/"
+            + (f"; missing: {', '.join(missing)}" if missing else ""),
+            file=sys.stderr,
+        )
+        return 130
     except KeyboardInterrupt:
-        print("rustfrac: interrupted; finished parts were written", file=sys.stderr)
+        print(
+            f"rustfrac: interrupted while writing {args.out}/: it may hold parts of two runs "
+            "(rustfrac.fig7.load_summary refuses those)",
+            file=sys.stderr,
+        )
         return 130
     finally:
         for b in bars:
@@ -193,7 +224,7 @@ def _cmd_fig7(args: argparse.Namespace) -> int:
 
 
 def _cmd_run(args: argparse.Namespace) -> int:
-    from .result import Result
+    from .result import JSON_NAME, OWNED_NAMES, Result
     from .runner import run
     from .scene import Scene
 
@@ -209,6 +240,11 @@ def _cmd_run(args: argparse.Namespace) -> int:
         print(f"rustfrac: error: invalid scene {args.scene}: {e}", file=sys.stderr)
         return 2
     scene = _checkpoint_options(scene, args)
+    try:
+        check_writable(args.out)  # before computing: a bad --out must not cost the run
+    except OutputError as e:
+        print(f"rustfrac: error: invalid --out: {e}", file=sys.stderr)
+        return 2
     log(f"scene   {args.scene}: {scene.describe()}")
     growth = scene.method == "xfem" and scene.xfem.growth_steps > 0
     bar = None if args.quiet else ProgressBar(delay=0.0 if growth else 0.5)
@@ -275,28 +311,68 @@ def _cmd_run(args: argparse.Namespace) -> int:
             else ""
         )
         log(f"status  {res.meta['status']}{extra}")
-    out = res.save(args.out, vtu=not args.no_vtu)
     plots: list[str] = []
-    if args.plot:
-        from . import plotting
+    missing: list[str] = []
 
-        figs = {"s22.png" if "nodal_stress" in res.fields else "u2.png": plotting.plot_field(res)}
-        figs["crack_path.png"] = plotting.plot_crack_path(res)
-        if res.damage is not None:
-            figs["damage.png"] = plotting.plot_damage(res)
-        if "deformed_cells" in res.fields:
-            figs["tip_x50.png"] = plotting.plot_tip_deformation(res, scale=50.0)
-        if res.history:
-            figs["load_path.png"] = plotting.plot_load_path(res)
-        for name, fig in figs.items():
-            fig.savefig(out / name, dpi=150, bbox_inches="tight")
-            plots.append(name)
+    def write(d: Path) -> Path:
+        plots.clear()
+        missing.clear()
+        with writing(d, owned=OWNED_NAMES, last=JSON_NAME) as w:
+            res._stage(w, vtu=not args.no_vtu)
+            if args.plot:
+                _stage_plots(res, w, plots, missing)
+        return d
+
+    try:
+        out = with_fallback(args.out, write, "run")
+    except OutputError as e:
+        print(f"rustfrac: error: {e}", file=sys.stderr)
+        return 1
     log(
         f"saved   {out}/ (result.json, fields.npz{'' if args.no_vtu else ', result.vtu'}"
         + "".join(", " + p for p in plots)
         + ")"
     )
+    if missing:
+        print(
+            f"rustfrac: interrupted while plotting; the result was saved to {out}/ without "
+            f"{', '.join(missing)}",
+            file=sys.stderr,
+        )
+        return 130
     return 0
+
+
+def _stage_plots(res: _Result, w: FolderWriter, plots: list[str], missing: list[str]) -> None:
+    """``rustfrac run --plot``: the PNGs of a result, staged into its folder; Ctrl-C drops the
+    plot being drawn and lists it and the rest in ``missing`` (the result is still written)."""
+    from .plotting import (
+        plot_crack_path,
+        plot_damage,
+        plot_field,
+        plot_load_path,
+        plot_tip_deformation,
+    )
+
+    name = "s22.png" if "nodal_stress" in res.fields else "u2.png"
+    todo: list[tuple[str, Callable[[], Any]]] = [
+        (name, lambda: plot_field(res)),
+        ("crack_path.png", lambda: plot_crack_path(res)),
+    ]
+    if res.damage is not None:
+        todo.append(("damage.png", lambda: plot_damage(res)))
+    if "deformed_cells" in res.fields:
+        todo.append(("tip_x50.png", lambda: plot_tip_deformation(res, scale=50.0)))
+    if res.history:
+        todo.append(("load_path.png", lambda: plot_load_path(res)))
+    for k, (name, draw) in enumerate(todo):
+        try:
+            draw().figure.savefig(w.stage(name), format="png", dpi=150, bbox_inches="tight")
+        except KeyboardInterrupt:
+            w.discard(name)
+            missing.extend(n for n, _ in todo[k:])
+            return
+        plots.append(name)
 
 
 def _checkpoint_options(scene: _Scene, args: argparse.Namespace) -> _Scene:
@@ -366,6 +442,9 @@ def main(argv: list[str] | None = None) -> int:
     except (InvalidParameterError, MethodNotAvailableError) as e:
         print(f"rustfrac: error: invalid input: {e}", file=sys.stderr)
         return 2
+    except OutputError as e:  # at the end of a run: the message says where the output went
+        print(f"rustfrac: error: {e}", file=sys.stderr)
+        return 1
     except RustfracError as e:
         print(f"rustfrac: run failed: {type(e).__name__}: {e}", file=sys.stderr)
         return 1

@@ -12,6 +12,8 @@ near nu = 0.5) are reported with :class:`AccuracyWarning` (a ``UserWarning``), a
 
 from __future__ import annotations
 
+from typing import Any
+
 __all__ = [
     "WARNING_CLASSES",
     "AccuracyWarning",
@@ -20,9 +22,12 @@ __all__ = [
     "IllConditionedWarning",
     "InternalError",
     "InvalidParameterError",
+    "InvalidResultError",
     "InvalidTypeError",
     "LockingWarning",
     "MethodNotAvailableError",
+    "OutputError",
+    "ResultNotFoundError",
     "RustfracError",
     "SeparatedError",
     "SingularSystemError",
@@ -67,6 +72,39 @@ class InternalError(RustfracError, RuntimeError):
 
 class CheckpointIOError(RustfracError, OSError):
     """A checkpoint file could not be read or written (the message names the path)."""
+
+
+class OutputError(RustfracError, OSError):
+    """An output folder cannot be written: ``--out`` names a file, the folder is read-only, the
+    disk is full, ... The message names the folder and the reason; ``path`` holds the folder and
+    ``fallback`` the temporary folder the output was saved to instead (None if it was not)."""
+
+    def __init__(self, message: str, path: Any = None, fallback: Any = None) -> None:
+        super().__init__(message)
+        self.path = path
+        self.fallback = fallback
+
+    def __str__(self) -> str:
+        return str(self.args[0]) if self.args else ""
+
+
+class InvalidResultError(RustfracError, ValueError):
+    """A saved result (or a fig7 / sweep output folder) cannot be read back: not a rustfrac
+    result, an unsupported ``format_version``, a value out of its range, arrays that do not match
+    ``result.json``, or files of two different saves. The message names the file and the field;
+    ``path`` and ``field`` hold them."""
+
+    def __init__(self, message: str, path: Any = None, field: str | None = None) -> None:
+        super().__init__(message)
+        self.path = path
+        self.field = field
+
+
+class ResultNotFoundError(InvalidResultError, FileNotFoundError):
+    """The result folder, or a file of it, does not exist (also a ``FileNotFoundError``)."""
+
+    def __str__(self) -> str:
+        return str(self.args[0]) if self.args else ""
 
 
 class IllConditionedWarning(RuntimeWarning):

@@ -10,17 +10,23 @@ strain, u2 = +-u0 on the grips, variant ``bc``):
 3. the LEFM handbook curve (long strip under traction: a guide, not the paper's geometry).
 
 Writes ``fig7.png``, ``fig7.csv``, ``fig8a.png``, ``fig8b.png``, ``fig6.png``, ``summary.md``,
-``summary.json`` and the result folders ``xfem/`` and ``ccm_pd/`` (each file atomically). Ctrl-C
-stops cleanly: what finished is written, and the summary says the run was interrupted.
+``summary.json`` and the result folders ``xfem/`` and ``ccm_pd/``, as one unit (``_folder``; the
+summary last, naming the save id of each result folder: :func:`load_summary` checks them). The
+output folder is checked before anything runs; if it cannot be written at the end, the outputs go
+to a temporary folder the :class:`~rustfrac.errors.OutputError` names. Ctrl-C stops cleanly: what
+finished is written, and the summary says the run was interrupted (``complete`` false, ``missing``
+lists the runs, result folders and files that are not there).
 """
 
 from __future__ import annotations
 
 import csv
+import functools
 import io
 import json
 import os
 import platform
+import secrets
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -30,13 +36,15 @@ from typing import Any
 import numpy as np
 
 from . import figures, handbook
+from ._folder import check_writable, locked, with_fallback, writing
 from ._log import logger
-from .result import Result, _atomic
+from .errors import InvalidResultError, ResultNotFoundError
+from .result import OWNED_NAMES, Result, _atomic, _read_json
 from .runner import run
 from .scene import Scene
 from .scenes import edge_crack_plate
 
-__all__ = ["PAPER", "PRESETS", "Preset", "fig7"]
+__all__ = ["FILES", "PAPER", "PRESETS", "Fig7Interrupted", "Preset", "fig7", "load_summary"]
 
 #: the paper's published values (section 3) and run times
 PAPER: dict[str, float] = {
@@ -171,8 +179,7 @@ def fig7(
             f"invalid bc: expected 'free' or 'clamped' (displacement grips), got {bc!r}", "bc"
         )
     say: Log = log or (lambda s: None)
-    outdir = Path(out)
-    outdir.mkdir(parents=True, exist_ok=True)
+    outdir = check_writable(out)  # before computing: a bad --out must not cost the runs
     p = PRESETS[preset]
     scenes = _scenes(p, bc)
     results: dict[str, Result] = {}
@@ -190,100 +197,235 @@ def fig7(
     except KeyboardInterrupt:
         interrupted = True
         say("interrupted: writing what finished")
-    for name in ("xfem_growth", "ccm_pd"):
-        if name in results:
-            results[name].save(outdir / ("xfem" if name == "xfem_growth" else name))
-
-    ref = scenes["xfem"]  # the plate, material and crack every run shares
-    W, mat, a0, yc = ref.plate.width, ref.material, ref.crack.a0, ref.crack.y
-    # the handbook curve over the crack lengths the XFEM growth reached (its stop length is the
-    # core's rule; without the growth run, the paper's 0.7 W of Fig. 7)
-    grown = results.get("xfem_growth")
-    a_end = float(grown.history["a"].max()) if grown is not None and grown.history else 0.7 * W
-    a = np.linspace(a0, a_end, 120)
-    hb_c, hb_s = handbook.edge_crack_curve(a, W, mat.E, mat.nu, mat.G0, mat.plane)
-    hb = (np.concatenate([[0.0], hb_c]), np.concatenate([[0.0], hb_s]))
-    files: list[str] = []
-    curves: list[figures.Curve] = []
-    if "xfem_growth" in results:
-        h = results["xfem_growth"].history
-        curves.append(("XFEM (LEFM growth)", h["cmod"], h["sigma22"], {"marker": ".", "ms": 4}))
-    if "ccm_pd" in results:
-        h = results["ccm_pd"].history
-        # one point per SLA step (each at the load that breaks its bond): the saw-tooth of SLA
-        curves.append(
-            (
-                "CCM-PD (SLA, one point per bond break)",
-                h["cmod"],
-                h["sigma22"],
-                {"lw": 0.4, "alpha": 0.7, "marker": ".", "ms": 2.5, "color": "C1"},
-            )
-        )
-    curves.append(
-        ("LEFM handbook (long strip, traction)", hb[0], hb[1], {"ls": "--", "color": "0.4"})
-    )
-    title = f"edge-cracked plate, bc {bc}, preset {preset}"
-    figures.save_figure(
-        figures.plot_fig7(
-            curves,
-            title=title,
-            published=[("paper, initial (XFEM)", PAPER["cmod_xfem"], PAPER["sigma22_xfem"])],
-        ),
-        outdir / "fig7.png",
-    )
-    _write_csv(outdir / "fig7.csv", results, hb)
-    files += ["fig7.png", "fig7.csv"]
-    if "ccm_pd" in results:
-        r = results["ccm_pd"]
-        figures.save_figure(
-            figures.plot_damage(
-                r.fields["pd_node_xy"],
-                r.fields["damage"],
-                p.dx,
-                title=f"CCM-PD damage after {len(r.history['sigma22']) - 1} SLA steps",
-                crack_y=yc,
-            ),
-            outdir / "fig8a.png",
-        )
-        files.append("fig8a.png")
-    snaps = []
-    if "xfem_growth" in results:
-        r = results["xfem_growth"]
-        off = r.fields["snapshot_offsets"]
-        for k in p.snapshot_steps:
-            if k < len(off):  # snapshot k-1 is the critical state of growth step k (history row k)
-                rows = slice(int(off[k - 1]), int(off[k]))
-                a = float(r.history["a"][k])
-                snaps.append(
-                    (
-                        r.fields["snapshot_cells"][rows],
-                        r.fields["snapshot_disp"][rows],
-                        f"growth step {k}: a = {a:.3g} mm, sigma22 = "
-                        f"{float(r.history['sigma22'][k]):.3g} MPa",
-                    )
-                )
-    if snaps:
-        figures.save_figure(figures.plot_deformed_patches(snaps, scale=50.0), outdir / "fig8b.png")
-        files.append("fig8b.png")
-    if "xfem" in results and "ccm_pd" in results:
-        figures.save_figure(
-            figures.plot_discretisations(
-                _xfem_disc(results["xfem"]),
-                _pd_disc(results["ccm_pd"], p.dx),
-                (0.0, 2.6, 9.6, 11.4),
-            ),
-            outdir / "fig6.png",
-        )
-        files.append("fig6.png")
-
-    summary = _summary(results, times, p, preset, bc, scenes, interrupted)
-    summary["total_s"] = time.perf_counter() - t_all
-    summary["files"] = [*files, "summary.md", "summary.json"]
-    _write_text(outdir / "summary.md", _markdown(summary))
-    _write_text(outdir / "summary.json", json.dumps(summary, indent=2, default=_json_default))
+    job = _Job(results, times, p, preset, bc, scenes, interrupted, t_all)
+    summary = with_fallback(outdir, job.write, "fig7")
     say(f"saved   {outdir}/ ({', '.join(summary['files'])})")
-    if interrupted:
-        raise KeyboardInterrupt
+    if summary["missing"]:
+        say(f"missing {', '.join(summary['missing'])}")
+    if summary["interrupted"]:
+        raise Fig7Interrupted(summary)
+    return summary
+
+
+class Fig7Interrupted(KeyboardInterrupt):
+    """Ctrl-C during :func:`fig7`: what finished was written; ``summary`` is the summary written
+    (``complete`` false, ``missing`` lists the runs, folders and files that are not there)."""
+
+    def __init__(self, summary: dict[str, Any]) -> None:
+        super().__init__("fig7 interrupted")
+        self.summary = summary
+
+
+#: the files of a fig7 folder (the result folders xfem/ and ccm_pd/ besides)
+FILES = ("fig7.png", "fig7.csv", "fig8a.png", "fig8b.png", "fig6.png", "summary.md", "summary.json")
+#: folder name of each run saved as a result folder
+PARTS = {"xfem_growth": "xfem", "ccm_pd": "ccm_pd"}
+
+
+@dataclass
+class _Job:
+    """The outputs of one fig7 job, written as one folder (see :mod:`rustfrac._folder`)."""
+
+    results: dict[str, Result]
+    times: dict[str, float]
+    p: Preset
+    preset: str
+    bc: str
+    scenes: dict[str, Scene]
+    interrupted: bool
+    t_all: float
+
+    def write(self, outdir: Path) -> dict[str, Any]:
+        """Writes every output into ``outdir`` (summary.json last, naming the save id of each
+        result folder) and returns the summary. A Ctrl-C while drawing stops the drawing; the
+        summary then lists the files not drawn."""
+        owned = (*FILES, *PARTS.values())
+        with writing(outdir, owned=owned, last="summary.json", inner=OWNED_NAMES) as w:
+            parts: dict[str, str] = {}
+            for name, part in PARTS.items():
+                if name in self.results:
+                    parts[part] = secrets.token_hex(8)
+                    w.under_lock(
+                        part,
+                        functools.partial(
+                            self.results[name]._save, outdir / part, save_id=parts[part]
+                        ),
+                    )
+            files: list[str] = []
+            stopped = False  # a Ctrl-C while drawing: the rest is listed as missing
+            for fname, make in self._drawings():
+                if stopped:
+                    break
+                try:
+                    make(w.stage(fname))
+                except KeyboardInterrupt:
+                    w.discard(fname)
+                    stopped = True
+                    continue
+                files.append(fname)
+            interrupted = self.interrupted or stopped
+            summary = _summary(
+                self.results, self.times, self.p, self.preset, self.bc, self.scenes, interrupted
+            )
+            summary["total_s"] = time.perf_counter() - self.t_all
+            summary["files"] = [*files, "summary.md", "summary.json"]
+            summary["parts"] = parts
+            summary["missing"] = (
+                [f"run {n}" for n in self.scenes if n not in self.results]
+                + [f"{part}/" for n, part in PARTS.items() if n not in self.results]
+                + [f for f in FILES if f not in summary["files"]]
+            )
+            summary["complete"] = not interrupted and not summary["missing"]
+            _write_text(w.stage("summary.md"), _markdown(summary))
+            _write_text(
+                w.stage("summary.json"), json.dumps(summary, indent=2, default=_json_default)
+            )
+        return summary
+
+    def _drawings(self) -> list[tuple[str, Callable[[Path], Any]]]:
+        """(file name, writer into a path) of every file the finished runs give."""
+        results, p = self.results, self.p
+        ref = self.scenes["xfem"]  # the plate, material and crack every run shares
+        W, mat, a0, yc = ref.plate.width, ref.material, ref.crack.a0, ref.crack.y
+        # the handbook curve over the crack lengths the XFEM growth reached (its stop length is
+        # the core's rule; without the growth run, the paper's 0.7 W of Fig. 7)
+        grown = results.get("xfem_growth")
+        a_end = float(grown.history["a"].max()) if grown is not None and grown.history else 0.7 * W
+        a = np.linspace(a0, a_end, 120)
+        hb_c, hb_s = handbook.edge_crack_curve(a, W, mat.E, mat.nu, mat.G0, mat.plane)
+        hb = (np.concatenate([[0.0], hb_c]), np.concatenate([[0.0], hb_s]))
+        curves: list[figures.Curve] = []
+        if "xfem_growth" in results:
+            h = results["xfem_growth"].history
+            curves.append(("XFEM (LEFM growth)", h["cmod"], h["sigma22"], {"marker": ".", "ms": 4}))
+        if "ccm_pd" in results:
+            h = results["ccm_pd"].history
+            # one point per SLA step (each at the load that breaks its bond): the saw-tooth of SLA
+            curves.append(
+                (
+                    "CCM-PD (SLA, one point per bond break)",
+                    h["cmod"],
+                    h["sigma22"],
+                    {"lw": 0.4, "alpha": 0.7, "marker": ".", "ms": 2.5, "color": "C1"},
+                )
+            )
+        curves.append(
+            ("LEFM handbook (long strip, traction)", hb[0], hb[1], {"ls": "--", "color": "0.4"})
+        )
+        title = f"edge-cracked plate, bc {self.bc}, preset {self.preset}"
+        out: list[tuple[str, Callable[[Path], Any]]] = [
+            (
+                "fig7.png",
+                lambda f: figures.save_figure(
+                    figures.plot_fig7(
+                        curves,
+                        title=title,
+                        published=[
+                            ("paper, initial (XFEM)", PAPER["cmod_xfem"], PAPER["sigma22_xfem"])
+                        ],
+                    ),
+                    f,
+                ),
+            ),
+            ("fig7.csv", lambda f: _write_csv(f, results, hb)),
+        ]
+        if "ccm_pd" in results:
+            r = results["ccm_pd"]
+            out.append(
+                (
+                    "fig8a.png",
+                    lambda f: figures.save_figure(
+                        figures.plot_damage(
+                            r.fields["pd_node_xy"],
+                            r.fields["damage"],
+                            p.dx,
+                            title=f"CCM-PD damage after {len(r.history['sigma22']) - 1} SLA steps",
+                            crack_y=yc,
+                        ),
+                        f,
+                    ),
+                )
+            )
+        snaps = []
+        if "xfem_growth" in results:
+            g = results["xfem_growth"]
+            off = g.fields["snapshot_offsets"]
+            for k in p.snapshot_steps:
+                if k < len(off):  # snapshot k-1: the critical state of growth step k (row k)
+                    rows = slice(int(off[k - 1]), int(off[k]))
+                    snaps.append(
+                        (
+                            g.fields["snapshot_cells"][rows],
+                            g.fields["snapshot_disp"][rows],
+                            f"growth step {k}: a = {float(g.history['a'][k]):.3g} mm, sigma22 = "
+                            f"{float(g.history['sigma22'][k]):.3g} MPa",
+                        )
+                    )
+        if snaps:
+            out.append(
+                (
+                    "fig8b.png",
+                    lambda f: figures.save_figure(
+                        figures.plot_deformed_patches(snaps, scale=50.0), f
+                    ),
+                )
+            )
+        if "xfem" in results and "ccm_pd" in results:
+            out.append(
+                (
+                    "fig6.png",
+                    lambda f: figures.save_figure(
+                        figures.plot_discretisations(
+                            _xfem_disc(results["xfem"]),
+                            _pd_disc(results["ccm_pd"], p.dx),
+                            (0.0, 2.6, 9.6, 11.4),
+                        ),
+                        f,
+                    ),
+                )
+            )
+        return out
+
+
+def load_summary(out: str | Path) -> dict[str, Any]:
+    """Reads the ``summary.json`` of a fig7 folder, checking that its result folders are the ones
+    it was written with (each ``xfem/`` and ``ccm_pd/`` save id against the summary's ``parts``).
+
+    Raises:
+        ResultNotFoundError: no summary.json.
+        InvalidResultError: not valid, or a result folder of another run (naming it).
+    """
+    d = Path(out)
+    path = d / "summary.json"
+    try:
+        with locked(d, exclusive=False):
+            data = path.read_bytes()
+            ids = {}
+            for part in PARTS.values():
+                try:
+                    ids[part] = _read_json(
+                        d / part / "result.json", (d / part / "result.json").read_bytes()
+                    ).get("save_id")
+                except FileNotFoundError:
+                    ids[part] = None
+    except FileNotFoundError as e:
+        raise ResultNotFoundError(
+            f"{e.filename}: no such file (not a fig7 folder?)", e.filename
+        ) from e
+    summary = _read_json(path, data)
+    parts = summary.get("parts")
+    if not isinstance(parts, dict):
+        raise InvalidResultError(
+            f"invalid parts in {path}: expected an object of save ids", path, "parts"
+        )
+    for part in PARTS.values():
+        if parts.get(part) != ids[part]:
+            raise InvalidResultError(
+                f"{d / part} does not belong to {path}: its save id is {ids[part]}, the summary's "
+                f"{parts.get(part)} (a result of another run, or an interrupted write)",
+                d / part,
+                "parts",
+            )
     return summary
 
 
@@ -419,6 +561,7 @@ def _markdown(s: dict[str, Any]) -> str:
         "",
         f"rustfrac {s['version']}, preset `{s['preset']}` ({s['preset_description']}), grips "
         f"`{s['bc']}`" + (" -- **interrupted: partial results**" if s["interrupted"] else ""),
+        *([f"**Missing:** {', '.join(s['missing'])}"] if s.get("missing") else []),
         f"Machine: {s['machine']['cpu']}, {s['machine']['cores']} cores, "
         f"{s['machine']['platform']}",
         "",

@@ -1,31 +1,39 @@
 """Results of a run: scalars, numpy fields, history, metadata; saving and loading.
 
-``Result.save(dir)`` writes, each atomically (a temporary file in ``dir``, then ``os.replace``):
+``Result.save(dir)`` writes, as one unit (``_folder``: each file staged under a temporary name,
+then all renamed into place under the folder's lock, the JSON last):
 
 - ``result.json`` (written last): scalars and metadata (version, scene, boundary-condition variant, anchor node,
-  timings) -- plain JSON, floats written with full precision;
+  timings) -- plain JSON, floats written with full precision -- and the save id, the arrays'
+  shapes and the SHA-256 of the other files;
 - ``fields.npz``: the arrays (mesh, displacement, stresses, ...) and the history;
 - ``result.vtu``: the deformed-state mesh for ParaView (ASCII VTK unstructured grid of quads with
   displacement and stress as point data). PD and CCM-PD results (no Q4 mesh) write the grid nodes as
   VTK_VERTEX cells instead, with the displacements before the first and after the last break, the
   damage (0 at FEM nodes) and a PD-node flag as point data (:func:`write_vtu_points`).
 
-:func:`load` reads the JSON and NPZ back to the same numbers.
+:func:`load` reads the JSON and NPZ back to the same numbers, after checking them.
 """
 
 from __future__ import annotations
 
+import hashlib
+import io
 import json
 import math
-import os
+import re
 import secrets
-from collections.abc import Iterator
-from contextlib import contextmanager
+import zipfile
+import zlib
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import IO, Any, Union
 
 import numpy as np
+
+from ._folder import FolderWriter, locked, writing
+from ._folder import atomic_file as _atomic  # noqa: F401 (figures, fig7 and sweep use it)
+from .errors import InvalidResultError, ResultNotFoundError
 
 __all__ = ["Result", "load"]
 
@@ -34,6 +42,12 @@ JSON_NAME = "result.json"
 NPZ_NAME = "fields.npz"
 VTU_NAME = "result.vtu"
 _HISTORY_PREFIX = "history__"
+#: 2: result.json holds save_id, the arrays' shapes and the checksums of the other files
+FORMAT_VERSION = 2
+#: PNGs ``rustfrac run --plot`` writes into a result folder
+PLOT_NAMES = ("s22.png", "u2.png", "damage.png", "tip_x50.png", "load_path.png")
+#: every name a result folder's writer owns: replaced together, removed when a new save lacks them
+OWNED_NAMES = (JSON_NAME, NPZ_NAME, VTU_NAME, *PLOT_NAMES)
 
 
 @dataclass
@@ -214,12 +228,27 @@ class Result:
 
     def save(self, directory: PathLike, *, vtu: bool = True) -> Path:
         """Writes result.json, fields.npz and (``vtu=True``) result.vtu into ``directory``
-        (created if needed), each atomically. Returns the directory."""
-        d = Path(directory)
-        d.mkdir(parents=True, exist_ok=True)
-        doc = {
+        (created if needed) as one unit: a reader sees the previous set or the new one, never a
+        mix (see the README's "Result folders"). Returns the directory.
+
+        Raises:
+            OutputError: the folder cannot be written (it is a file, read-only, the disk is
+                full, ...); the folder is left as it was.
+        """
+        return self._save(directory, vtu=vtu)
+
+    def _save(self, directory: PathLike, *, vtu: bool = True, save_id: str | None = None) -> Path:
+        with writing(directory, owned=OWNED_NAMES, last=JSON_NAME) as w:
+            self._stage(w, vtu=vtu, save_id=save_id)
+        return w.path
+
+    def _stage(self, w: FolderWriter, *, vtu: bool, save_id: str | None = None) -> str:
+        """Stages this result's files into the pending folder ``w`` (the JSON last, with the
+        save id and the checksums of the others); returns the save id."""
+        doc: dict[str, Any] = {
             "format": "rustfrac-result",
-            "format_version": 1,
+            "format_version": FORMAT_VERSION,
+            "save_id": save_id or secrets.token_hex(8),
             "method": self.method,
             "sigma22": self.sigma22,
             "cmod": self.cmod,
@@ -230,50 +259,101 @@ class Result:
             "fields": sorted(self.fields),
             "history": sorted(self.history),
         }
-        text = json.dumps(_jsonable(doc), indent=2, allow_nan=False) + "\n"  # fails before writing
+        json.dumps(_jsonable(doc), allow_nan=False)  # fails before anything is written
         arrays = dict(self.fields)
         arrays.update({_HISTORY_PREFIX + k: v for k, v in self.history.items()})
-        with _atomic(d / NPZ_NAME, "wb") as f:
+        doc["shapes"] = {k: list(np.shape(v)) for k, v in sorted(arrays.items())}
+        files = {NPZ_NAME: w.stage(NPZ_NAME)}
+        with open(files[NPZ_NAME], "wb") as f:
             np.savez_compressed(f, **arrays)
+        writer = None
         if vtu and "coords" in self.fields and "elements" in self.fields:
-            with _atomic(d / VTU_NAME, "w") as f:
-                write_vtu(f, self)
+            writer = write_vtu
         elif vtu and "node_xy" in self.fields:
-            with _atomic(d / VTU_NAME, "w") as f:
-                write_vtu_points(f, self)
-        # the JSON goes last: it names the fields, so a reader never sees it before them
-        with _atomic(d / JSON_NAME, "w") as f:
-            f.write(text)
-        return d
+            writer = write_vtu_points
+        if writer is not None:
+            files[VTU_NAME] = w.stage(VTU_NAME)
+            with open(files[VTU_NAME], "w", encoding="utf-8") as f:
+                writer(f, self)
+        doc["files"] = {
+            n: {"sha256": _sha256(p), "bytes": p.stat().st_size} for n, p in files.items()
+        }
+        w.stage(JSON_NAME).write_text(_dumps(_jsonable(doc)), encoding="utf-8")
+        return str(doc["save_id"])
 
 
 def load(directory: PathLike) -> Result:
-    """Reads a result saved by :meth:`Result.save`."""
+    """Reads a result saved by :meth:`Result.save`, checking it: its format and version, the
+    method, finite numbers, the arrays against ``result.json`` (names, shapes, checksums: a folder
+    holding files of two saves is refused) and the shapes of the mesh and grid arrays.
+
+    Raises:
+        ResultNotFoundError: the folder or one of its files does not exist.
+        InvalidResultError: anything else wrong (the message names the file and the field).
+    """
     d = Path(directory)
-    doc = json.loads((d / JSON_NAME).read_text(encoding="utf-8"))
-    if doc.get("format") != "rustfrac-result":
-        raise ValueError(f"{d / JSON_NAME} is not a rustfrac result file")
-    fields: dict[str, np.ndarray] = {}
-    history: dict[str, np.ndarray] = {}
-    with np.load(d / NPZ_NAME, allow_pickle=False) as z:
-        for k in z.files:
-            if k.startswith(_HISTORY_PREFIX):
-                history[k[len(_HISTORY_PREFIX) :]] = z[k]
-            else:
-                fields[k] = z[k]
+    jpath, npath = d / JSON_NAME, d / NPZ_NAME
+    if not d.is_dir():
+        raise ResultNotFoundError(f"no result folder {d}", d)
+    try:
+        with locked(d, exclusive=False):  # no writer renames files while both are read
+            jbytes = jpath.read_bytes()
+            nbytes = npath.read_bytes()
+    except FileNotFoundError as e:
+        raise ResultNotFoundError(
+            f"{e.filename}: no such file (not a result folder, or its save did not finish)",
+            e.filename,
+        ) from e
+    except OSError as e:
+        raise InvalidResultError(f"cannot read result {d}: {e.strerror or e}", d) from e
+    doc = _read_json(jpath, jbytes)
+    version = _check_doc(jpath, doc)
+    if version >= 2:
+        _check_checksums(jpath, doc, NPZ_NAME, nbytes)
+    arrays = _read_npz(npath, nbytes)
+    fields = {k: v for k, v in arrays.items() if not k.startswith(_HISTORY_PREFIX)}
+    history = {
+        k[len(_HISTORY_PREFIX) :]: v for k, v in arrays.items() if k.startswith(_HISTORY_PREFIX)
+    }
+    for key, names in (("fields", fields), ("history", history)):
+        listed = set(doc[key])
+        if listed != set(names):
+            raise InvalidResultError(
+                f"{npath} does not match {jpath}: {key} "
+                + ", ".join(
+                    f"{what} {', '.join(sorted(x))}"
+                    for what, x in (
+                        ("missing", listed - set(names)),
+                        ("not listed", set(names) - listed),
+                    )
+                    if x
+                ),
+                npath,
+                key,
+            )
+    if version >= 2:
+        for k, v in arrays.items():
+            if list(v.shape) != doc["shapes"].get(k):
+                raise InvalidResultError(
+                    f"{npath}: array {k} has shape {list(v.shape)}, {jpath} says "
+                    f"{doc['shapes'].get(k)}",
+                    npath,
+                    k,
+                )
+    _check_arrays(npath, fields, history)
     return Result(
         method=doc["method"],
         sigma22=_float(doc["sigma22"]),
         cmod=_float(doc["cmod"]),
-        n_dofs=int(doc["n_dofs"]),
+        n_dofs=doc["n_dofs"],
         wall_time_s=_float(doc["wall_time_s"]),
         fields=fields,
         history=history,
         scalars={
             k: v if v is None and k in _OPTIONAL_SCALARS else _float(v) if v is None else v
-            for k, v in doc.get("scalars", {}).items()
+            for k, v in doc["scalars"].items()
         },
-        meta=doc.get("meta", {}),
+        meta=doc["meta"],
     )
 
 
@@ -305,24 +385,208 @@ def _jsonable(v: Any) -> Any:
     return v
 
 
-@contextmanager
-def _atomic(path: Path, mode: str) -> Iterator[IO[Any]]:
-    """Writes to a temporary file next to ``path`` and renames it over ``path`` on success."""
-    # like mkstemp, but the file gets the usual permissions (0666 minus the umask), not 0600
-    tmp = path.parent / f".{path.name}.{os.getpid()}.{secrets.token_hex(6)}.tmp"
-    fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
+def _dumps(doc: Any) -> str:
+    """JSON indented by 2, but each list of plain values on one line (a long list in the scene
+    then costs its length, not an indented line per item)."""
+    token, lists = secrets.token_hex(8), []
+
+    def fold(v: Any) -> Any:
+        if isinstance(v, dict):
+            return {k: fold(x) for k, x in v.items()}
+        if isinstance(v, list):
+            if v and all(x is None or isinstance(x, (bool, int, float, str)) for x in v):
+                lists.append(json.dumps(v, allow_nan=False))
+                return f"{token}:{len(lists) - 1}"
+            return [fold(x) for x in v]
+        return v
+
+    text = json.dumps(fold(doc), indent=2, allow_nan=False)
+    return re.sub(f'"{token}:(\\d+)"', lambda m: lists[int(m.group(1))], text) + "\n"
+
+
+def _sha256(p: Path) -> str:
+    h = hashlib.sha256()
+    with open(p, "rb") as f:
+        for chunk in iter(lambda: f.read(1 << 20), b""):
+            h.update(chunk)
+    return h.hexdigest()
+
+
+def _read_json(path: Path, data: bytes) -> dict[str, Any]:
+    """Strict JSON of a result / summary file: a dict, no NaN or infinite numbers (the writers
+    store a non-finite float as null)."""
+
+    def bad_number(s: str) -> float:
+        v = float(s)
+        if not math.isfinite(v):
+            raise InvalidResultError(f"{path}: the number {s[:40]} is not finite", path)
+        return v
+
+    def no_constant(s: str) -> Any:
+        raise InvalidResultError(f"{path}: {s} is not allowed (non-finite numbers are null)", path)
+
     try:
-        with os.fdopen(fd, mode, **({} if "b" in mode else {"encoding": "utf-8"})) as f:
-            yield f
-            f.flush()
-            os.fsync(f.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except FileNotFoundError:
-            pass
-        raise
+        doc = json.loads(data.decode("utf-8"), parse_float=bad_number, parse_constant=no_constant)
+    except UnicodeDecodeError as e:
+        raise InvalidResultError(f"{path}: not UTF-8 text ({e.reason})", path) from e
+    except json.JSONDecodeError as e:
+        raise InvalidResultError(
+            f"{path}: not valid JSON ({e.msg}, line {e.lineno} column {e.colno})", path
+        ) from e
+    except RecursionError as e:
+        raise InvalidResultError(f"{path}: nested too deeply to be a rustfrac file", path) from e
+    if not isinstance(doc, dict):
+        raise InvalidResultError(f"{path}: expected a JSON object, got {type(doc).__name__}", path)
+    return doc
+
+
+def _bad(path: Path, key: str, expected: str, got: Any) -> InvalidResultError:
+    r = repr(got)
+    r = r if len(r) <= 80 else r[:77] + "..."
+    return InvalidResultError(
+        f"invalid {key} in {path}: expected {expected}, got {r}",
+        path,
+        key,
+    )
+
+
+def _check_doc(path: Path, doc: dict[str, Any]) -> int:
+    """Checks the keys of a result.json; returns its format version."""
+    from .scene import METHODS
+
+    if doc.get("format") != "rustfrac-result":
+        raise _bad(
+            path, "format", "'rustfrac-result' (not a rustfrac result file)", doc.get("format")
+        )
+    v: Any = doc.get("format_version")
+    if type(v) is not int or not 1 <= v <= FORMAT_VERSION:
+        raise _bad(path, "format_version", f"1 to {FORMAT_VERSION} (this rustfrac's)", v)
+    if doc.get("method") not in METHODS:
+        raise _bad(path, "method", f"one of {', '.join(METHODS)}", doc.get("method"))
+    for key in ("sigma22", "cmod"):  # null: a NaN the run produced
+        if doc.get(key) is not None and (type(doc.get(key)) not in (int, float)):
+            raise _bad(path, key, "a number or null", doc.get(key))
+    n: Any = doc.get("n_dofs")
+    if type(n) is not int or n < 0:
+        raise _bad(path, "n_dofs", "an integer >= 0", n)
+    t: Any = doc.get("wall_time_s")
+    if type(t) not in (int, float) or t < 0:
+        raise _bad(path, "wall_time_s", "a finite number >= 0", t)
+    for key in ("scalars", "meta"):
+        if not isinstance(doc.setdefault(key, {}), dict):
+            raise _bad(path, key, "an object", doc[key])
+    for key in ("fields", "history"):
+        names = doc.get(key)
+        if not isinstance(names, list) or not all(isinstance(x, str) for x in names):
+            raise _bad(path, key, "a list of array names", names)
+    if v >= 2:
+        if not isinstance(doc.get("save_id"), str):
+            raise _bad(path, "save_id", "a string", doc.get("save_id"))
+        shapes = doc.get("shapes")
+        if not isinstance(shapes, dict) or not all(
+            isinstance(s, list) and all(type(x) is int and x >= 0 for x in s)
+            for s in shapes.values()
+        ):
+            raise _bad(path, "shapes", "an object of array shapes", shapes)
+        files = doc.get("files")
+        if (
+            not isinstance(files, dict)
+            or NPZ_NAME not in files
+            or not all(
+                isinstance(f, dict) and isinstance(f.get("sha256"), str) for f in files.values()
+            )
+        ):
+            raise _bad(path, "files", f"an object of checksums naming {NPZ_NAME}", files)
+    return v
+
+
+def _check_checksums(jpath: Path, doc: dict[str, Any], name: str, data: bytes) -> None:
+    """The file ``name`` must be the one ``result.json`` was written with: a folder holding files
+    of two saves is refused. (Checking fields.npz suffices: a writer renames it first and the
+    JSON last, so any interrupted commit leaves it unlike the JSON's checksum.)"""
+    if hashlib.sha256(data).hexdigest() != doc["files"][name]["sha256"]:
+        raise InvalidResultError(
+            f"{jpath.parent / name} does not belong to {jpath} (save {doc['save_id']}): its "
+            "checksum differs, the folder holds files of two saves (an interrupted or concurrent "
+            "save?)",
+            jpath.parent / name,
+            "files",
+        )
+
+
+def _read_npz(path: Path, data: bytes) -> dict[str, np.ndarray]:
+    out: dict[str, np.ndarray] = {}
+    key = None
+    try:
+        with np.load(io.BytesIO(data), allow_pickle=False) as z:
+            for key in z.files:
+                out[key] = z[key]
+    except (ValueError, OSError, EOFError, zipfile.BadZipFile, zlib.error) as e:
+        where = f" (array {key})" if key else ""
+        raise InvalidResultError(
+            f"{path}: not a readable NumPy .npz archive{where}: {e}", path, key
+        ) from e
+    return out
+
+
+def _check_arrays(
+    path: Path, fields: dict[str, np.ndarray], history: dict[str, np.ndarray]
+) -> None:
+    """The shapes the Result's views rely on: coords (n, 2) finite with elements (m, 4) indexing
+    them and u of length 2n; node_xy (n, 2) finite with u, u_final of length 2n (u_final: or 0),
+    pd_nodes indexing it and damage one per PD node; history columns 1-D of one length."""
+
+    def need(ok: bool, key: str, expected: str, a: np.ndarray) -> None:
+        if not ok:
+            raise InvalidResultError(
+                f"{path}: array {key} must be {expected}, got shape {list(a.shape)} "
+                f"dtype {a.dtype}",
+                path,
+                key,
+            )
+
+    for pts in ("coords", "node_xy"):
+        if pts not in fields:
+            continue
+        xy = fields[pts]
+        need(
+            xy.ndim == 2 and xy.shape[1:] == (2,) and xy.dtype.kind == "f", pts, "(n, 2) floats", xy
+        )
+        need(bool(np.isfinite(xy).all()), pts, "finite", xy)
+        n = len(xy)
+        for key in ("u", "u_final"):  # u_final is empty when the body separated
+            if key in fields:
+                u = fields[key]
+                sizes = ((2 * n,), (0,)) if key == "u_final" else ((2 * n,),)
+                need(u.shape in sizes and u.dtype.kind == "f", key, f"({2 * n},) floats", u)
+        idx = {"coords": ("elements",), "node_xy": ("pd_nodes",)}[pts]
+        for key in idx:
+            if key in fields:
+                a = fields[key]
+                shape_ok = a.ndim == 2 and a.shape[1] == 4 if key == "elements" else a.ndim == 1
+                need(
+                    shape_ok and a.dtype.kind in "iu", key, "integer indices of the right shape", a
+                )
+                need(
+                    a.size == 0 or (int(a.min()) >= 0 and int(a.max()) < n),
+                    key,
+                    f"indices in [0, {n})",
+                    a,
+                )
+    if "damage" in fields and "pd_nodes" in fields:
+        dmg = fields["damage"]
+        need(dmg.shape == fields["pd_nodes"].shape, "damage", "one value per PD node", dmg)
+    lengths = set()
+    for k, a in history.items():
+        need(a.ndim == 1, "history__" + k, "1-D", a)
+        lengths.add(len(a))
+    if len(lengths) > 1:
+        raise InvalidResultError(
+            f"{path}: history arrays must have equal lengths, got "
+            f"{ {k: len(a) for k, a in history.items()} }",
+            path,
+            "history",
+        )
 
 
 def _vtk_array(f: IO[str], name: str, a: np.ndarray, vtype: str = "Float64") -> None:

@@ -59,6 +59,7 @@ else:  # pragma: no cover
     import tomli as tomllib
 
 __all__ = [
+    "MAX_SCENE_BYTES",
     "METHODS",
     "Crack",
     "Load",
@@ -84,6 +85,9 @@ METHOD_SECTIONS: dict[str, tuple[str, ...]] = {
 MAX_ELEMENTS: int = _CONST["MAX_ELEMENTS"]
 #: largest SLA step count, re-condensation period and damage snapshot step
 MAX_STEPS: int = _CONST["MAX_STEPS"]
+#: largest scene file / TOML text (bytes): a scene holds a few kB; a bound keeps a runaway list
+#: from becoming gigabytes of memory and of result.json
+MAX_SCENE_BYTES: int = 1 << 20
 
 _PY_TYPES = {
     "float": float,
@@ -307,26 +311,40 @@ class Scene:
     @classmethod
     def from_toml(cls, path: PathLike) -> Scene:
         """Reads a scene from a TOML file (see the module docstring for the layout). A missing or
-        unreadable file raises the usual ``OSError``; a file that is not UTF-8 text, or a path
-        that cannot name a file (e.g. a NUL character), an :class:`InvalidParameterError`."""
+        unreadable file raises the usual ``OSError``; a file that is not UTF-8 text, larger than
+        :data:`MAX_SCENE_BYTES`, or a path that cannot name a file (e.g. a NUL character), an
+        :class:`InvalidParameterError`."""
         try:
-            text = Path(path).read_text(encoding="utf-8")
+            with open(path, "rb") as f:
+                data = f.read(MAX_SCENE_BYTES + 1)  # bounded: a device or a huge file is refused
+        except ValueError as e:  # e.g. "embedded null byte"
+            raise InvalidParameterError(f"invalid scene path {_show(path)}: {e}", "scene") from e
+        if len(data) > MAX_SCENE_BYTES:
+            raise _too_large(f"scene file {_show(str(path))}")
+        try:
+            text = data.decode("utf-8")
         except UnicodeDecodeError as e:
             raise InvalidParameterError(
                 f"invalid scene file {_show(str(path))}: not UTF-8 text ({e.reason})", "scene"
             ) from e
-        except ValueError as e:  # e.g. "embedded null byte"
-            raise InvalidParameterError(f"invalid scene path {_show(path)}: {e}", "scene") from e
         return cls.from_toml_str(text)
 
     @classmethod
     def from_toml_str(cls, text: str) -> Scene:
-        """Reads a scene from TOML text."""
+        """Reads a scene from TOML text (at most :data:`MAX_SCENE_BYTES` long)."""
+        if len(text) > MAX_SCENE_BYTES or len(text.encode("utf-8")) > MAX_SCENE_BYTES:
+            raise _too_large("scene text")
         try:
             data = tomllib.loads(text)
         except tomllib.TOMLDecodeError as e:
             raise InvalidParameterError(
                 f"invalid toml: the scene is not valid TOML: {e}", "toml"
+            ) from e
+        except RecursionError as e:  # tomllib recurses once per nesting level
+            raise InvalidParameterError(
+                "invalid toml: the scene nests arrays or tables too deeply to be a scene (a scene "
+                "has at most 2 levels)",
+                "toml",
             ) from e
         return cls.from_dict(data)
 
@@ -427,6 +445,14 @@ class Scene:
             f"method {self.method}, plate {self.plate.width:g} x {self.plate.height:g}, {crack}, "
             f"bc {self.load.bc} ({load}), {disc}"
         )
+
+
+def _too_large(what: str) -> InvalidParameterError:
+    return InvalidParameterError(
+        f"invalid {what}: larger than the limit of {MAX_SCENE_BYTES} bytes (MAX_SCENE_BYTES; a "
+        "scene holds a few kB)",
+        "scene",
+    )
 
 
 def _show(v: Any) -> str:

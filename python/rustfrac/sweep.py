@@ -33,10 +33,12 @@ from collections.abc import Callable, Iterable, Sequence
 from pathlib import Path
 from typing import Any
 
+from ._folder import with_fallback, writing
 from .scene import Scene
 from .scenes import edge_crack_plate
 
 __all__ = [
+    "FILES",
     "QUANTITIES",
     "SweepInterrupted",
     "choose_presets",
@@ -71,11 +73,15 @@ Progress = Callable[[int, int, str], Any]
 
 
 class SweepInterrupted(KeyboardInterrupt):
-    """Ctrl-C during :func:`sweep`: ``records`` holds the points that finished (in point order)."""
+    """Ctrl-C during :func:`sweep`: ``records`` holds the points that finished (in point order);
+    raised by :func:`write_outputs` too (Ctrl-C while drawing), with ``doc`` the JSON written."""
 
-    def __init__(self, records: list[dict[str, Any]]) -> None:
+    def __init__(
+        self, records: list[dict[str, Any]], doc: dict[str, Any] | None = None
+    ) -> None:
         super().__init__(f"sweep interrupted after {len(records)} points")
         self.records = records
+        self.doc = doc
 
 
 # --------------------------------------------------------------------------- points
@@ -552,6 +558,12 @@ def plot(records: Sequence[dict[str, Any]], method: str, path: Path) -> None:
     plt.close(fig)
 
 
+#: the files of a sweep folder (one plot per method of :data:`REFINEMENT`)
+FILES: tuple[str, ...] = (
+    "sweep.csv", "sweep.md", *(f"sweep_{m}.png" for m in REFINEMENT), "sweep.json",
+)  # fmt: skip
+
+
 def write_outputs(
     out: str | Path,
     points: Sequence[dict[str, Any]],
@@ -560,43 +572,75 @@ def write_outputs(
     extra: dict[str, Any] | None = None,
 ) -> dict[str, Any]:
     """Computes the references, errors and presets of ``records`` and writes ``sweep.csv``,
-    ``sweep.json``, ``sweep.md`` and ``sweep_<method>.png`` into ``out`` (each atomically).
-    Returns the JSON document."""
-    from . import __version__
-    from .result import _atomic
+    ``sweep.md``, ``sweep_<method>.png`` and ``sweep.json`` (last) into ``out`` as one unit
+    (``_folder``). Returns the JSON document, which says what is missing: ``missing_points``
+    (points without a record), ``missing_files`` (plots a Ctrl-C stopped) and ``complete``.
 
-    out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
+    Raises:
+        OutputError: ``out`` cannot be written; the outputs were saved to the temporary folder
+            it names instead (``fallback``).
+        SweepInterrupted: Ctrl-C while drawing, after writing the rest (marked incomplete; the
+            exception's ``doc`` is the JSON document).
+    """
+    return with_fallback(Path(out), lambda d: _write(d, points, records, extra or {}), "sweep")
+
+
+def _write(
+    out: Path,
+    points: Sequence[dict[str, Any]],
+    records: Sequence[dict[str, Any]],
+    extra: dict[str, Any],
+) -> dict[str, Any]:
+    from . import __version__
+
     records = list(records)
-    points = [p for p in points if p["scene"].get("name", "") in {r["name"] for r in records}]
+    done = {r["name"] for r in records}
+    names = [p["scene"].get("name", "") for p in points]
+    missing_points = [n for n in names if n not in done]
+    points = [p for p, n in zip(points, names) if n in done]
     refs = references(records)
     recs = errors(records, refs)
     presets = choose_presets(recs, points)
-    buf = io.StringIO()
-    w = csv.writer(buf)
-    w.writerow(CSV_KEYS)
-    for r in recs:
-        w.writerow([_fmt(r.get(k)) for k in CSV_KEYS])
-    with _atomic(out / "sweep.csv", "w") as f:
-        f.write(buf.getvalue())
-    doc = {
-        "version": __version__,
-        "machine": {
-            "platform": platform.platform(),
-            "cores": os.cpu_count(),
-            "python": platform.python_version(),
-            "load_average": list(os.getloadavg()) if hasattr(os, "getloadavg") else None,
-        },
-        **(extra or {}),
-        "references": refs,
-        "presets": presets,
-        "points": recs,
-        "scenes": {p["scene"].get("name", ""): p["scene"] for p in points},
-    }
-    with _atomic(out / "sweep.json", "w") as f:
-        json.dump(doc, f, indent=1)
-    with _atomic(out / "sweep.md", "w") as f:
-        f.write(markdown(recs, refs, presets))
-    for method in sorted({r["method"] for r in recs}):
-        plot(recs, method, out / f"sweep_{method}.png")
+    with writing(out, owned=FILES, last="sweep.json") as w:
+        buf = io.StringIO()
+        csv_w = csv.writer(buf)
+        csv_w.writerow(CSV_KEYS)
+        for r in recs:
+            csv_w.writerow([_fmt(r.get(k)) for k in CSV_KEYS])
+        w.stage("sweep.csv").write_text(buf.getvalue(), encoding="utf-8")
+        w.stage("sweep.md").write_text(markdown(recs, refs, presets), encoding="utf-8")
+        missing_files, stopped = [], False
+        for method in sorted({r["method"] for r in recs}):
+            name = f"sweep_{method}.png"
+            if stopped:
+                missing_files.append(name)
+                continue
+            try:
+                plot(recs, method, w.stage(name))
+            except KeyboardInterrupt:
+                w.discard(name)
+                missing_files.append(name)
+                stopped = True
+        interrupted = bool(extra.get("interrupted")) or stopped
+        doc = {
+            "version": __version__,
+            "machine": {
+                "platform": platform.platform(),
+                "cores": os.cpu_count(),
+                "python": platform.python_version(),
+                "load_average": list(os.getloadavg()) if hasattr(os, "getloadavg") else None,
+            },
+            **extra,
+            "interrupted": interrupted,
+            "complete": not interrupted and not missing_points and not missing_files,
+            "missing_points": missing_points,
+            "missing_files": missing_files,
+            "references": refs,
+            "presets": presets,
+            "points": recs,
+            "scenes": {p["scene"].get("name", ""): p["scene"] for p in points},
+        }
+        w.stage("sweep.json").write_text(json.dumps(doc, indent=1), encoding="utf-8")
+    if stopped:
+        raise SweepInterrupted(records, doc)
     return doc
