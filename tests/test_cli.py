@@ -136,11 +136,11 @@ def test_out_naming_a_file_is_refused_before_the_run(
 ) -> None:
     f = tmp_path / "file"
     f.write_text("x")
-    assert main(["run", str(root / "examples" / UNCRACKED), "--out", str(f)]) == 2
+    assert main(["run", str(rf.examples.path(UNCRACKED)), "--out", str(f)]) == 2
     err = capsys.readouterr().err
     assert f"{f}: it is a file, not a folder" in err and "Traceback" not in err
     assert no_run == []
-    assert main(["run", str(root / "examples" / UNCRACKED), "--out", str(f / "sub")]) == 2
+    assert main(["run", str(rf.examples.path(UNCRACKED)), "--out", str(f / "sub")]) == 2
     assert "is a file, not a folder" in capsys.readouterr().err
 
 
@@ -152,7 +152,7 @@ def test_read_only_out_is_refused_before_the_run(
     ro.mkdir()
     ro.chmod(0o555)
     try:
-        assert main(["run", str(root / "examples" / UNCRACKED), "--out", str(ro / "o")]) == 2
+        assert main(["run", str(rf.examples.path(UNCRACKED)), "--out", str(ro / "o")]) == 2
     finally:
         ro.chmod(0o755)
     assert "Permission denied" in capsys.readouterr().err
@@ -190,7 +190,7 @@ def test_unwritable_or_full_out_is_refused_before_the_run(
                 else real(p)
             ),
         )
-    assert main(["run", str(root / "examples" / UNCRACKED), "--out", str(tmp_path / "o")]) == 2
+    assert main(["run", str(rf.examples.path(UNCRACKED)), "--out", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err
     assert str(tmp_path / "o") in err
     assert ("Read-only file system" if problem == "read-only" else "12288 bytes free") in err
@@ -211,7 +211,7 @@ def test_save_failing_at_the_end_keeps_the_result_in_a_fallback(
         return real(self, w, **kw)
 
     monkeypatch.setattr(Result, "_stage", full_disk)
-    assert main(["run", str(root / "examples" / UNCRACKED), "--out", str(out), "-q"]) == 1
+    assert main(["run", str(rf.examples.path(UNCRACKED)), "--out", str(out), "-q"]) == 1
     err = capsys.readouterr().err
     assert "Traceback" not in err
     assert f"cannot write output folder {out}: No space left on device" in err
@@ -230,7 +230,7 @@ def test_ctrl_c_while_plotting_keeps_the_result(
 
     monkeypatch.setattr(rustfrac.plotting, "plot_field", interrupted)
     code = main(
-        ["run", str(root / "examples" / "paper_fem_seam.toml"), "--out", str(tmp_path), "--plot"]
+        ["run", str(rf.examples.path("paper_fem_seam.toml")), "--out", str(tmp_path), "--plot"]
     )
     assert code == 130
     assert "without s22.png" in capsys.readouterr().err

@@ -32,7 +32,7 @@ def test_condition_estimate_in_xfem_and_fem_results(xfem_growth: rf.Result) -> N
     assert np.all(np.isfinite(hist)) and np.all(hist[1:] > 1e3)
     assert hist[1] == pytest.approx(c, rel=1e-12)  # the first critical state reuses the solve
     assert xfem_growth.warnings == []
-    fem = rf.run(rf.scenes.edge_crack_plate(method="fem", crack="seam", mesh=(22, 42)))
+    fem = rf.run(rf.scenes.edge_crack_plate(method="fem", crack="seam", mesh=(22, 42), a0=1.0))
     assert fem.condition is not None and 1e2 < fem.condition < _core.COND_WARN
     assert fem.warnings == []
 
@@ -74,7 +74,7 @@ def test_warnings_become_python_warnings(monkeypatch: pytest.MonkeyPatch, kind: 
 
     monkeypatch.setitem(runner._RUNNERS, "fem", flagged)
     with pytest.warns(cls, match="3.00e") as rec:
-        res = rf.run(rf.scenes.edge_crack_plate(method="fem", mesh=(8, 16)))
+        res = rf.run(rf.scenes.edge_crack_plate(method="fem", mesh=(8, 16), a0=1.375))
     assert [type(w.message) for w in rec] == [cls]
     assert not any(issubclass(cls, o) or issubclass(o, cls) for o in others)
     assert res.warnings and res.warning_kinds == [kind]
@@ -84,7 +84,7 @@ def test_warnings_become_python_warnings(monkeypatch: pytest.MonkeyPatch, kind: 
     monkeypatch.setitem(runner._RUNNERS, "fem", real)
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        rf.run(rf.scenes.edge_crack_plate(method="fem", mesh=(8, 16)))
+        rf.run(rf.scenes.edge_crack_plate(method="fem", mesh=(8, 16), a0=1.375))
 
 
 @pytest.mark.parametrize(

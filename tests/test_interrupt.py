@@ -17,7 +17,7 @@ import pytest
 # a CCM-PD run of many cheap steps (coarse grid) and an XFEM growth of many states: each runs
 # far longer than the time before the signal
 SCENES = {
-    "ccm_pd": 'method = "ccm_pd"\n[pd]\ndx = 0.2\nsla_steps = 200000\n',
+    "ccm_pd": 'method = "ccm_pd"\n[pd]\nsize = [5.0, 2.0]\ncenter = [2.8, 10.5]\nsla_steps = 200000\n',
     "xfem": 'method = "xfem"\n[mesh]\nnx = 88\nny = 166\n[xfem]\ngrowth_steps = 400\nda = 0.005\n',
 }
 
@@ -53,8 +53,8 @@ def test_rf_run_without_callback_is_interrupted(tmp_path: Path) -> None:
         """
         import rustfrac as rf
         try:
-            rf.run(rf.Scene.from_dict({"method": "ccm_pd", "pd": {"dx": 0.2,
-                   "sla_steps": 200000}}))
+            rf.run(rf.Scene.from_dict({"method": "ccm_pd", "pd": {"size": [5.0, 2.0],
+                   "center": [2.8, 10.5], "sla_steps": 200000}}))
             print("finished")
         except KeyboardInterrupt as e:
             r = e.result

@@ -11,7 +11,7 @@ import rustfrac as rf
 
 
 @pytest.mark.parametrize("method", ["fem", "xfem", "pd", "ccm_pd"])
-@pytest.mark.parametrize("u0", [5e-324, 1e-250, 1e250])
+@pytest.mark.parametrize("u0", [5e-324, 1e-250, -1e-290])
 def test_underflowing_displacements_are_refused(method: str, u0: float) -> None:
     # before: u0 = 5e-324 gave sigma22 = -1.8e-321 (wrong sign) and K_I = 0, PD stopped with
     # "no_bond_in_tension" after 0 steps

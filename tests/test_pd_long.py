@@ -11,20 +11,8 @@ import numpy as np
 import pytest
 
 import rustfrac as rf
+from pd_scenes import coarse
 from rustfrac.cli import main
-
-
-def coarse(steps: int = 30, **kw: object) -> rf.Scene:
-    """The paper's plate, dx = 0.2, PD rectangle [0.3, 4.7] x [9.3, 11.7] (as in test_pd)."""
-    args: dict[str, object] = {
-        "method": "ccm_pd",
-        "dx": 0.2,
-        "pd_center": (2.5, 10.5),
-        "pd_size": (4.4, 2.4),
-        "sla_steps": steps,
-    }
-    args.update(kw)
-    return rf.scenes.edge_crack_plate(**args)  # type: ignore[arg-type]
 
 
 def test_m1_runs_with_an_accuracy_warning() -> None:

@@ -418,7 +418,7 @@ def test_native_entry_points_refuse_by_name() -> None:
 
 
 def test_locking_warning() -> None:
-    s = rf.scenes.edge_crack_plate("fem", nu=0.4999, mesh=(8, 12))
+    s = rf.scenes.edge_crack_plate("fem", nu=0.4999, mesh=(8, 12), a0=1.375)
     with pytest.warns(rf.LockingWarning, match="lock"):
         r = rf.run(s)
     assert r.meta["warnings"] and "0.4999" in r.meta["warnings"][0]

@@ -92,7 +92,7 @@ def test_condition_opt_out_in_growth() -> None:
 
 
 def test_warning_kinds_round_trip(tmp_path: Path) -> None:
-    scene = rf.scenes.edge_crack_plate("fem", nu=0.4999, mesh=(8, 12))
+    scene = rf.scenes.edge_crack_plate("fem", nu=0.4999, mesh=(8, 12), a0=1.375)
     with pytest.warns(rf.LockingWarning):
         res = rf.run(scene)
     assert res.warning_kinds == ["locking"] and "0.4999" in res.warnings[0]
@@ -109,9 +109,13 @@ def test_warning_kinds_round_trip(tmp_path: Path) -> None:
 
 
 def test_native_warning_pairs() -> None:
-    out = _core.run(
-        {"method": "fem", "mesh": {"nx": 8, "ny": 12}, "material": {"nu": 0.4999}}, None, False
-    )
+    scene = {
+        "method": "fem",
+        "mesh": {"nx": 8, "ny": 12},
+        "material": {"nu": 0.4999},
+        "crack": {"a0": 1.375},  # the seam on a grid node: no seam-length warning
+    }
+    out = _core.run(scene, None, False)
     assert out["scalars"]["condition"] is None and out["scalars"]["condition_pivot_ratio"] is None
     [kind], [msg] = out["meta"]["warning_kinds"], out["meta"]["warnings"]
     assert kind == "locking" and kind in _core.WARNING_KINDS and "0.4999" in msg

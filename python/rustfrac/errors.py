@@ -26,6 +26,7 @@ __all__ = [
     "InvalidTypeError",
     "LockingWarning",
     "MethodNotAvailableError",
+    "OutOfMemoryError",
     "OutputError",
     "ResultNotFoundError",
     "RustfracError",
@@ -68,6 +69,12 @@ class SeparatedError(SingularSystemError):
 
 class InternalError(RustfracError, RuntimeError):
     """An internal failure of the numerical core (e.g. a caught Rust panic). Please report it."""
+
+
+class OutOfMemoryError(RustfracError, MemoryError):
+    """A run needs more memory than the machine's free memory or the process's address-space
+    limit (``ulimit -v``) leaves: refused before the model is built, the message names the
+    estimated size and what is available (or a large buffer's allocation failed)."""
 
 
 class CheckpointIOError(RustfracError, OSError):

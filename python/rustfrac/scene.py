@@ -332,7 +332,7 @@ class Scene:
     @classmethod
     def from_toml_str(cls, text: str) -> Scene:
         """Reads a scene from TOML text (at most :data:`MAX_SCENE_BYTES` long)."""
-        if len(text) > MAX_SCENE_BYTES or len(text.encode("utf-8")) > MAX_SCENE_BYTES:
+        if len(text) > MAX_SCENE_BYTES or len(text.encode("utf-8", "surrogatepass")) > MAX_SCENE_BYTES:
             raise _too_large("scene text")
         try:
             data = tomllib.loads(text)

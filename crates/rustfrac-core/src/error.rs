@@ -37,6 +37,13 @@ pub enum Error {
     Internal { detail: String },
     /// A file could not be read or written (checkpoints).
     Io { path: String, detail: String },
+    /// A run (or one of its large buffers) needs more memory than the machine or the process's
+    /// limit leaves ([`crate::memory`]).
+    OutOfMemory {
+        what: String,
+        needed: u64,
+        available: u64,
+    },
 }
 
 pub type Result<T> = std::result::Result<T, Error>;
@@ -88,6 +95,17 @@ impl fmt::Display for Error {
             Error::Separated { detail } => write!(f, "body separated: {detail}"),
             Error::Internal { detail } => write!(f, "internal error: {detail}"),
             Error::Io { path, detail } => write!(f, "{path}: {detail}"),
+            Error::OutOfMemory {
+                what,
+                needed,
+                available,
+            } => write!(
+                f,
+                "out of memory: {what} needs about {:.2} GiB, {:.2} GiB available (free memory \
+                 or the process's address-space limit); use a coarser grid or a smaller PD region",
+                *needed as f64 / 1073741824.0,
+                *available as f64 / 1073741824.0
+            ),
         }
     }
 }

@@ -11,6 +11,7 @@ use crate::fe::loading::{plate_conditions, sigma22, PlateEdges};
 use crate::fe::mesh::Mesh;
 use crate::fe::{FemModel, LinearSystem};
 use crate::la::{condition_warning, ConditionEstimate};
+use crate::memory;
 use crate::problem::parse::crack_name;
 use crate::problem::{validate, CrackKind, FemMethod, Method, Problem};
 use crate::warning::{Warning, WarningKind};
@@ -74,6 +75,11 @@ pub fn run(p: &Problem) -> Result<FemPlateResult> {
         ));
     };
     let material = p.material.elastic;
+    let n = 2 * (method.grid.nx + 1) * (method.grid.ny + 1);
+    memory::check(
+        &format!("the FEM plate of {n} unknowns"),
+        n as f64 * memory::BYTES_PER_DOF,
+    )?;
     let SeamedMesh {
         mesh,
         mouth,

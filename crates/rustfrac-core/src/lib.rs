@@ -18,6 +18,7 @@ pub mod fe;
 pub mod fem_driver;
 pub mod geometry;
 pub mod la;
+pub mod memory;
 pub mod pd;
 pub mod problem;
 pub mod warning;

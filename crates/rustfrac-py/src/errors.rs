@@ -51,6 +51,7 @@ pub fn core_err(py: Python<'_>, e: CoreError) -> PyErr {
         CoreError::Separated { .. } => "SeparatedError",
         CoreError::Internal { .. } => "InternalError",
         CoreError::Io { .. } => "CheckpointIOError",
+        CoreError::OutOfMemory { .. } => "OutOfMemoryError",
     };
     py_error(py, name, msg, param.as_deref())
 }

@@ -49,12 +49,26 @@ fn run<'py>(
     }
 }
 
+/// A panic inside the core becomes `rustfrac.InternalError` (caught at the boundary); the hook
+/// prints one short line instead of the default report, whose backtrace printer allocates and
+/// could deadlock when the panic came from an exhausted memory limit.
+fn quiet_panics() {
+    static ONCE: std::sync::Once = std::sync::Once::new();
+    ONCE.call_once(|| {
+        std::panic::set_hook(Box::new(|info| {
+            use std::io::Write;
+            let _ = writeln!(std::io::stderr(), "rustfrac: internal panic: {info}");
+        }));
+    });
+}
+
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     // load NumPy's C API now: loading it later, while a Ctrl-C is pending, fails inside numpy's
     // import and panicked ("Failed to access NumPy array API capsule")
     let _ = numpy::PyArray1::<f64>::zeros(m.py(), 0, false);
+    quiet_panics();
     m.add("PROGRESS_INTERVAL_S", PROGRESS_INTERVAL_S)?;
     m.add("COND_WARN", rustfrac_core::la::COND_WARN)?;
     m.add("COND_SINGULAR", rustfrac_core::la::COND_SINGULAR)?;

@@ -16,6 +16,21 @@ pub(super) fn check_square(a: &CscMatrix) -> Result<()> {
     Ok(())
 }
 
+/// A faer error of `what`: its allocation failures are [`Error::OutOfMemory`], the rest
+/// [`Error::Internal`].
+pub(super) fn faer_error(what: &str, e: faer::sparse::FaerError) -> Error {
+    match e {
+        faer::sparse::FaerError::OutOfMemory => Error::OutOfMemory {
+            what: format!("the {what}"),
+            needed: 0,
+            available: crate::memory::available_bytes().unwrap_or(0.0) as u64,
+        },
+        e => Error::Internal {
+            detail: format!("{what}: {e:?}"),
+        },
+    }
+}
+
 pub(super) fn faer_ref(a: &CscMatrix) -> SparseColMatRef<'_, usize, f64> {
     faer_ref_values(a, &a.val)
 }

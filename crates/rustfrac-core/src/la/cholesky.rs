@@ -92,9 +92,7 @@ impl Cholesky {
                 a.nrows, a.ncols, &a.col_ptr, None, &a.row_idx,
             );
             let symbolic = factorize_symbolic_cholesky(sym, Side::Lower, ord, Default::default())
-                .map_err(|e| Error::Internal {
-                detail: format!("symbolic Cholesky: {e:?}"),
-            })?;
+                .map_err(|e| super::checks::faer_error("symbolic Cholesky", e))?;
             let len = symbolic.len_val();
             Ok(Self {
                 n: a.nrows,
@@ -176,8 +174,10 @@ impl Cholesky {
         catch_panic("faer numeric Cholesky", || {
             let par = faer::get_global_parallelism();
             let req = symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default());
-            let mut mem = MemBuffer::try_new(req).map_err(|_| Error::Internal {
-                detail: "out of memory for the Cholesky workspace".into(),
+            let mut mem = MemBuffer::try_new(req).map_err(|_| Error::OutOfMemory {
+                what: "the Cholesky workspace".into(),
+                needed: req.size_bytes() as u64,
+                available: crate::memory::available_bytes().unwrap_or(0.0) as u64,
             })?;
             let reg = LltRegularization {
                 dynamic_regularization_delta: SENTINEL_PIVOT,
@@ -268,8 +268,10 @@ impl Cholesky {
             let par = faer::get_global_parallelism();
             let llt = LltRef::<usize, f64>::new(&self.symbolic, &self.values);
             let req = self.symbolic.solve_in_place_scratch::<f64>(k, par);
-            let mut mem = MemBuffer::try_new(req).map_err(|_| Error::Internal {
-                detail: "out of memory for the solve workspace".into(),
+            let mut mem = MemBuffer::try_new(req).map_err(|_| Error::OutOfMemory {
+                what: "the solve workspace".into(),
+                needed: req.size_bytes() as u64,
+                available: crate::memory::available_bytes().unwrap_or(0.0) as u64,
             })?;
             // A^-1 = S (S A S)^-1 S
             for col in rhs.chunks_mut(n) {

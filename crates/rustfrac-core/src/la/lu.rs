@@ -25,9 +25,8 @@ impl Lu {
             let sym = SymbolicSparseColMatRef::new_checked(
                 a.nrows, a.ncols, &a.col_ptr, None, &a.row_idx,
             );
-            let symbolic = SymbolicLu::try_new(sym).map_err(|e| Error::Internal {
-                detail: format!("symbolic LU: {e:?}"),
-            })?;
+            let symbolic = SymbolicLu::try_new(sym)
+                .map_err(|e| super::checks::faer_error("symbolic LU", e))?;
             Ok(Self {
                 n: a.nrows,
                 symbolic,

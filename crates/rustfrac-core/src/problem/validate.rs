@@ -330,7 +330,8 @@ pub fn reference_load(p: &Problem) -> Result<()> {
                 key,
                 &format!(
                     "{what} whose displacement, strain, stress and edge force lie in [{lo:e}, \
-                     {hi:e}] in magnitude (solved in floating point: smaller values underflow)"
+                     {hi:e}] in magnitude (solved in floating point: smaller values underflow, \
+                     larger ones overflow)"
                 ),
                 format!("{value:e} ({name} = {v:e})"),
             ));

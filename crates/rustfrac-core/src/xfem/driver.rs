@@ -158,6 +158,11 @@ fn checked(p: &Problem) -> Result<&XfemMethod> {
 fn build(p: &Problem) -> Result<(&XfemMethod, XfemModel, PlateProblem)> {
     let x = checked(p)?;
     let d = &p.domain;
+    let n = 2 * (x.grid.nx + 1) * (x.grid.ny + 1);
+    crate::memory::check(
+        &format!("the XFEM plate of {n} standard unknowns"),
+        n as f64 * crate::memory::BYTES_PER_DOF,
+    )?;
     let mesh = Arc::new(Mesh::uniform(
         0.0, 0.0, d.width, d.height, x.grid.nx, x.grid.ny,
     )?);

@@ -20,15 +20,11 @@ use crate::error::{Error, Result};
 use crate::fe::loading::Grip;
 use crate::la::CscMatrix;
 use crate::pd::splice::{SpliceModel, Spring, StaticSolution};
-use crate::pd::{damage, BYTES_PER_BOND};
+use crate::pd::{damage, BYTES_PER_BOND, DENSE_LIMIT};
 use crate::problem::{validate, Problem, SlaParams};
 use crate::warning::{Warning, WarningKind};
 use std::path::Path;
 use std::time::Instant;
-
-/// Most free PD dofs for which the fast solver's dense condensed system is used; above, the
-/// oracle runs.
-const DENSE_LIMIT: usize = 6000;
 
 /// Runs a CCM-PD (or pure PD) problem: linear solution at the reference load, then the SLA.
 /// `progress(step, max_steps)` is called after every step; returning `false` stops the run

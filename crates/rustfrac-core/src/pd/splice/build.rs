@@ -10,7 +10,8 @@ use crate::error::{Error, Result};
 use crate::fe::q4::element_stiffness;
 use crate::fe::quadrature::subquad_rule;
 use crate::la::Pattern;
-use crate::pd::{find_bonds, Bond, Grid, PdConstants};
+use crate::memory;
+use crate::pd::{family_stencil, find_bonds, Bond, Grid, PdConstants, BYTES_PER_BOND, DENSE_LIMIT};
 use crate::problem::{validate, Method, PdMethod, Problem};
 use crate::warning::{Warning, WarningKind};
 
@@ -35,6 +36,16 @@ impl SpliceModel {
         let all_pd = matches!(p.method, Method::Pd(_));
         let (grid, pd) = grid_and_constants(p, pm)?;
         let (is_pd, pd_nodes, warnings) = node_classes(pm, &grid)?;
+        memory::check(
+            &format!(
+                "the {} model ({} grid nodes, {} PD nodes, m = {})",
+                p.method.name(),
+                grid.n_nodes(),
+                pd_nodes.len(),
+                pm.m
+            ),
+            memory_estimate(grid.n_nodes(), pd_nodes.len(), pm.m),
+        )?;
         let crack = precrack::in_grid_units(&precrack, &p.domain, &grid)?;
         let ke = element_matrix(p, &grid);
         let (elements, n_removed) = hybrid_elements(&grid, &is_pd, &crack);
@@ -73,6 +84,25 @@ impl SpliceModel {
             cmod_nodes,
         })
     }
+}
+
+/// An upper bound of the bytes a model and its SLA need: at most `m`'s family of bonds per PD
+/// node, each with its matrix blocks (8 + 8 indices, 16 entries of the pattern), incidence and
+/// SLA state (about 400 bytes besides the bond itself); the FEM part's factor
+/// ([`memory::BYTES_PER_DOF`] per unknown); and the fast solver's dense condensed system (three
+/// n x n matrices of the 2 n_PD unknowns) or, above [`DENSE_LIMIT`], the oracle's sparse LU
+/// (about 20 times the matrix entries).
+fn memory_estimate(n_nodes: usize, n_pd: usize, m: usize) -> f64 {
+    let bonds = n_pd as f64 * family_stencil(m).len() as f64;
+    let per_bond = BYTES_PER_BOND as f64 + 400.0;
+    let fem = 2.0 * n_nodes as f64 * memory::BYTES_PER_DOF;
+    let n_p = 2.0 * n_pd as f64;
+    let solver = if n_p <= DENSE_LIMIT as f64 {
+        3.0 * 8.0 * n_p * n_p
+    } else {
+        bonds * 16.0 * 20.0 * 12.0
+    };
+    bonds * per_bond + fem + solver
 }
 
 /// The grid (its fit and node count are rules of the problem, [`validate::problem`]) and the PD
