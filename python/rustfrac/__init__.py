@@ -13,58 +13,23 @@ Units are consistent; the paper's case uses N, mm and MPa.
 
 from __future__ import annotations
 
+from . import errors as _errors
 from . import examples, plotting, scenes
 from ._core import __version__
-from .errors import (
-    AccuracyWarning,
-    CheckpointIOError,
-    DiscretisationWarning,
-    IllConditionedWarning,
-    InternalError,
-    InvalidParameterError,
-    InvalidResultError,
-    InvalidTypeError,
-    LockingWarning,
-    MethodNotAvailableError,
-    OutOfMemoryError,
-    OutputError,
-    PlotDataError,
-    ResultNotFoundError,
-    RustfracError,
-    SeparatedError,
-    SingularSystemError,
-    UnknownParameterError,
-)
+from .errors import *  # noqa: F403 (the exception and warning classes, errors.__all__)
 from .result import Result, load
 from .runner import run
 from .scene import METHODS, Scene
 
 __all__ = [
     "METHODS",
-    "AccuracyWarning",
-    "CheckpointIOError",
-    "DiscretisationWarning",
-    "IllConditionedWarning",
-    "InternalError",
-    "InvalidParameterError",
-    "InvalidResultError",
-    "InvalidTypeError",
-    "LockingWarning",
-    "MethodNotAvailableError",
-    "OutOfMemoryError",
-    "OutputError",
-    "PlotDataError",
     "Result",
-    "ResultNotFoundError",
-    "RustfracError",
     "Scene",
-    "SeparatedError",
-    "SingularSystemError",
-    "UnknownParameterError",
     "__version__",
     "examples",
     "load",
     "plotting",
     "run",
     "scenes",
+    *_errors.__all__,
 ]

@@ -141,13 +141,7 @@ def plot_discretisations(
     ax = fig.add_subplot(1, 2, 1)
     xy, el = xfem["coords"], xfem["elements"]
     cells = xy[el]
-    inside = np.all(
-        (cells[:, :, 0] >= x0 - tol)
-        & (cells[:, :, 0] <= x1 + tol)
-        & (cells[:, :, 1] >= y0 - tol)
-        & (cells[:, :, 1] <= y1 + tol),
-        axis=1,
-    )
+    inside = _cells_inside(cells, (x0, y0, x1, y1), tol)
     hv = np.zeros(len(xy), bool)
     hv[np.asarray(xfem["heaviside_nodes"], int)] = True
     tp = np.zeros(len(xy), bool)
@@ -179,13 +173,7 @@ def plot_discretisations(
     nxy, is_pd, gel = pd["node_xy"], np.asarray(pd["is_pd"], bool), pd["elements"]
     removed = np.asarray(pd.get("removed", np.zeros(len(gel), bool)), bool)
     gcells = nxy[gel]
-    ginside = np.all(
-        (gcells[:, :, 0] >= x0 - tol)
-        & (gcells[:, :, 0] <= x1 + tol)
-        & (gcells[:, :, 1] >= y0 - tol)
-        & (gcells[:, :, 1] <= y1 + tol),
-        axis=1,
-    )
+    ginside = _cells_inside(gcells, (x0, y0, x1, y1), tol)
     npd = is_pd[gel].sum(axis=1)
     fem_el = (npd < 4) & ~removed
     hybrid = fem_el & (npd > 0)
@@ -216,3 +204,10 @@ def grid_elements(nx: int, ny: int) -> np.ndarray:
     i, j = np.meshgrid(np.arange(nx), np.arange(ny))
     n0 = (j * (nx + 1) + i).ravel()
     return np.column_stack([n0, n0 + 1, n0 + nx + 2, n0 + nx + 1])
+
+
+def _cells_inside(cells: np.ndarray, box: tuple[float, float, float, float], tol: float) -> np.ndarray:
+    """Which cells (n, 4, 2 corner coordinates) lie inside the box (x0, y0, x1, y1), within tol."""
+    x0, y0, x1, y1 = box
+    x, y = cells[:, :, 0], cells[:, :, 1]
+    return np.all((x >= x0 - tol) & (x <= x1 + tol) & (y >= y0 - tol) & (y <= y1 + tol), axis=1)

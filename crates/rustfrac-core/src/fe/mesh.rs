@@ -83,25 +83,19 @@ impl Mesh {
             return Err(Error::invalid("ny", "an integer >= 1", ny));
         }
         check_grid_size(nx, ny)?;
-        let xs = (0..=nx)
-            .map(|i| {
-                if i == nx {
-                    x0 + width
-                } else {
-                    x0 + width * i as f64 / nx as f64
-                }
-            })
-            .collect();
-        let ys = (0..=ny)
-            .map(|j| {
-                if j == ny {
-                    y0 + height
-                } else {
-                    y0 + height * j as f64 / ny as f64
-                }
-            })
-            .collect();
-        Self::from_lines(xs, ys)
+        // n equal cells from o to o + len, the last line exactly at o + len
+        let lines = |o: f64, len: f64, n: usize| -> Vec<f64> {
+            (0..=n)
+                .map(|i| {
+                    if i == n {
+                        o + len
+                    } else {
+                        o + len * i as f64 / n as f64
+                    }
+                })
+                .collect()
+        };
+        Self::from_lines(lines(x0, width, nx), lines(y0, height, ny))
     }
 
     /// Grid from explicit line coordinates (non-uniform spacing; at most [`MAX_ELEMENTS`]).
