@@ -161,13 +161,7 @@ def plot_discretisations(
     ax.plot(*xy[sel & tp].T, "o", ms=5, mfc="C3", mec="C3", label="crack-tip nodes")
     c = np.asarray(xfem["crack"])
     ax.plot(c[:, 0], c[:, 1], "k-", lw=1.5, label="crack")
-    ax.set_xlim(x0, x1)
-    ax.set_ylim(y0, y1)
-    ax.set_aspect("equal")
-    ax.set_title("XFEM: split (blue), tip (orange) and blending (grey) elements", fontsize=9)
-    ax.legend(fontsize=7, loc="upper right")
-    ax.set_xlabel("x1 [mm]")
-    ax.set_ylabel("x2 [mm]")
+    _finish_panel(ax, (x0, y0, x1, y1), "XFEM: split (blue), tip (orange) and blending (grey) elements")
 
     ax = fig.add_subplot(1, 2, 2)
     nxy, is_pd, gel = pd["node_xy"], np.asarray(pd["is_pd"], bool), pd["elements"]
@@ -189,13 +183,7 @@ def plot_discretisations(
     c = np.asarray(pd["crack"])
     ax.plot(c[:, 0], c[:, 1], "k-", lw=1.5, label="pre-crack")
     ax.add_patch(Rectangle((x0, y0), x1 - x0, y1 - y0, fill=False, lw=0))
-    ax.set_xlim(x0, x1)
-    ax.set_ylim(y0, y1)
-    ax.set_aspect("equal")
-    ax.set_title("CCM-PD: PD nodes, FEM and hybrid elements", fontsize=9)
-    ax.legend(fontsize=7, loc="upper right")
-    ax.set_xlabel("x1 [mm]")
-    ax.set_ylabel("x2 [mm]")
+    _finish_panel(ax, (x0, y0, x1, y1), "CCM-PD: PD nodes, FEM and hybrid elements")
     return fig
 
 
@@ -211,3 +199,15 @@ def _cells_inside(cells: np.ndarray, box: tuple[float, float, float, float], tol
     x0, y0, x1, y1 = box
     x, y = cells[:, :, 0], cells[:, :, 1]
     return np.all((x >= x0 - tol) & (x <= x1 + tol) & (y >= y0 - tol) & (y <= y1 + tol), axis=1)
+
+
+def _finish_panel(ax: Axes, box: tuple[float, float, float, float], title: str) -> None:
+    """Limits (the box), equal aspect, title, legend and axis labels of a discretisation panel."""
+    x0, y0, x1, y1 = box
+    ax.set_xlim(x0, x1)
+    ax.set_ylim(y0, y1)
+    ax.set_aspect("equal")
+    ax.set_title(title, fontsize=9)
+    ax.legend(fontsize=7, loc="upper right")
+    ax.set_xlabel("x1 [mm]")
+    ax.set_ylabel("x2 [mm]")
