@@ -238,7 +238,7 @@ proptest! {
                 XFEM_OK.fetch_add(1, Ordering::Relaxed);
             }
             Err(err) => prop_assert!(
-                matches!(err, Error::InvalidInput { .. } | Error::Singular { .. } | Error::NotPositiveDefinite { .. }),
+                matches!(err, Error::InvalidInput { .. } | Error::Singular { .. } | Error::NotPositiveDefinite { .. } | Error::OutOfMemory { .. }),
                 "{err}"
             ),
         }
@@ -288,7 +288,7 @@ proptest! {
                 PD_OK.fetch_add(1, Ordering::Relaxed);
             }
             Err(err) => prop_assert!(
-                matches!(err, Error::InvalidInput { .. } | Error::Singular { .. } | Error::Separated { .. } | Error::NotPositiveDefinite { .. }),
+                matches!(err, Error::InvalidInput { .. } | Error::Singular { .. } | Error::Separated { .. } | Error::NotPositiveDefinite { .. } | Error::OutOfMemory { .. }),
                 "{err}"
             ),
         }
