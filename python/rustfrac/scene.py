@@ -76,6 +76,7 @@ PathLike = Union[str, Path]
 
 _SCHEMA: list[dict[str, Any]] = _core.scene_schema()
 _CONST: dict[str, Any] = _core.scene_constants()
+#: the methods a scene can run: "fem", "xfem", "pd", "ccm_pd"
 METHODS: tuple[str, ...] = tuple(_CONST["METHODS"])
 #: sections each method reads (the others must not appear in its scene files)
 METHOD_SECTIONS: dict[str, tuple[str, ...]] = {

@@ -59,8 +59,10 @@ def edge_crack_plate(
             (0 = 0.7 width)). Growth uses ``G0``.
         dx, m, pd_center, pd_size, sla_steps: PD grid spacing, horizon factor (delta = m dx),
             PD rectangle of the CCM-PD model (pure PD covers the plate), and SLA steps.
-        tie_tol, refactor_every, fast, stop_crack_length, damage_at_steps, checkpoint_every,
-            checkpoint_path, resume_from: SLA options (see :class:`~rustfrac.scene.PdOptions`).
+        tie_tol, refactor_every, fast, stop_crack_length: SLA options (see
+            :class:`~rustfrac.scene.PdOptions`).
+        damage_at_steps, checkpoint_every, checkpoint_path, resume_from: SLA outputs and
+            checkpoints (see :class:`~rustfrac.scene.PdOptions`).
         cracks: XFEM only: several cracks, each a :class:`~rustfrac.scene.Crack` or a dict of
             its keys (e.g. ``{"kind": "edge", "side": "right", "a0": 1.1, "y": 10.5}``), in place
             of the single crack that ``crack``, ``a0``, ``crack_y``, ``crack_angle`` and
