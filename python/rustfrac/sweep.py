@@ -16,6 +16,11 @@ Errors: each quantity is compared with a reference per method, taken from that m
 study (XFEM ``mesh``, CCM-PD ``dx``): the Richardson extrapolation of its three finest levels when
 they show a consistent observed rate (0.5 <= p <= 6, monotone differences), else the finest level
 itself. ``err_finest_<q>`` is always against the finest level (0 there by construction).
+
+The user's own scene (:func:`sweep_scene`, ``rustfrac sweep SCENE.toml --param P --levels ...``):
+one knob (``mesh``, ``pd.dx`` or any ``section.key``) at the given levels, any scalar response as
+the quantity (:func:`quantities_of`), the same backends, and :func:`extrapolate` (Richardson with
+a status) of the three finest levels. Every point is timed ``repeats`` times, the minimum kept.
 """
 
 from __future__ import annotations
@@ -39,16 +44,26 @@ from .scene import Scene
 from .scenes import edge_crack_plate
 
 __all__ = [
+    "DEFAULT_REPEATS",
     "FILES",
     "QUANTITIES",
+    "SCENE_PARAMS",
     "SweepInterrupted",
+    "check_quantity",
     "choose_presets",
     "define_points",
     "errors",
+    "extrapolate",
+    "quantities_of",
     "richardson",
     "run_point",
+    "run_scene_points",
+    "scene_points",
+    "scene_study",
     "sweep",
+    "sweep_scene",
     "write_outputs",
+    "write_scene_outputs",
 ]
 
 #: quantities compared per record (None where a method does not give it)
