@@ -1,6 +1,8 @@
 """Command line (also ``python -m rustfrac``): ``rustfrac run SCENE.toml --out DIR [--quiet]`` and
 ``rustfrac fig7 --out DIR [--preset paper|fast] [--bc free|clamped] [--quiet]`` and
-``rustfrac sweep --out DIR [--preset tiny|full] [--scheduler ADDR] [--workers N] [--quiet]`` and
+``rustfrac sweep --out DIR [--preset tiny|full] [--scheduler ADDR|local] [--workers N] [--quiet]``
+(the paper's plate) and ``rustfrac sweep SCENE.toml --param mesh|pd.dx|SECTION.KEY --levels
+L1,L2,... [--quantity K_I] [--repeats 3] [--dask ADDR|local]`` (the user's scene) and
 ``rustfrac examples [NAME]`` (the shipped example scenes and their paths).
 
 Exit codes: 0 success, 1 the run failed (singular system, internal error) or its output could not
@@ -15,6 +17,8 @@ from __future__ import annotations
 import argparse
 import sys
 import time
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Callable
 
@@ -78,14 +82,38 @@ def _parser() -> argparse.ArgumentParser:
     w = sub.add_parser(
         "sweep", help="speed-accuracy sweep of XFEM and CCM-PD (error against time, presets)"
     )
+    w.add_argument(
+        "scene", type=Path, nargs="?", default=None,
+        help="your scene file (TOML): sweep --param at --levels; without it, the paper's plate",
+    )
     w.add_argument("--out", type=Path, default=Path("sweep"), help="output directory")
     w.add_argument(
-        "--preset", choices=("tiny", "full"), default="full",
-        help="full: 5+ XFEM meshes, 4 PD grids, nsub, r_I, m, PD size (minutes); tiny: seconds",
+        "--preset", choices=("tiny", "full"), default=None,
+        help="the paper's plate: full (default): 5+ XFEM meshes, 4 PD grids, nsub, r_I, m, PD "
+        "size (minutes); tiny: seconds",
     )
     w.add_argument(
-        "--scheduler", default=None,
-        help="dask.distributed scheduler address (tcp://host:port); default: local processes",
+        "--param", default=None,
+        help="with SCENE: mesh (fem, xfem), pd.dx (pd, ccm_pd) or a scene key section.key",
+    )
+    w.add_argument(
+        "--levels", default=None,
+        help="with SCENE, comma-separated: mesh multipliers (1,2,4) or NXxNY pairs (22x41,44x83); "
+        "dx values (0.2,1/9); values of a scene key",
+    )
+    w.add_argument(
+        "--quantity", default="K_I",
+        help="with SCENE: the scalar response studied (K_I, K_II, J, sigma22, cmod, "
+        "peak_sigma22, ...; default K_I)",
+    )
+    w.add_argument(
+        "--repeats", type=int, default=None,
+        help="timings per point, the minimum kept (default 3)",
+    )
+    w.add_argument(
+        "--scheduler", "--dask", dest="scheduler", default=None, metavar="ADDRESS|local",
+        help="run on dask.distributed: a scheduler address (tcp://host:port) or 'local' (a "
+        "LocalCluster of --workers processes); default: local processes",
     )
     w.add_argument("--workers", type=int, default=None, help="local processes (default: cores)")
     w.add_argument("--quiet", "-q", action="store_true", help="print nothing but errors")
@@ -110,23 +138,80 @@ def _cmd_examples(args: argparse.Namespace) -> int:
     return 0
 
 
-def _cmd_sweep(args: argparse.Namespace) -> int:
-    from .sweep import SweepInterrupted, define_points, sweep, write_outputs
+def _parse_level(tok: str) -> Any:
+    """A --levels item: NXxNY -> (nx, ny), p/q -> p / q, an integer, a float, else the text."""
+    tok = tok.strip()
+    for sep in ("x", "/"):
+        a, _, b = tok.partition(sep)
+        if _ and a.strip().isdigit() and b.strip().isdigit():
+            return (int(a), int(b)) if sep == "x" else int(a) / int(b)
+    for kind in (int, float):
+        try:
+            return kind(tok)
+        except ValueError:
+            pass
+    return tok
 
+
+@contextmanager
+def _dask_scheduler(address: str | None, workers: int | None) -> Iterator[Any]:
+    """The scheduler of --scheduler/--dask: None (local processes), the address, or for
+    'local' a client of a LocalCluster (one thread per worker) closed afterwards."""
+    if address != "local":
+        yield address
+        return
+    try:
+        from distributed import Client, LocalCluster
+    except ImportError as e:
+        raise ImportError(
+            "sweeping on a dask cluster needs dask.distributed: pip install 'rustfrac[dask]'"
+        ) from e
+    import os
+
+    with LocalCluster(
+        n_workers=workers or os.cpu_count() or 1, threads_per_worker=1, processes=True,
+        dashboard_address=None,
+    ) as cluster, Client(cluster) as client:  # fmt: skip
+        yield client
+
+
+def _backend(args: argparse.Namespace) -> str:
+    return f"dask {args.scheduler}" if args.scheduler else f"local, {args.workers or 'all'} workers"
+
+
+def _cmd_sweep(args: argparse.Namespace) -> int:
+    from .sweep import DEFAULT_REPEATS, SweepInterrupted, define_points, sweep, write_outputs
+
+    scene_only = [f"--{k}" for k in ("param", "levels") if getattr(args, k) is not None]
+    if args.scene is not None and args.preset is not None:
+        print("rustfrac: error: --preset is for the paper's plate, not with a scene file",
+              file=sys.stderr)  # fmt: skip
+        return 2
+    if args.scene is None and scene_only:
+        print(f"rustfrac: error: {', '.join(scene_only)} need a scene file (rustfrac sweep "
+              "SCENE.toml --param mesh --levels 1,2,4)", file=sys.stderr)  # fmt: skip
+        return 2
     try:
         check_writable(args.out)  # before computing: a bad --out must not cost the sweep
     except OutputError as e:
         print(f"rustfrac: error: invalid --out: {e}", file=sys.stderr)
         return 2
+    if args.scene is not None:
+        return _cmd_sweep_scene(args)
+    preset = args.preset or "full"
+    repeats = args.repeats or DEFAULT_REPEATS
     log = (lambda *a: None) if args.quiet else (lambda *a: print(*a, flush=True))
-    points = define_points(args.preset)
-    backend = f"dask {args.scheduler}" if args.scheduler else f"local, {args.workers or 'all'} workers"
-    log(f"sweep   {len(points)} points, preset {args.preset}, {backend}")
+    points = define_points(preset)
+    backend = _backend(args)
+    log(f"sweep   {len(points)} points, preset {preset}, {repeats} timings each, {backend}")
     bar = None if args.quiet else ProgressBar(delay=0.0)
     t0 = time.perf_counter()
     interrupted = False
     try:
-        records = sweep(points, workers=args.workers, scheduler=args.scheduler, progress=bar)
+        with _dask_scheduler(args.scheduler, args.workers) as scheduler:
+            records = sweep(
+                points, workers=args.workers, scheduler=scheduler, progress=bar, repeats=repeats
+            )
     except SweepInterrupted as e:
         interrupted, records = True, e.records
     except KeyboardInterrupt:
@@ -144,10 +229,12 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
             points,
             records,
             extra={
-                "command": f"rustfrac sweep --out {args.out} --preset {args.preset}"
+                "command": f"rustfrac sweep --out {args.out} --preset {preset}"
+                + f" --repeats {repeats}"
                 + (f" --scheduler {args.scheduler}" if args.scheduler else "")
                 + (f" --workers {args.workers}" if args.workers else ""),
-                "preset": args.preset,
+                "preset": preset,
+                "repeats": repeats,
                 "backend": backend,
                 "total_wall_time_s": time.perf_counter() - t0,
                 "interrupted": interrupted,
@@ -178,6 +265,93 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
         f"sweep_{m}.png" for m in sorted({r["method"] for r in records})
     ]
     log(f"saved   {args.out}/ ({', '.join(files)})")
+    return 0
+
+
+def _cmd_sweep_scene(args: argparse.Namespace) -> int:
+    """``rustfrac sweep SCENE.toml --param P --levels L1,L2,... [--quantity Q]``."""
+    from .scene import Scene
+    from .sweep import (
+        DEFAULT_REPEATS,
+        SweepInterrupted,
+        run_scene_points,
+        scene_points,
+        write_scene_outputs,
+    )
+
+    if args.param is None or args.levels is None:
+        print("rustfrac: error: a scene sweep needs --param and --levels (e.g. --param mesh "
+              "--levels 1,2,4)", file=sys.stderr)  # fmt: skip
+        return 2
+    log = (lambda *a: None) if args.quiet else (lambda *a: print(*a, flush=True))
+    try:
+        scene = Scene.from_toml(args.scene)
+    except OSError as e:
+        print(
+            f"rustfrac: error: cannot read scene {args.scene}: {e.strerror or e}", file=sys.stderr
+        )
+        return 2
+    levels = [_parse_level(t) for t in args.levels.split(",") if t.strip()]
+    points = scene_points(scene, args.param, levels)  # bad param / levels: exit 2 (main)
+    repeats = args.repeats or DEFAULT_REPEATS
+    backend = _backend(args)
+    log(f"sweep   {args.scene}: {args.param} at {len(points)} levels, {args.quantity}, "
+        f"{repeats} timings each, {backend}")  # fmt: skip
+    bar = None if args.quiet else ProgressBar(delay=0.0)
+    t0 = time.perf_counter()
+    interrupted = False
+    try:
+        with _dask_scheduler(args.scheduler, args.workers) as scheduler:
+            records = run_scene_points(
+                points, args.quantity, repeats=repeats, workers=args.workers,
+                scheduler=scheduler, progress=bar,
+            )  # fmt: skip
+    except SweepInterrupted as e:
+        interrupted, records = True, e.records
+    except KeyboardInterrupt:
+        print("rustfrac: interrupted; no sweep files written", file=sys.stderr)
+        return 130
+    except ImportError as e:
+        print(f"rustfrac: error: {e}", file=sys.stderr)
+        return 2
+    finally:
+        if bar is not None:
+            bar.close()
+    doc = write_scene_outputs(
+        args.out, points, records, args.quantity,
+        extra={
+            "command": f"rustfrac sweep {args.scene} --out {args.out} --param {args.param} "
+            f"--levels {args.levels} --quantity {args.quantity} --repeats {repeats}"
+            + (f" --scheduler {args.scheduler}" if args.scheduler else "")
+            + (f" --workers {args.workers}" if args.workers else ""),
+            "scene_file": str(args.scene),
+            "scene": scene.to_dict(),
+            "repeats": repeats,
+            "backend": backend,
+            "total_wall_time_s": time.perf_counter() - t0,
+            "interrupted": interrupted,
+            "points_done": len(records),
+            "points_total": len(points),
+        },
+    )  # fmt: skip
+    if interrupted:
+        print(
+            f"rustfrac: interrupted; the {len(records)} finished levels of {len(points)} were "
+            f"written to {args.out}/",
+            file=sys.stderr,
+        )
+        return 130
+    q = args.quantity
+    for r in doc["levels"]:
+        h = "-" if r["h"] is None else format(r["h"], ".4g")
+        log(f"level   {r['name']}: {q} = {r['q']:.10g}, h = {h}, {r['wall_time_s']:.3f} s "
+            f"(spread {r['wall_time_spread_s']:.3f} s)")  # fmt: skip
+    rich = doc["richardson"]
+    if rich["status"] == "ok":
+        log(f"richardson {q}* = {rich['value']:.10g}, observed rate {rich['rate']:.3g}")
+    else:
+        log(f"richardson {rich['status']}: {rich['why']}")
+    log(f"saved   {args.out}/ (sweep.csv, sweep.json, sweep.md)")
     return 0
 
 

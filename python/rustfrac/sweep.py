@@ -16,6 +16,11 @@ Errors: each quantity is compared with a reference per method, taken from that m
 study (XFEM ``mesh``, CCM-PD ``dx``): the Richardson extrapolation of its three finest levels when
 they show a consistent observed rate (0.5 <= p <= 6, monotone differences), else the finest level
 itself. ``err_finest_<q>`` is always against the finest level (0 there by construction).
+
+The user's own scene (:func:`sweep_scene`, ``rustfrac sweep SCENE.toml --param P --levels ...``):
+one knob (``mesh``, ``pd.dx`` or any ``section.key``) at the given levels, any scalar response as
+the quantity (:func:`quantities_of`), the same backends, and :func:`extrapolate` (Richardson with
+a status) of the three finest levels. Every point is timed ``repeats`` times, the minimum kept.
 """
 
 from __future__ import annotations
@@ -29,25 +34,36 @@ import platform
 import resource
 import sys
 import time
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
 from ._folder import with_fallback, writing
+from .errors import InvalidParameterError
 from .scene import Scene
 from .scenes import edge_crack_plate
 
 __all__ = [
+    "DEFAULT_REPEATS",
     "FILES",
     "QUANTITIES",
+    "SCENE_PARAMS",
     "SweepInterrupted",
+    "check_quantity",
     "choose_presets",
     "define_points",
     "errors",
+    "extrapolate",
+    "quantities_of",
     "richardson",
     "run_point",
+    "run_scene_points",
+    "scene_points",
+    "scene_study",
     "sweep",
+    "sweep_scene",
     "write_outputs",
+    "write_scene_outputs",
 ]
 
 #: quantities compared per record (None where a method does not give it)
@@ -155,46 +171,103 @@ def define_points(preset: str = "full") -> list[dict[str, Any]]:
 # --------------------------------------------------------------------------- one point
 
 
-def run_point(point: dict[str, Any]) -> dict[str, Any]:
-    """Runs one point in this process and returns its record (no fields, numbers only).
+def run_point(point: dict[str, Any], repeats: int = 1) -> dict[str, Any]:
+    """Runs one point in this process ``repeats`` times and returns its record (no fields,
+    numbers only).
+
+    ``wall_time_s`` and ``solver_time_s`` are the minimum over the repeats (the first run of a
+    fresh process pays for page faults and lazy start-up, so one timing alone lets timer noise
+    order equal-cost points), ``wall_times_s`` every repeat's time and ``wall_time_spread_s``
+    their range; the numbers are those of the first run (one thread: every repeat gives the
+    same ones). ``quantities`` holds every scalar response of the run (:func:`quantities_of`).
 
     Sets ``RAYON_NUM_THREADS=1`` before the first solve of the process (one thread per worker).
-    ``peak_rss_mb`` is this process's ``ru_maxrss`` after the run; ``rss_before_mb`` the same
-    before it (a worker reused for several points reports its high-water mark: the point's own
+    ``peak_rss_mb`` is this process's ``ru_maxrss`` after the runs; ``rss_before_mb`` the same
+    before them (a worker reused for several points reports its high-water mark: the point's own
     peak is exact when the local pool runs one point per process, as it does by default).
     """
     os.environ["RAYON_NUM_THREADS"] = "1"
     from .runner import run
 
+    repeats = _check_repeats(repeats)
     before = _maxrss_mb()
-    t0 = time.perf_counter()
-    res = run(Scene.from_dict(point["scene"]))
-    wall = time.perf_counter() - t0
+    scene = Scene.from_dict(point["scene"])
+    walls, solver, res = [], [], None
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        r = run(scene)
+        walls.append(time.perf_counter() - t0)
+        solver.append(float(r.wall_time_s))
+        if res is None:
+            res = r
+    assert res is not None
     rec: dict[str, Any] = {k: point[k] for k in ("study", "method", "param", "value", "h")}
     rec["name"] = point["scene"].get("name", "")
-    rec["wall_time_s"] = wall
-    rec["solver_time_s"] = float(res.wall_time_s)
+    rec["wall_time_s"] = min(walls)
+    rec["solver_time_s"] = min(solver)
+    rec["wall_times_s"] = walls
+    rec["wall_time_spread_s"] = max(walls) - min(walls)
+    rec["repeats"] = repeats
     rec["rss_before_mb"] = before
     rec["peak_rss_mb"] = _maxrss_mb()
     counts = res.meta.get("counts", {})
     rec["n_dofs"] = int(res.n_dofs)
     rec["n_bonds"] = counts.get("n_bonds")
     rec["n_pd_nodes"] = counts.get("n_pd_nodes")
+    q = quantities_of(res)
+    rec["quantities"] = q
     rec["K_I"] = res.K_I
     rec["cmod"] = float(res.cmod)
     rec["sigma22"] = float(res.sigma22)
     h = res.history
-    s = h.get("sigma22")
-    if s is not None and len(s) > 1:
-        i = max(range(len(s)), key=lambda j: float(s[j]))
+    peak = _peak_index(h.get("sigma22"))
+    if peak is not None:
         a = h.get("a", h.get("crack_length"))
-        rec["peak_sigma22"] = float(s[i])
-        rec["peak_step"] = int(i)
-        rec["peak_crack_length"] = None if a is None else float(a[i])
-        rec["n_steps"] = len(s) - 1
+        rec["peak_sigma22"] = q["peak_sigma22"]
+        rec["peak_step"] = peak
+        rec["peak_crack_length"] = None if a is None else float(a[peak])
+        rec["n_steps"] = len(h["sigma22"]) - 1
     else:
         rec.update(peak_sigma22=None, peak_step=None, peak_crack_length=None, n_steps=0)
     return rec
+
+
+def _peak_index(s: Any) -> int | None:
+    """Row of the largest value of a history column (None without a load path: < 2 rows)."""
+    if s is None or len(s) < 2:
+        return None
+    return max(range(len(s)), key=lambda j: float(s[j]))
+
+
+def quantities_of(res: Any) -> dict[str, float]:
+    """Every scalar response of a :class:`~rustfrac.result.Result`, by name: ``sigma22``,
+    ``cmod``, ``n_dofs``, each number of ``res.scalars`` (XFEM ``K_I``, ``K_II``, ``J``,
+    ``J_domain``, ...; FEM ``energy``, ...; PD ``gamma``, ...) and, for a load path (growth or
+    SLA history of 2+ rows), ``peak_<column>``: the largest value of each float column of the
+    history (``peak_sigma22`` is the peak load). Integers are kept as floats."""
+    out: dict[str, float] = {
+        "sigma22": float(res.sigma22),
+        "cmod": float(res.cmod),
+        "n_dofs": float(res.n_dofs),
+    }
+    for k, v in res.scalars.items():
+        if isinstance(v, (int, float)) and not isinstance(v, bool):
+            out[k] = float(v)
+    for k, col in res.history.items():
+        i = _peak_index(col)
+        if i is not None and getattr(col, "dtype", None) is not None and col.dtype.kind == "f":
+            out[f"peak_{k}"] = float(col[i])
+    return out
+
+
+def _check_repeats(repeats: Any) -> int:
+    if isinstance(repeats, bool) or not isinstance(repeats, int) or not 1 <= repeats <= 100:
+        raise InvalidParameterError(
+            f"invalid repeats: expected an integer in 1..100 (timings per point, the minimum "
+            f"is reported), got {repeats!r}",
+            "repeats",
+        )
+    return repeats
 
 
 def _maxrss_mb() -> float:
@@ -215,6 +288,7 @@ def sweep(
     workers: int | None = None,
     scheduler: Any = None,
     progress: Progress | None = None,
+    repeats: int = 1,
 ) -> list[dict[str, Any]]:
     """Runs every point and returns their records, in the order of ``points``.
 
@@ -225,19 +299,22 @@ def sweep(
         scheduler: None (local process pool), a scheduler address ``"tcp://host:port"``, or a
             ``distributed.Client``.
         progress: ``progress(done, total, message)`` after each finished point.
+        repeats: runs per point (in its worker); the record's time is their minimum
+            (:func:`run_point`).
 
     Raises:
         SweepInterrupted: on Ctrl-C (a ``KeyboardInterrupt``), with the finished records; the
             points still running are cancelled.
     """
     points = list(points)
+    repeats = _check_repeats(repeats)
     if scheduler is not None:
-        return _sweep_dask(points, scheduler, progress)
-    return _sweep_local(points, workers, progress)
+        return _sweep_dask(points, scheduler, progress, repeats)
+    return _sweep_local(points, workers, progress, repeats)
 
 
 def _sweep_local(
-    points: list[dict[str, Any]], workers: int | None, progress: Progress | None
+    points: list[dict[str, Any]], workers: int | None, progress: Progress | None, repeats: int
 ) -> list[dict[str, Any]]:
     import multiprocessing as mp
     from concurrent.futures import ProcessPoolExecutor, as_completed
@@ -250,7 +327,7 @@ def _sweep_local(
     out: list[dict[str, Any] | None] = [None] * len(points)
     ex = ProcessPoolExecutor(**kw)
     try:
-        futs = {ex.submit(run_point, p): i for i, p in enumerate(points)}
+        futs = {ex.submit(run_point, p, repeats): i for i, p in enumerate(points)}
         for k, f in enumerate(as_completed(futs), 1):
             i = futs[f]
             out[i] = f.result()
@@ -269,7 +346,7 @@ def _sweep_local(
 
 
 def _sweep_dask(
-    points: list[dict[str, Any]], scheduler: Any, progress: Progress | None
+    points: list[dict[str, Any]], scheduler: Any, progress: Progress | None, repeats: int
 ) -> list[dict[str, Any]]:
     try:
         from distributed import Client, as_completed
@@ -280,7 +357,7 @@ def _sweep_dask(
     own = not isinstance(scheduler, Client)
     client = Client(scheduler) if own else scheduler
     try:
-        futs = client.map(run_point, points, pure=False)
+        futs = client.map(run_point, points, repeats=repeats, pure=False)
         index = {f.key: i for i, f in enumerate(futs)}
         out: list[dict[str, Any] | None] = [None] * len(points)
         try:
@@ -301,6 +378,10 @@ def _sweep_dask(
 # --------------------------------------------------------------------------- errors
 
 
+#: the observed rates a Richardson extrapolation accepts (outside: no consistent rate)
+RATE_RANGE: tuple[float, float] = (0.5, 6.0)
+
+
 def richardson(hs: Sequence[float], fs: Sequence[float]) -> tuple[float, float] | None:
     """Richardson extrapolation of three levels (h decreasing): (extrapolated value, observed
     rate p), or None when the levels show no consistent rate (non-monotone differences, or p
@@ -314,7 +395,7 @@ def richardson(hs: Sequence[float], fs: Sequence[float]) -> tuple[float, float] 
     def g(p: float) -> float:
         return (h1**p - h2**p) / (h2**p - h3**p) - target
 
-    lo, hi = 0.5, 6.0
+    lo, hi = RATE_RANGE
     if g(lo) * g(hi) > 0:
         return None
     for _ in range(200):
@@ -387,11 +468,24 @@ def errors(
 
 
 def pareto(records: Iterable[dict[str, Any]]) -> list[dict[str, Any]]:
-    """The non-dominated records in (wall time, err_max), by increasing time."""
-    rs = sorted(
-        (r for r in records if r.get("err_max") is not None),
-        key=lambda r: (r["wall_time_s"], r["err_max"]),
-    )
+    """The non-dominated records in (wall time, err_max), by increasing time.
+
+    Records of one method with the same unknowns and the same ``err_max`` are one choice (the
+    same discretisation reached by two studies, e.g. the base mesh and ``nsub`` at its default,
+    or an ``r_I`` that changes no compared quantity): their times differ by timer noise only, so
+    the first of them in point order (the refinement study's) stands for them all, with their
+    smallest time. Otherwise noise would decide which name a preset gets."""
+    groups: dict[tuple[Any, ...], dict[str, Any]] = {}
+    for r in records:
+        if r.get("err_max") is None:
+            continue
+        key = (r["method"], r.get("n_dofs"), r["err_max"])
+        g = groups.get(key)
+        if g is None:
+            groups[key] = dict(r)
+        elif r["wall_time_s"] < g["wall_time_s"]:
+            g["wall_time_s"] = r["wall_time_s"]
+    rs = sorted(groups.values(), key=lambda r: (r["wall_time_s"], r["err_max"]))
     front, best = [], math.inf
     for r in rs:
         if r["err_max"] < best:
@@ -433,6 +527,363 @@ def choose_presets(
                 "scene": scenes.get(r["name"]),
             }
     return out
+
+
+# --------------------------------------------------------------------------- the user's scene
+
+#: default timings per point of :func:`sweep_scene` and ``rustfrac sweep`` (the minimum is kept)
+DEFAULT_REPEATS = 3
+#: the refinement knobs with a length scale ``h`` (Richardson applies) and the methods they fit;
+#: any other scene key ``section.key`` (e.g. ``xfem.nsub``) is a plain override without ``h``
+SCENE_PARAMS: dict[str, tuple[str, ...]] = {"mesh": ("fem", "xfem"), "pd.dx": ("pd", "ccm_pd")}
+#: largest relative change of the element aspect (hx / hy) between the mesh levels of a study
+ASPECT_TOL = 0.05
+
+
+def _params_help() -> str:
+    return (
+        ", ".join(f"{k} ({' or '.join(m)})" for k, m in SCENE_PARAMS.items())
+        + ", or a scene key section.key (e.g. xfem.nsub, mesh.gauss)"
+    )
+
+
+def _crack_line(scene: Scene) -> tuple[str, float] | None:
+    """("x" | "y", coordinate) of the primary crack when it runs along a grid line direction
+    (angle 0): the mesh count across it is then snapped (:func:`_snap`)."""
+    c = scene.crack
+    if c.kind == "none" or c.angle != 0:
+        return None
+    if c.kind == "edge" and c.side in ("bottom", "top"):
+        return "x", c.x
+    return "y", c.y
+
+
+def _snap(n0: int, target: float, coord: float | None, length: float) -> int:
+    """The element count within 1 of ``target`` that keeps a crack line at ``coord`` where it
+    was inside its element row with ``n0`` elements (the nearest to ``target`` among those,
+    then the larger): a crack halfway across a row stays halfway (the paper's 83 -> 167 -> 333)
+    instead of landing on a grid line, which changes the XFEM enrichment and breaks the
+    sequence of levels."""
+    m = max(1, round(target))
+    if coord is None:
+        return m
+    f0 = (coord * n0 / length) % 1.0
+
+    def off(k: int) -> float:
+        d = abs((coord * k / length) % 1.0 - f0)
+        return round(min(d, 1.0 - d), 9)
+
+    near = (k for k in (m - 1, m, m + 1) if k >= 1)
+    return min(near, key=lambda k: (off(k), abs(k - target), -k))
+
+
+def _mesh_level(scene: Scene, level: Any) -> tuple[int, int]:
+    """(nx, ny) of a ``mesh`` level: a pair, or a multiplier of the scene's (nx, ny) (the count
+    across a crack line snapped by :func:`_snap`)."""
+    nx0, ny0 = scene.mesh.nx, scene.mesh.ny
+    if isinstance(level, (list, tuple)):
+        ints = all(isinstance(v, int) and not isinstance(v, bool) for v in level)
+        if len(level) != 2 or not ints:
+            raise InvalidParameterError(
+                f"invalid mesh level {level!r}: expected a pair of integers (nx, ny) or a "
+                "multiplier of the scene's mesh (a number > 0)",
+                "levels",
+            )
+        return int(level[0]), int(level[1])
+    if isinstance(level, bool) or not isinstance(level, (int, float)) or not level > 0:
+        raise InvalidParameterError(
+            f"invalid mesh level {level!r}: expected a multiplier of the scene's mesh "
+            f"{nx0}x{ny0} (a number > 0) or a pair (nx, ny)",
+            "levels",
+        )
+    line = _crack_line(scene)
+    W, H = scene.plate.width, scene.plate.height
+    nx = _snap(nx0, level * nx0, line[1] if line and line[0] == "x" else None, W)
+    ny = _snap(ny0, level * ny0, line[1] if line and line[0] == "y" else None, H)
+    return nx, ny
+
+
+def _level_scene(scene: Scene, param: str, level: Any) -> tuple[Scene, Any, float | None, str]:
+    """(scene, value, h, label) of one level of ``param``; the core validates the scene."""
+    if param == "mesh":
+        nx, ny = _mesh_level(scene, level)
+        sc = scene.replace(mesh__nx=nx, mesh__ny=ny)
+        return sc, [nx, ny], _h(nx, ny, scene.plate.width, scene.plate.height), f"{nx}x{ny}"
+    if param == "pd.dx":
+        sc = scene.replace(pd__dx=level)  # the core checks that dx fits the plate
+        return sc, sc.pd.dx, float(sc.pd.dx), f"dx={sc.pd.dx:.6g}"
+    sec, _, key = param.partition(".")
+    sc = scene.replace(**{f"{sec}__{key}": level})
+    return sc, getattr(getattr(sc, sec), key, level), None, f"{key}={level}"
+
+
+def scene_points(
+    scene: Scene | Mapping[str, Any] | str | Path, param: str, levels: Sequence[Any]
+) -> list[dict[str, Any]]:
+    """The sweep points of ``param`` at ``levels`` on the user's scene (a :class:`Scene`, a
+    scene dict or a TOML path), in the order given; every scene is built (and checked by the
+    core) before anything runs.
+
+    Args:
+        param: ``"mesh"`` (FEM, XFEM): levels are multipliers of the scene's (nx, ny) (1, 2, 4:
+            the count across a crack line kept so that the crack stays where it was inside its
+            element row) or explicit (nx, ny) pairs, all with the same element aspect (within
+            :data:`ASPECT_TOL`), ``h`` the element size sqrt(hx hy); ``"pd.dx"`` (PD, CCM-PD):
+            grid spacings, ``h = dx`` (a dx that does not fit the plate is the core's
+            :class:`InvalidParameterError`); any scene key ``"section.key"`` (``xfem.nsub``,
+            ``mesh.gauss``, ``load.bc``, ...): its values, without ``h`` (no Richardson).
+
+    Raises:
+        InvalidParameterError: an unknown parameter or one the scene's method does not have,
+            fewer than one level, repeated levels, a bad level (``param`` names the culprit).
+    """
+    from .runner import _as_scene
+
+    scene = _as_scene(scene)
+    if not isinstance(param, str) or not (param in SCENE_PARAMS or "." in param.strip(".")):
+        raise InvalidParameterError(
+            f"invalid param {param!r}: expected {_params_help()}", "param"
+        )
+    if param in SCENE_PARAMS and scene.method not in SCENE_PARAMS[param]:
+        fits = [k for k, m in SCENE_PARAMS.items() if scene.method in m]
+        raise InvalidParameterError(
+            f"invalid param {param!r} for a {scene.method} scene: it refines "
+            f"{' or '.join(SCENE_PARAMS[param])} only; {scene.method} has "
+            + ", ".join(fits) + " or a scene key section.key",
+            "param",
+        )
+    levels = list(levels)
+    if not levels:
+        raise InvalidParameterError("invalid levels: expected at least one level", "levels")
+    base = scene.name or "scene"
+    pts: list[dict[str, Any]] = []
+    for level in levels:
+        sc, value, h, label = _level_scene(scene, param, level)
+        pts.append(
+            {**_point(param, scene.method, param, value, h, sc.replace(name=f"{base} {label}")),
+             "level": level}
+        )  # fmt: skip
+    names = [p["scene"]["name"] for p in pts]
+    if len(set(names)) < len(names):
+        raise InvalidParameterError(
+            f"invalid levels {levels!r}: two levels give the same {param} ({', '.join(names)})",
+            "levels",
+        )
+    if param == "mesh":
+        aspect = [(scene.plate.width / v[0]) / (scene.plate.height / v[1]) for v in
+                  (p["value"] for p in pts)]  # fmt: skip
+        bad = [lv for lv, a in zip(levels, aspect) if abs(a / aspect[0] - 1) > ASPECT_TOL]
+        if bad:
+            raise InvalidParameterError(
+                f"invalid mesh levels {bad!r}: their element aspect hx/hy differs from the first "
+                f"level's ({aspect[0]:.4g}) by more than {ASPECT_TOL:.0%}; refine nx and ny "
+                "together (h = sqrt(hx hy) measures a refinement only at a fixed aspect)",
+                "levels",
+            )
+    return pts
+
+
+def check_quantity(record: dict[str, Any], quantity: str) -> None:
+    """Raises :class:`InvalidParameterError` (``param="quantity"``) when ``quantity`` is not a
+    scalar response of the record's run, listing the valid ones for its method."""
+    valid = sorted(record["quantities"])
+    if quantity not in valid:
+        raise InvalidParameterError(
+            f"invalid quantity {quantity!r} for a {record['method']} scene: expected one of "
+            + ", ".join(valid),
+            "quantity",
+        )
+
+
+def run_scene_points(
+    points: Sequence[dict[str, Any]],
+    quantity: str,
+    *,
+    repeats: int = DEFAULT_REPEATS,
+    workers: int | None = None,
+    scheduler: Any = None,
+    progress: Progress | None = None,
+) -> list[dict[str, Any]]:
+    """Runs the points of :func:`scene_points` through :func:`sweep` (local pool or dask, the
+    same path as the paper's sweep): the first level alone first, so that a ``quantity`` the
+    method does not give is refused after one run (:func:`check_quantity`), then the others.
+
+    Raises:
+        SweepInterrupted: on Ctrl-C, with every finished record.
+    """
+    points = list(points)
+    repeats = _check_repeats(repeats)
+    if not isinstance(quantity, str):
+        raise InvalidParameterError(
+            f"invalid quantity {quantity!r}: expected a name such as K_I", "quantity"
+        )
+    kw: dict[str, Any] = {"workers": workers, "scheduler": scheduler, "repeats": repeats}
+    total = len(points)
+
+    def step(offset: int) -> Progress | None:
+        if progress is None:
+            return None
+        return lambda done, _total, msg: progress(done + offset, total, msg)
+
+    first = sweep(points[:1], progress=step(0), **kw)
+    if first:
+        check_quantity(first[0], quantity)
+    try:
+        rest = sweep(points[1:], progress=step(len(first)), **kw) if points[1:] else []
+    except SweepInterrupted as e:
+        raise SweepInterrupted(first + e.records) from None
+    return first + rest
+
+
+def extrapolate(hs: Sequence[float | None], qs: Sequence[float | None]) -> dict[str, Any]:
+    """Richardson extrapolation of a refinement study from its three finest levels.
+
+    ``hs`` are the levels' sizes (any order; None: no length scale), ``qs`` the quantity. With
+    the finest three ordered coarse to fine (h1 > h2 > h3, refinement ratios r12 = h1/h2 and
+    r23 = h2/h3), the observed rate p solves (q1 - q2) / (q2 - q3) = (h1^p - h2^p) /
+    (h2^p - h3^p), which for a constant ratio r is p = log(|q2 - q1| / |q3 - q2|) / log(r)
+    (:func:`richardson`); non-uniform ratios are allowed. The extrapolated value is
+    q* = q3 - (q2 - q3) h3^p / (h2^p - h3^p), and each level's error estimate q_i - q*.
+
+    Returns a dict: ``status`` "ok" | "not in the asymptotic range" (the differences change
+    sign or vanish, or p is outside [0.5, 6]: ``value`` and ``rate`` are then None, never a
+    wrong number) | "not applicable" (fewer than 3 levels, no length scale, a missing value),
+    ``why``, ``value``, ``rate``, ``ratios`` [r12, r23], ``constant_ratio``, ``levels`` (the
+    indices of the three levels used, finest last) and ``error_estimates`` (per level, in the
+    order given: {"abs": q_i - q*, "rel": |q_i - q*| / |q*|}, or None).
+    """
+    n = len(hs)
+    out: dict[str, Any] = {
+        "status": "not applicable", "why": "", "value": None, "rate": None, "ratios": None,
+        "constant_ratio": None, "levels": None, "error_estimates": [None] * n,
+    }  # fmt: skip
+    if any(h is None for h in hs):
+        out["why"] = "the parameter has no length scale h (Richardson needs mesh or pd.dx)"
+        return out
+    if any(q is None for q in qs):
+        out["why"] = "the quantity is missing at some level"
+        return out
+    if n < 3:
+        out["why"] = f"fewer than 3 levels ({n})"
+        return out
+    order = sorted(range(n), key=lambda i: -float(hs[i]))  # type: ignore[arg-type]
+    use = order[-3:]
+    h3 = [float(hs[i]) for i in use]  # type: ignore[arg-type]
+    q3 = [float(qs[i]) for i in use]  # type: ignore[arg-type]
+    out["levels"] = use
+    if not h3[0] > h3[1] > h3[2] > 0:
+        out["why"] = "two of the finest levels have the same h"
+        return out
+    r12, r23 = h3[0] / h3[1], h3[1] / h3[2]
+    out.update(ratios=[r12, r23], constant_ratio=abs(r12 / r23 - 1) < 1e-6)
+    rich = richardson(h3, q3)
+    if rich is None:
+        d1, d2 = q3[0] - q3[1], q3[1] - q3[2]
+        out["status"] = "not in the asymptotic range"
+        if d1 == 0 or d2 == 0:
+            out["why"] = "a difference between the finest levels is zero"
+        elif (d1 > 0) != (d2 > 0):
+            out["why"] = "the differences between the finest levels change sign"
+        else:
+            out["why"] = (
+                f"the observed rate is outside [{RATE_RANGE[0]:g}, {RATE_RANGE[1]:g}] "
+                f"(|q1 - q2| = {abs(d1):.3g}, |q2 - q3| = {abs(d2):.3g})"
+            )
+        return out
+    value, rate = rich
+    out.update(status="ok", value=value, rate=rate)
+    out["error_estimates"] = [
+        {"abs": float(q) - value, "rel": abs(float(q) - value) / abs(value) if value else None}
+        for q in qs  # type: ignore[arg-type]
+    ]
+    return out
+
+
+def scene_study(
+    points: Sequence[dict[str, Any]], records: Sequence[dict[str, Any]], quantity: str
+) -> dict[str, Any]:
+    """The study of a scene sweep: ``levels`` (one row per finished point, in point order:
+    name, level, value, h, n_dofs, the quantity as ``q``, times, error estimates),
+    ``richardson`` (:func:`extrapolate`), ``presets`` (per :data:`PRESET_TOLERANCES`, the
+    cheapest level whose estimated relative error is within it; only with a Richardson value)
+    and ``missing_points``."""
+    by = {r["name"]: r for r in records}
+    rows = []
+    for p in points:
+        r = by.get(p["scene"].get("name", ""))
+        if r is None:
+            continue
+        rows.append({
+            "name": r["name"], "level": p.get("level"), "value": p["value"], "h": p["h"],
+            "n_dofs": r["n_dofs"], "q": r["quantities"].get(quantity),
+            "wall_time_s": r["wall_time_s"], "wall_time_spread_s": r["wall_time_spread_s"],
+            "repeats": r["repeats"], "solver_time_s": r["solver_time_s"],
+            "peak_rss_mb": r["peak_rss_mb"],
+        })  # fmt: skip
+    rich = extrapolate([r["h"] for r in rows], [r["q"] for r in rows])
+    for row, e in zip(rows, rich["error_estimates"]):
+        row["err_est"] = None if e is None else e["abs"]
+        row["rel_err_est"] = None if e is None else e["rel"]
+    presets: dict[str, Any] = {}
+    if rich["status"] == "ok":
+        for name, tol in PRESET_TOLERANCES.items():
+            ok = [r for r in rows if r["rel_err_est"] is not None and r["rel_err_est"] <= tol]
+            best = min(ok, key=lambda r: r["wall_time_s"]) if ok else None
+            presets[name] = {
+                "tolerance": tol,
+                "point": None if best is None else best["name"],
+                "value": None if best is None else best["value"],
+                "wall_time_s": None if best is None else best["wall_time_s"],
+                "rel_err_est": None if best is None else best["rel_err_est"],
+            }
+    done = set(by)
+    return {
+        "kind": "scene",
+        "method": points[0]["method"] if points else None,
+        "param": points[0]["param"] if points else None,
+        "quantity": quantity,
+        "levels": rows,
+        "richardson": rich,
+        "presets": presets,
+        "missing_points": [p["scene"].get("name", "") for p in points
+                           if p["scene"].get("name", "") not in done],
+    }  # fmt: skip
+
+
+def sweep_scene(
+    scene: Scene | Mapping[str, Any] | str | Path,
+    param: str,
+    levels: Sequence[Any],
+    quantity: str = "K_I",
+    *,
+    repeats: int = DEFAULT_REPEATS,
+    workers: int | None = None,
+    scheduler: Any = None,
+    progress: Progress | None = None,
+) -> dict[str, Any]:
+    """A refinement (or parameter) study of the user's scene: runs ``param`` at ``levels``
+    (:func:`scene_points`) locally or on dask (``scheduler``, as :func:`sweep`), each point
+    ``repeats`` times (the minimum time is kept), and returns :func:`scene_study` of
+    ``quantity`` (any scalar response of the method's result: ``K_I``, ``K_II``, ``J``,
+    ``sigma22``, ``cmod``, ``peak_sigma22``, ...; :func:`quantities_of`) with the records
+    (``records``) and scenes. E.g.
+    ``sweep_scene("my.toml", "mesh", [1, 2, 4], "K_I")["richardson"]["value"]``.
+
+    Raises:
+        InvalidParameterError: a bad ``param``, level or ``repeats`` (before any run), or a
+            ``quantity`` the method does not give (after the first level's run).
+        SweepInterrupted: on Ctrl-C, with the finished records.
+    """
+    points = scene_points(scene, param, levels)
+    records = run_scene_points(
+        points, quantity, repeats=repeats, workers=workers, scheduler=scheduler,
+        progress=progress,
+    )  # fmt: skip
+    return {
+        **scene_study(points, records, quantity),
+        "records": records,
+        "scenes": {p["scene"].get("name", ""): p["scene"] for p in points},
+    }
 
 
 # --------------------------------------------------------------------------- outputs
@@ -602,12 +1053,8 @@ def _write(
     recs = errors(records, refs)
     presets = choose_presets(recs, points)
     with writing(out, owned=FILES, last="sweep.json") as w:
-        buf = io.StringIO()
-        csv_w = csv.writer(buf)
-        csv_w.writerow(CSV_KEYS)
-        for r in recs:
-            csv_w.writerow([_fmt(r.get(k)) for k in CSV_KEYS])
-        w.stage("sweep.csv").write_text(buf.getvalue(), encoding="utf-8")
+        rows = ([r.get(k) for k in CSV_KEYS] for r in recs)
+        w.stage("sweep.csv").write_text(_csv_text(CSV_KEYS, rows), encoding="utf-8")
         w.stage("sweep.md").write_text(markdown(recs, refs, presets), encoding="utf-8")
         missing_files, stopped = [], False
         for method in sorted({r["method"] for r in recs}):
@@ -624,12 +1071,7 @@ def _write(
         interrupted = bool(extra.get("interrupted")) or stopped
         doc = {
             "version": __version__,
-            "machine": {
-                "platform": platform.platform(),
-                "cores": os.cpu_count(),
-                "python": platform.python_version(),
-                "load_average": list(os.getloadavg()) if hasattr(os, "getloadavg") else None,
-            },
+            "machine": _machine(),
             **extra,
             "interrupted": interrupted,
             "complete": not interrupted and not missing_points and not missing_files,
@@ -644,3 +1086,115 @@ def _write(
     if stopped:
         raise SweepInterrupted(records, doc)
     return doc
+
+
+def _machine() -> dict[str, Any]:
+    return {
+        "platform": platform.platform(),
+        "cores": os.cpu_count(),
+        "python": platform.python_version(),
+        "load_average": list(os.getloadavg()) if hasattr(os, "getloadavg") else None,
+    }
+
+
+def _csv_text(header: Sequence[str], rows: Iterable[Sequence[Any]]) -> str:
+    buf = io.StringIO()
+    w = csv.writer(buf)
+    w.writerow(header)
+    for row in rows:
+        w.writerow([_fmt(v) for v in row])
+    return buf.getvalue()
+
+
+#: columns of a scene sweep's ``sweep.csv`` (``q`` is written under the quantity's name)
+SCENE_CSV_KEYS: tuple[str, ...] = (
+    "name", "level", "value", "h", "n_dofs", "q", "err_est", "rel_err_est", "wall_time_s",
+    "wall_time_spread_s", "repeats", "solver_time_s", "peak_rss_mb",
+)  # fmt: skip
+
+
+def _cell(v: Any) -> Any:
+    return "x".join(map(str, v)) if isinstance(v, (list, tuple)) else v
+
+
+def scene_markdown(study: dict[str, Any]) -> str:
+    """``sweep.md`` of a scene sweep: the levels and the Richardson extrapolation."""
+    q, rich = study["quantity"], study["richardson"]
+    lines = [
+        f"# Sweep of {study['param']} ({study['method']}): {q}", "",
+        f"{q} in the scene's units; h: element size sqrt(hx hy) (mesh) or dx (pd.dx), length "
+        "units; time: the minimum wall time of the repeats in one worker (one thread), with "
+        "their spread; err est: the level's value minus the Richardson value.", "",
+        f"| level | point | h | unknowns | {q} | err est | rel. err est | time (s) | spread (s) |",
+        "|---|---|---:|---:|---:|---:|---:|---:|---:|",
+    ]  # fmt: skip
+    for r in study["levels"]:
+        lines.append(
+            f"| {_cell(r['level'])} | {r['name']} | {_g(r['h'], '.5g')} | {r['n_dofs']} | "
+            f"{_g(r['q'], '.10g')} | {_g(r['err_est'], '.3e')} | {_g(r['rel_err_est'], '.2e')} "
+            f"| {r['wall_time_s']:.4f} | {r['wall_time_spread_s']:.4f} |"
+        )
+    lines += ["", "## Richardson extrapolation (three finest levels)", ""]
+    if rich["status"] == "ok":
+        ratios = ", ".join(f"{x:.4g}" for x in rich["ratios"])
+        lines.append(
+            f"{q}* = {rich['value']:.10g}, observed rate p = {rich['rate']:.4g} (refinement "
+            f"ratios {ratios}{'' if rich['constant_ratio'] else ', not constant'})."
+        )
+    else:
+        lines.append(f"{rich['status']}: {rich['why']} (no extrapolated value).")
+    if study["presets"]:
+        lines += ["", "## Presets (cheapest level within the estimated relative error)", "",
+                  "| preset | tolerance | point | time (s) | rel. err est |",
+                  "|---|---|---|---:|---:|"]  # fmt: skip
+        for name, pr in study["presets"].items():
+            lines.append(
+                f"| {name} | {pr['tolerance']:g} | {pr['point'] or '(none)'} | "
+                f"{_g(pr['wall_time_s'], '.4f')} | {_g(pr['rel_err_est'], '.2e')} |"
+            )
+    return "\n".join(lines) + "\n"
+
+
+def write_scene_outputs(
+    out: str | Path,
+    points: Sequence[dict[str, Any]],
+    records: Sequence[dict[str, Any]],
+    quantity: str,
+    *,
+    extra: dict[str, Any] | None = None,
+) -> dict[str, Any]:
+    """Writes a scene sweep (:func:`scene_study` of ``records``) into ``out`` as one unit:
+    ``sweep.csv`` (one row per level, the quantity under its name), ``sweep.md`` and
+    ``sweep.json`` (last), replacing a previous sweep's files (its plots included). Returns the
+    JSON document (``complete``, ``missing_points``, ``interrupted`` as :func:`write_outputs`).
+
+    Raises:
+        OutputError: as :func:`write_outputs` (the fallback folder is named).
+    """
+    extra = dict(extra or {})
+
+    def write(d: Path) -> dict[str, Any]:
+        from . import __version__
+
+        study = scene_study(points, records, quantity)
+        interrupted = bool(extra.get("interrupted"))
+        header = [quantity if k == "q" else k for k in SCENE_CSV_KEYS]
+        rows = ([_cell(r.get(k)) for k in SCENE_CSV_KEYS] for r in study["levels"])
+        with writing(d, owned=FILES, last="sweep.json") as w:
+            w.stage("sweep.csv").write_text(_csv_text(header, rows), encoding="utf-8")
+            w.stage("sweep.md").write_text(scene_markdown(study), encoding="utf-8")
+            doc = {
+                "version": __version__,
+                "machine": _machine(),
+                **extra,
+                **study,
+                "interrupted": interrupted,
+                "complete": not interrupted and not study["missing_points"],
+                "missing_files": [],
+                "points": list(records),
+                "scenes": {p["scene"].get("name", ""): p["scene"] for p in points},
+            }
+            w.stage("sweep.json").write_text(json.dumps(doc, indent=1), encoding="utf-8")
+        return doc
+
+    return with_fallback(Path(out), write, "sweep")
