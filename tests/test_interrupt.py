@@ -16,6 +16,13 @@ import pytest
 
 # a CCM-PD run of many cheap steps (coarse grid) and an XFEM growth of many states: each runs
 # far longer than the time before the signal
+
+def _sigint_default() -> None:
+    """The child starts with SIGINT at its default, as in a terminal: a runner that starts the
+    suite in the background (SIGINT ignored, inherited through exec) must not hide the handling
+    under test (Python installs its KeyboardInterrupt handler only if SIGINT is not ignored)."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
 SCENES = {
     "ccm_pd": 'method = "ccm_pd"\n[pd]\nsize = [5.0, 2.0]\ncenter = [2.8, 10.5]\nsla_steps = 200000\n',
     "xfem": 'method = "xfem"\n[mesh]\nnx = 88\nny = 166\n[xfem]\ngrowth_steps = 400\nda = 0.005\n',
@@ -23,7 +30,14 @@ SCENES = {
 
 
 def _interrupt(cmd: list[str], after: float, cwd: Path) -> tuple[int, str, float]:
-    p = subprocess.Popen(cmd, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    p = subprocess.Popen(
+        cmd,
+        cwd=cwd,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        preexec_fn=_sigint_default,
+    )
     time.sleep(after)
     assert p.poll() is None, "the run ended before the signal"
     t0 = time.perf_counter()
@@ -63,7 +77,11 @@ def test_rf_run_without_callback_is_interrupted(tmp_path: Path) -> None:
         """
     )
     p = subprocess.Popen(
-        [sys.executable, "-c", script], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
+        [sys.executable, "-c", script],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        preexec_fn=_sigint_default,
     )
     time.sleep(4.0)
     p.send_signal(signal.SIGINT)
