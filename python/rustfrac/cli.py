@@ -179,6 +179,31 @@ def _backend(args: argparse.Namespace) -> str:
     return f"dask {args.scheduler}" if args.scheduler else f"local, {args.workers or 'all'} workers"
 
 
+def _sweep_records(
+    args: argparse.Namespace, run: Callable[[Any, ProgressBar | None], list[Any]]
+) -> tuple[list[Any], bool, int | None]:
+    """Runs a sweep (``run(scheduler, bar)``) under ``--scheduler`` / ``--workers`` with a progress
+    bar: (records, interrupted, None), or ([], False, exit code) when it could not run (Ctrl-C
+    before any point finished: 130; dask missing: 2)."""
+    from .sweep import SweepInterrupted
+
+    bar = None if args.quiet else ProgressBar(delay=0.0)
+    try:
+        with _dask_scheduler(args.scheduler, args.workers) as scheduler:
+            return run(scheduler, bar), False, None
+    except SweepInterrupted as e:
+        return e.records, True, None
+    except KeyboardInterrupt:
+        print("rustfrac: interrupted; no sweep files written", file=sys.stderr)
+        return [], False, 130
+    except ImportError as e:
+        print(f"rustfrac: error: {e}", file=sys.stderr)
+        return [], False, 2
+    finally:
+        if bar is not None:
+            bar.close()
+
+
 def _cmd_sweep(args: argparse.Namespace) -> int:
     from .sweep import DEFAULT_REPEATS, SweepInterrupted, define_points, sweep, write_outputs
 
@@ -204,25 +229,15 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     points = define_points(preset)
     backend = _backend(args)
     log(f"sweep   {len(points)} points, preset {preset}, {repeats} timings each, {backend}")
-    bar = None if args.quiet else ProgressBar(delay=0.0)
     t0 = time.perf_counter()
-    interrupted = False
-    try:
-        with _dask_scheduler(args.scheduler, args.workers) as scheduler:
-            records = sweep(
-                points, workers=args.workers, scheduler=scheduler, progress=bar, repeats=repeats
-            )
-    except SweepInterrupted as e:
-        interrupted, records = True, e.records
-    except KeyboardInterrupt:
-        print("rustfrac: interrupted; no sweep files written", file=sys.stderr)
-        return 130
-    except ImportError as e:
-        print(f"rustfrac: error: {e}", file=sys.stderr)
-        return 2
-    finally:
-        if bar is not None:
-            bar.close()
+    records, interrupted, code = _sweep_records(
+        args,
+        lambda scheduler, bar: sweep(
+            points, workers=args.workers, scheduler=scheduler, progress=bar, repeats=repeats
+        ),
+    )
+    if code is not None:
+        return code
     try:
         doc = write_outputs(
             args.out,
@@ -270,10 +285,8 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
 
 def _cmd_sweep_scene(args: argparse.Namespace) -> int:
     """``rustfrac sweep SCENE.toml --param P --levels L1,L2,... [--quantity Q]``."""
-    from .scene import Scene
     from .sweep import (
         DEFAULT_REPEATS,
-        SweepInterrupted,
         run_scene_points,
         scene_points,
         write_scene_outputs,
@@ -284,12 +297,8 @@ def _cmd_sweep_scene(args: argparse.Namespace) -> int:
               "--levels 1,2,4)", file=sys.stderr)  # fmt: skip
         return 2
     log = (lambda *a: None) if args.quiet else (lambda *a: print(*a, flush=True))
-    try:
-        scene = Scene.from_toml(args.scene)
-    except OSError as e:
-        print(
-            f"rustfrac: error: cannot read scene {args.scene}: {e.strerror or e}", file=sys.stderr
-        )
+    scene = _read_scene(args.scene)
+    if scene is None:
         return 2
     levels = [_parse_level(t) for t in args.levels.split(",") if t.strip()]
     points = scene_points(scene, args.param, levels)  # bad param / levels: exit 2 (main)
@@ -297,26 +306,20 @@ def _cmd_sweep_scene(args: argparse.Namespace) -> int:
     backend = _backend(args)
     log(f"sweep   {args.scene}: {args.param} at {len(points)} levels, {args.quantity}, "
         f"{repeats} timings each, {backend}")  # fmt: skip
-    bar = None if args.quiet else ProgressBar(delay=0.0)
     t0 = time.perf_counter()
-    interrupted = False
-    try:
-        with _dask_scheduler(args.scheduler, args.workers) as scheduler:
-            records = run_scene_points(
-                points, args.quantity, repeats=repeats, workers=args.workers,
-                scheduler=scheduler, progress=bar,
-            )  # fmt: skip
-    except SweepInterrupted as e:
-        interrupted, records = True, e.records
-    except KeyboardInterrupt:
-        print("rustfrac: interrupted; no sweep files written", file=sys.stderr)
-        return 130
-    except ImportError as e:
-        print(f"rustfrac: error: {e}", file=sys.stderr)
-        return 2
-    finally:
-        if bar is not None:
-            bar.close()
+    records, interrupted, code = _sweep_records(
+        args,
+        lambda scheduler, bar: run_scene_points(
+            points,
+            args.quantity,
+            repeats=repeats,
+            workers=args.workers,
+            scheduler=scheduler,
+            progress=bar,
+        ),
+    )
+    if code is not None:
+        return code
     doc = write_scene_outputs(
         args.out, points, records, args.quantity,
         extra={
@@ -397,21 +400,27 @@ def _cmd_fig7(args: argparse.Namespace) -> int:
     return 0
 
 
+def _read_scene(path: Path) -> _Scene | None:
+    """The scene in the TOML file ``path``, or None after saying why it cannot be read (the
+    commands then exit with 2)."""
+    from .scene import Scene
+
+    try:
+        return Scene.from_toml(path)
+    except OSError as e:
+        print(f"rustfrac: error: cannot read scene {path}: {e.strerror or e}", file=sys.stderr)
+    except InvalidParameterError as e:
+        print(f"rustfrac: error: invalid scene {path}: {e}", file=sys.stderr)
+    return None
+
+
 def _cmd_run(args: argparse.Namespace) -> int:
     from .result import JSON_NAME, OWNED_NAMES, Result
     from .runner import run
-    from .scene import Scene
 
     log = (lambda *a: None) if args.quiet else (lambda *a: print(*a, flush=True))
-    try:
-        scene = Scene.from_toml(args.scene)
-    except OSError as e:
-        print(
-            f"rustfrac: error: cannot read scene {args.scene}: {e.strerror or e}", file=sys.stderr
-        )
-        return 2
-    except InvalidParameterError as e:
-        print(f"rustfrac: error: invalid scene {args.scene}: {e}", file=sys.stderr)
+    scene = _read_scene(args.scene)
+    if scene is None:
         return 2
     scene = _checkpoint_options(scene, args)
     try:
