@@ -35,7 +35,7 @@ from typing import Any
 
 import numpy as np
 
-from . import figures, handbook
+from . import _core, figures, handbook
 from ._folder import check_writable, locked, with_fallback, writing
 from ._log import logger
 from .errors import InvalidResultError, ResultNotFoundError
@@ -287,10 +287,11 @@ class _Job:
         results, p = self.results, self.p
         ref = self.scenes["xfem"]  # the plate, material and crack every run shares
         W, mat, a0, yc = ref.plate.width, ref.material, ref.crack.a0, ref.crack.y
-        # the handbook curve over the crack lengths the XFEM growth reached (its stop length is
-        # the core's rule; without the growth run, the paper's 0.7 W of Fig. 7)
+        # the handbook curve over the crack lengths the XFEM growth reached; without the growth
+        # run, up to the core's default stop length (0.7 W, the paper's Fig. 7)
         grown = results.get("xfem_growth")
-        a_end = float(grown.history["a"].max()) if grown is not None and grown.history else 0.7 * W
+        stop = _core.scene_constants()["DEFAULT_A_STOP_FRACTION"] * W
+        a_end = float(grown.history["a"].max()) if grown is not None and grown.history else stop
         a = np.linspace(a0, a_end, 120)
         hb_c, hb_s = handbook.edge_crack_curve(a, W, mat.E, mat.nu, mat.G0, mat.plane)
         hb = (np.concatenate([[0.0], hb_c]), np.concatenate([[0.0], hb_s]))

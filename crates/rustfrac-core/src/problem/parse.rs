@@ -410,7 +410,7 @@ fn xfem_method(mesh: &Section, x: &Section, domain: &Domain) -> XfemMethod {
             a_stop: if a_stop > 0.0 {
                 a_stop
             } else {
-                0.7 * domain.width
+                schema::DEFAULT_A_STOP_FRACTION * domain.width
             },
         }),
         tip_tie_tol: x["tip_tie_tol"].f(),

@@ -15,6 +15,9 @@ use std::sync::OnceLock;
 pub const DEFAULT_AREA_THRESHOLD: f64 = 1e-4;
 /// Largest SLA step count, re-condensation period and damage-snapshot step.
 pub const MAX_STEPS: usize = 1_000_000;
+/// XFEM growth's default stop length as a fraction of the plate width (`xfem.a_stop = 0`: the
+/// paper's Fig. 7 runs to 0.7 W).
+pub const DEFAULT_A_STOP_FRACTION: f64 = 0.7;
 /// Most damage snapshots a run stores (each holds one value per PD node).
 pub const MAX_SNAPSHOTS: usize = 10_000;
 /// Largest number of XFEM growth steps.
