@@ -41,6 +41,7 @@ pub enum Error {
     /// limit leaves ([`crate::memory`]).
     OutOfMemory {
         what: String,
+        /// estimated bytes (0: unknown, a failed allocation of a solver library)
         needed: u64,
         available: u64,
     },
@@ -99,13 +100,20 @@ impl fmt::Display for Error {
                 what,
                 needed,
                 available,
-            } => write!(
-                f,
-                "out of memory: {what} needs about {:.2} GiB, {:.2} GiB available (free memory \
-                 or the process's address-space limit); use a coarser grid or a smaller PD region",
-                *needed as f64 / 1073741824.0,
-                *available as f64 / 1073741824.0
-            ),
+            } => {
+                let gib = |b: u64| b as f64 / 1073741824.0;
+                let need = if *needed > 0 {
+                    format!("needs about {:.2} GiB", gib(*needed))
+                } else {
+                    "could not be allocated".to_string()
+                };
+                write!(
+                    f,
+                    "out of memory: {what} {need}, {:.2} GiB available (free memory or the \
+                     process's address-space limit); use a coarser grid or a smaller PD region",
+                    gib(*available)
+                )
+            }
         }
     }
 }
