@@ -179,6 +179,26 @@ def _backend(args: argparse.Namespace) -> str:
     return f"dask {args.scheduler}" if args.scheduler else f"local, {args.workers or 'all'} workers"
 
 
+def _sweep_meta(
+    args: argparse.Namespace, command: str, run: tuple[int, str, float, bool, int, int]
+) -> dict[str, Any]:
+    """The meta every sweep writes: the command that reproduces it (``command`` plus the
+    repeats, scheduler and workers options), repeats, backend, total time and completeness;
+    ``run`` = (repeats, backend, start time, interrupted, points done, points total)."""
+    repeats, backend, t0, interrupted, done, total = run
+    return {
+        "command": f"{command} --repeats {repeats}"
+        + (f" --scheduler {args.scheduler}" if args.scheduler else "")
+        + (f" --workers {args.workers}" if args.workers else ""),
+        "repeats": repeats,
+        "backend": backend,
+        "total_wall_time_s": time.perf_counter() - t0,
+        "interrupted": interrupted,
+        "points_done": done,
+        "points_total": total,
+    }
+
+
 def _sweep_records(
     args: argparse.Namespace, run: Callable[[Any, ProgressBar | None], list[Any]]
 ) -> tuple[list[Any], bool, int | None]:
@@ -244,17 +264,12 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
             points,
             records,
             extra={
-                "command": f"rustfrac sweep --out {args.out} --preset {preset}"
-                + f" --repeats {repeats}"
-                + (f" --scheduler {args.scheduler}" if args.scheduler else "")
-                + (f" --workers {args.workers}" if args.workers else ""),
+                **_sweep_meta(
+                    args,
+                    f"rustfrac sweep --out {args.out} --preset {preset}",
+                    (repeats, backend, t0, interrupted, len(records), len(points)),
+                ),
                 "preset": preset,
-                "repeats": repeats,
-                "backend": backend,
-                "total_wall_time_s": time.perf_counter() - t0,
-                "interrupted": interrupted,
-                "points_done": len(records),
-                "points_total": len(points),
             },
         )
     except SweepInterrupted as e:
@@ -323,18 +338,14 @@ def _cmd_sweep_scene(args: argparse.Namespace) -> int:
     doc = write_scene_outputs(
         args.out, points, records, args.quantity,
         extra={
-            "command": f"rustfrac sweep {args.scene} --out {args.out} --param {args.param} "
-            f"--levels {args.levels} --quantity {args.quantity} --repeats {repeats}"
-            + (f" --scheduler {args.scheduler}" if args.scheduler else "")
-            + (f" --workers {args.workers}" if args.workers else ""),
+            **_sweep_meta(
+                args,
+                f"rustfrac sweep {args.scene} --out {args.out} --param {args.param} "
+                f"--levels {args.levels} --quantity {args.quantity}",
+                (repeats, backend, t0, interrupted, len(records), len(points)),
+            ),
             "scene_file": str(args.scene),
             "scene": scene.to_dict(),
-            "repeats": repeats,
-            "backend": backend,
-            "total_wall_time_s": time.perf_counter() - t0,
-            "interrupted": interrupted,
-            "points_done": len(records),
-            "points_total": len(points),
         },
     )  # fmt: skip
     if interrupted:
