@@ -11,10 +11,7 @@ use rustfrac_core::problem::{Domain, Problem};
 /// or PD everywhere ("pd"); the paper's material (E = 10000, nu = 0.25, plane strain).
 fn spec(method: &str) -> Problem {
     let mut p = Problem::paper(method);
-    p.domain = Domain {
-        width: 3.0,
-        height: 3.0,
-    };
+    p.domain = Domain::rect(3.0, 3.0);
     p.cracks.clear();
     let pd = p.pd_mut();
     pd.dx = 0.1;

@@ -169,7 +169,7 @@ proptest! {
         seam in prop::option::of((mostly(0.05..0.5), mostly(0.1..1.9))), gauss in 0usize..7,
     ) {
         let mut problem = Problem::paper("fem");
-        problem.domain = Domain { width: w, height: 2.0 };
+        problem.domain = Domain::rect(w, 2.0);
         problem.fem_mut().grid = FeGrid { nx, ny };
         problem.fem_mut().gauss = gauss;
         problem.material.elastic = Elastic { e, nu, plane: p, thickness: t };
@@ -423,10 +423,7 @@ proptest! {
 #[test]
 fn zz_extreme_valid_fem_case_is_finite_and_warns() {
     let mut p = Problem::paper("fem");
-    p.domain = Domain {
-        width: 2.0,
-        height: 2.0,
-    };
+    p.domain = Domain::rect(2.0, 2.0);
     p.fem_mut().grid = FeGrid { nx: 4, ny: 4 };
     p.material.elastic = Elastic::new(1e30, 0.4999, Plane::Strain, 1e-30).unwrap();
     p.boundary = Boundary::Grips(PlateLoad {

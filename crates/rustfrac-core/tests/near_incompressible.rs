@@ -71,10 +71,7 @@ fn uniform_tension_is_exact_at_any_nu() {
     for nu in [0.3, 0.49, 0.499, 0.4999, 0.49999] {
         let mat = Elastic::new(1.0, nu, Plane::Strain, 1.0).unwrap();
         let mut p = Problem::paper("fem");
-        p.domain = Domain {
-            width: 10.0,
-            height: 40.0,
-        };
+        p.domain = Domain::rect(10.0, 40.0);
         p.fem_mut().grid = FeGrid { nx: 20, ny: 80 };
         p.material.elastic = mat;
         p.boundary = Boundary::Grips(PlateLoad {

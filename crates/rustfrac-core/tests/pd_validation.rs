@@ -169,10 +169,7 @@ fn bad_inputs_are_refused_with_reasons() {
     check(p, "pd.size");
     // a hand-made pre-crack of one point is refused by the model
     let mut p = Problem::paper("pd");
-    p.domain = Domain {
-        width: 1.0,
-        height: 1.0,
-    };
+    p.domain = Domain::rect(1.0, 1.0);
     p.cracks.clear();
     p.pd_mut().dx = 0.1;
     p.material.g0 = 0.3;

@@ -83,10 +83,7 @@ fn material(e: f64, nu: f64, t: f64) -> Elastic {
 
 fn fem_case(l: f64, e: f64, t: f64, grip: Grip) -> FemPlateResult {
     let mut p = Problem::paper("fem");
-    p.domain = Domain {
-        width: 11.0 * l,
-        height: 21.0 * l,
-    };
+    p.domain = Domain::rect(11.0 * l, 21.0 * l);
     p.fem_mut().grid.ny = 84;
     p.material.elastic = material(e, 0.25, t);
     p.boundary = Boundary::Grips(PlateLoad {

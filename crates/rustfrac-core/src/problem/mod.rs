@@ -14,6 +14,7 @@
 //! loaded through its top and bottom edges (eq. 61).
 
 pub mod parse;
+pub mod regions;
 pub mod schema;
 pub mod validate;
 pub mod value;
@@ -23,6 +24,8 @@ use crate::fe::material::Elastic;
 use crate::fe::mesh::Side;
 use std::path::PathBuf;
 
+pub use regions::{Hole, LoadKind, Probe, ProbeKind, Region, RegionLoad, Shape, Support};
+
 /// The material: isotropic linear elasticity and the fracture energy.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Material {
@@ -31,11 +34,34 @@ pub struct Material {
     pub g0: f64,
 }
 
-/// The body: the rectangle [0, width] x [0, height].
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// The body: the rectangle [0, width] x [0, height] less its holes and notches (a fictitious
+/// domain on the structured grid: level sets, cut elements integrated over their material part).
+#[derive(Debug, Clone, PartialEq)]
 pub struct Domain {
     pub width: f64,
     pub height: f64,
+    /// holes and notches (`[[hole]]`, `[[notch]]`), in scene order: holes first
+    pub holes: Vec<Hole>,
+}
+
+impl Domain {
+    /// The plain rectangle [0, width] x [0, height].
+    pub fn rect(width: f64, height: f64) -> Self {
+        Self {
+            width,
+            height,
+            holes: Vec::new(),
+        }
+    }
+
+    /// The domain's level set: positive in the material, negative in a hole (the smallest of the
+    /// holes' signed distances; +inf without holes). The plate's outer edges are not part of it.
+    pub fn level_set(&self, p: [f64; 2]) -> f64 {
+        self.holes
+            .iter()
+            .map(|h| h.shape.level_set(p))
+            .fold(f64::INFINITY, f64::min)
+    }
 }
 
 /// Boundary conditions, all proportional to one load factor (growth and the SLA scale it).

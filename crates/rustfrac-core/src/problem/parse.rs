@@ -450,10 +450,7 @@ fn pd_method(pd: &Section, ccm: bool) -> PdMethod {
 pub fn from_checked(c: &Checked) -> Problem {
     let s = &c.sections;
     let (plate, mat, load) = (&s["plate"], &s["material"], &s["load"]);
-    let domain = Domain {
-        width: plate["width"].f(),
-        height: plate["height"].f(),
-    };
+    let domain = Domain::rect(plate["width"].f(), plate["height"].f());
     let elastic = Elastic {
         e: mat["E"].f(),
         nu: mat["nu"].f(),

@@ -48,7 +48,7 @@ pub fn coarse(fast: bool, steps: usize) -> Problem {
 /// spacing `dx` and horizon factor `m`.
 pub fn pd_plate(method: &str, width: f64, height: f64, dx: f64, m: usize) -> Problem {
     let mut p = Problem::paper(method);
-    p.domain = Domain { width, height };
+    p.domain = Domain::rect(width, height);
     let pd = p.pd_mut();
     pd.dx = dx;
     pd.m = m;
@@ -194,10 +194,7 @@ impl XfemCase {
     /// The problem of this case.
     pub fn problem(&self) -> Problem {
         let mut p = Problem::paper("xfem");
-        p.domain = Domain {
-            width: self.width,
-            height: self.height,
-        };
+        p.domain = Domain::rect(self.width, self.height);
         p.material.elastic = self.material;
         if let Some(g) = &self.growth {
             p.material.g0 = g.g0;
