@@ -97,6 +97,8 @@ _PY_TYPES = {
     "bool": bool,
     "pair": tuple,
     "intlist": tuple,
+    "floatlist": tuple,
+    "pairlist": tuple,
 }
 
 
@@ -108,9 +110,13 @@ def keys(section: str | None = None) -> list[dict[str, Any]]:
 
 def _normalised(kinds: dict[str, str], values: Mapping[str, Any]) -> dict[str, Any]:
     """The core's checked values with pairs and lists as tuples (sections are immutable)."""
-    return {
-        k: tuple(v) if kinds.get(k) in ("pair", "intlist") else v for k, v in values.items()
-    }
+    def norm(k: str, v: Any) -> Any:
+        kind = kinds.get(k)
+        if kind == "pairlist":
+            return tuple(tuple(p) for p in v)
+        return tuple(v) if kind in ("pair", "intlist", "floatlist") else v
+
+    return {k: norm(k, v) for k, v in values.items()}
 
 
 class _Section:

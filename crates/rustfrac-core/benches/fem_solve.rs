@@ -18,7 +18,7 @@ const SIZES: [(usize, usize); 3] = [(50, 98), (160, 310), (510, 980)];
 /// The paper's uncracked plate under free grips on nx x ny elements.
 fn paper_plate(nx: usize, ny: usize) -> Problem {
     let mut p = Problem::paper("fem");
-    p.fem_mut().grid = FeGrid { nx, ny };
+    p.fem_mut().grid = FeGrid::uniform(nx, ny);
     p.cracks.clear();
     p
 }

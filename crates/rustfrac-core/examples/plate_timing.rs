@@ -13,7 +13,7 @@ fn main() {
     );
     // the paper's uncracked plate under free grips
     let mut p = Problem::paper("fem");
-    p.fem_mut().grid = FeGrid { nx, ny };
+    p.fem_mut().grid = FeGrid::uniform(nx, ny);
     p.cracks.clear();
     let r = run(&p).unwrap();
     println!(

@@ -9,6 +9,7 @@
 use crate::error::{Error, Result};
 use crate::fe::loading::{plate_conditions, sigma22, PlateEdges};
 use crate::fe::mesh::Mesh;
+use crate::fe::regions::{region_conditions, SceneResponses};
 use crate::fe::{FemModel, LinearSystem};
 use crate::la::{condition_warning, ConditionEstimate};
 use crate::memory;
@@ -33,8 +34,11 @@ pub struct FemPlateResult {
     pub energy: f64,
     pub residual: f64,
     pub n_dofs: usize,
-    /// node carrying the u1 = 0 anchor (free grips and traction)
+    /// node carrying the u1 = 0 anchor (free grips and traction; supports on regions: none)
     pub anchor_node: usize,
+    /// supports, loads and probes (general scenes; the grips' top and bottom edges otherwise
+    /// carry none)
+    pub responses: SceneResponses,
     /// y of the seam actually used (grid line nearest to the requested one)
     pub seam_y: Option<f64>,
     /// length of the seam actually cut: from x1 = 0 to the first grid node at or beyond a0
@@ -89,19 +93,43 @@ pub fn run(p: &Problem) -> Result<FemPlateResult> {
     } = seamed_mesh(p, method)?;
     let model = FemModel::new(mesh, material, method.gauss)?;
     let edges = PlateEdges::of_mesh(&model.mesh);
-    let load = p.boundary.plate_load();
-    let (bc, f, anchor) = plate_conditions(&edges, &load, model.n_dofs(), material.thickness)?;
+    let t = material.thickness;
+    let (bc, f, anchor, regions) = match p.boundary.grips() {
+        Some(load) => {
+            let (bc, f, anchor) = plate_conditions(&edges, &load, model.n_dofs(), t)?;
+            (bc, f, anchor, None)
+        }
+        None => {
+            let crate::problem::Boundary::Regions { supports, loads } = &p.boundary else {
+                unreachable!("grips() is None only for regions")
+            };
+            let rc = region_conditions(
+                &model.mesh,
+                &p.domain,
+                &[],
+                supports,
+                loads,
+                model.n_dofs(),
+                t,
+            )?;
+            (rc.bc.clone(), rc.f.clone(), usize::MAX, Some(rc))
+        }
+    };
     bc.check_rigid_modes(&model.mesh.coords)?;
     let sys = LinearSystem::with_positions(model.stiffness(), &bc, Some(&model.dof_positions()))?;
     let condition = sys.checked_condition("solve", method.condition)?;
     let sol = sys.solve(&f, 1.0)?;
-    let s22 = sigma22(
-        &edges,
-        &sol.reactions,
-        &f,
-        p.domain.width,
-        material.thickness,
-    );
+    let (s22, mut responses) = match &regions {
+        None => (
+            sigma22(&edges, &sol.reactions, &f, p.domain.width, t),
+            SceneResponses::default(),
+        ),
+        Some(rc) => (
+            rc.primary_response(&sol.u, &sol.reactions, &f, t).0,
+            rc.responses(&sol.u, &sol.reactions, t),
+        ),
+    };
+    responses.probes = probes(p, &model.mesh, &sol.u, mouth)?;
     let cmod = mouth.map_or(0.0, |(lo, up)| sol.u[2 * up + 1] - sol.u[2 * lo + 1]);
     let (gauss_points, gauss_stress) = model.gauss_stresses(&sol.u);
     let nodal_stress = model.nodal_stresses(&sol.u);
@@ -119,6 +147,7 @@ pub fn run(p: &Problem) -> Result<FemPlateResult> {
         u: sol.u,
         reactions: sol.reactions,
         anchor_node: anchor,
+        responses,
         seam_y,
         seam_length,
         wall_time_s: t0.elapsed().as_secs_f64(),
@@ -136,12 +165,68 @@ pub fn run(p: &Problem) -> Result<FemPlateResult> {
     })
 }
 
+/// The probes of a FEM run: displacements interpolated in the element holding the point; an
+/// opening across the seam at the seam node pair nearest the point ([normal, sliding] jump,
+/// upper minus lower face).
+fn probes(
+    p: &Problem,
+    mesh: &Mesh,
+    u: &[f64],
+    mouth: Option<(usize, usize)>,
+) -> Result<Vec<(String, [f64; 2])>> {
+    use crate::problem::ProbeKind;
+    p.probes
+        .iter()
+        .enumerate()
+        .map(|(k, pr)| {
+            let v = match pr.kind {
+                ProbeKind::Displacement(q) => {
+                    let (e, xi, eta) = mesh.locate(q[0], q[1]).ok_or_else(|| {
+                        Error::invalid(
+                            &format!("probe[{k}].point"),
+                            "a point on the plate",
+                            format!("{q:?}"),
+                        )
+                    })?;
+                    let n = crate::fe::q4::shape(xi, eta);
+                    let c = mesh.elements[e];
+                    let at = |comp: usize| (0..4).map(|i| n[i] * u[2 * c[i] + comp]).sum::<f64>();
+                    [at(0), at(1)]
+                }
+                ProbeKind::Opening { point, .. } => {
+                    let Some(_) = mouth else {
+                        return Err(Error::invalid(
+                            &format!("probe[{k}].kind"),
+                            "'displacement' (this FEM scene has no seam crack to open)",
+                            "'opening'",
+                        ));
+                    };
+                    let (lo, up) = mesh
+                        .duplicate_of
+                        .iter()
+                        .map(|&(dup, orig)| (orig, dup))
+                        .min_by(|a, b| {
+                            let d = |n: usize| {
+                                (mesh.coords[n][0] - point[0]).hypot(mesh.coords[n][1] - point[1])
+                            };
+                            d(a.0).total_cmp(&d(b.0))
+                        })
+                        .unwrap_or((0, 0));
+                    // the seam runs along x1: the duplicate is the upper face
+                    [u[2 * up + 1] - u[2 * lo + 1], u[2 * up] - u[2 * lo]]
+                }
+            };
+            Ok((pr.name.clone(), v))
+        })
+        .collect()
+}
+
 /// The uniform grid over the plate; with a seam crack, its nodes duplicated along the grid line
 /// nearest the crack's y, from x1 = 0 to a0. The refusals that need the grid name the crack's
 /// scene keys.
 fn seamed_mesh(p: &Problem, method: &FemMethod) -> Result<SeamedMesh> {
-    let (d, grid) = (&p.domain, method.grid);
-    let mesh = Mesh::uniform(0.0, 0.0, d.width, d.height, grid.nx, grid.ny)?;
+    let (d, grid) = (&p.domain, &method.grid);
+    let mesh = grid.mesh(d)?;
     let Some((k, c)) = p
         .cracks
         .iter()

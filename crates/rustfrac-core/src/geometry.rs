@@ -91,6 +91,37 @@ pub fn bond_crosses(p: [f64; 2], q: [f64; 2], a: [f64; 2], b: [f64; 2]) -> bool 
     (o3 <= t2 && o4 >= -t2) || (o3 >= -t2 && o4 <= t2)
 }
 
+/// The first pair of edges (i, j) of a closed polygon that touch or cross other than at a shared
+/// vertex of neighbouring edges (None: the polygon is simple). O(n^2).
+pub fn self_intersection(v: &[[f64; 2]]) -> Option<(usize, usize)> {
+    let n = v.len();
+    let scale = v
+        .iter()
+        .flat_map(|p| p.iter())
+        .fold(0.0f64, |a, &x| a.max(x.abs()))
+        .max(1.0);
+    for i in 0..n {
+        for j in i + 1..n {
+            let (a, b) = (v[i], v[(i + 1) % n]);
+            let (c, d) = (v[j], v[(j + 1) % n]);
+            let neighbours = j == i + 1 || (i == 0 && j == n - 1);
+            if neighbours {
+                // neighbours share one vertex: they overlap only if collinear and folding back
+                let (shared, p, q) = if j == i + 1 { (b, a, d) } else { (a, b, c) };
+                let (u, w) = (sub(p, shared), sub(q, shared));
+                let cross = u[0] * w[1] - u[1] * w[0];
+                let dot = u[0] * w[0] + u[1] * w[1];
+                if cross.abs() <= 1e-12 * scale * scale && dot > 0.0 {
+                    return Some((i, j));
+                }
+            } else if segment_distance(a, b, c, d) <= 1e-12 * scale {
+                return Some((i, j));
+            }
+        }
+    }
+    None
+}
+
 /// Liang-Barsky: parameter interval of segment a-b inside the closed box [lo, hi] grown by `tol`.
 pub(crate) fn seg_box(
     a: [f64; 2],
@@ -178,6 +209,18 @@ pub(crate) fn positive_area(poly: &[[f64; 2]], a: [f64; 2], b: [f64; 2]) -> f64 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn simple_and_self_intersecting_polygons() {
+        let square = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+        assert_eq!(self_intersection(&square), None);
+        let bowtie = [[0.0, 0.0], [1.0, 1.0], [1.0, 0.0], [0.0, 1.0]];
+        assert_eq!(self_intersection(&bowtie), Some((0, 2)));
+        let folded = [[0.0, 0.0], [2.0, 0.0], [1.0, 0.0], [1.0, 1.0]];
+        assert!(self_intersection(&folded).is_some());
+        let repeated = [[0.0, 0.0], [1.0, 0.0], [0.0, 0.0], [0.0, 1.0]];
+        assert!(self_intersection(&repeated).is_some());
+    }
 
     #[test]
     fn orientation_and_distances() {

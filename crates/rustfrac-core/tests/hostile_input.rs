@@ -170,7 +170,7 @@ proptest! {
     ) {
         let mut problem = Problem::paper("fem");
         problem.domain = Domain::rect(w, 2.0);
-        problem.fem_mut().grid = FeGrid { nx, ny };
+        problem.fem_mut().grid = FeGrid::uniform(nx, ny);
         problem.fem_mut().gauss = gauss;
         problem.material.elastic = Elastic { e, nu, plane: p, thickness: t };
         problem.boundary = Boundary::Grips(PlateLoad { grip: g, u0, traction: tr });
@@ -424,7 +424,7 @@ proptest! {
 fn zz_extreme_valid_fem_case_is_finite_and_warns() {
     let mut p = Problem::paper("fem");
     p.domain = Domain::rect(2.0, 2.0);
-    p.fem_mut().grid = FeGrid { nx: 4, ny: 4 };
+    p.fem_mut().grid = FeGrid::uniform(4, 4);
     p.material.elastic = Elastic::new(1e30, 0.4999, Plane::Strain, 1e-30).unwrap();
     p.boundary = Boundary::Grips(PlateLoad {
         grip: Grip::Clamped,

@@ -72,7 +72,7 @@ fn uniform_tension_is_exact_at_any_nu() {
         let mat = Elastic::new(1.0, nu, Plane::Strain, 1.0).unwrap();
         let mut p = Problem::paper("fem");
         p.domain = Domain::rect(10.0, 40.0);
-        p.fem_mut().grid = FeGrid { nx: 20, ny: 80 };
+        p.fem_mut().grid = FeGrid::uniform(20, 80);
         p.material.elastic = mat;
         p.boundary = Boundary::Grips(PlateLoad {
             grip: Grip::Free,

@@ -159,6 +159,7 @@ fn growth_fields(s: &Shaped<'_>, r: &XfemResult, p: &Problem) -> PyResult<()> {
     s.column("cmod", col(|q| q.cmod))?;
     s.column("u0", col(|q| q.u0))?;
     s.column("traction", col(|q| q.traction))?;
+    s.response_columns(&r.response_history)?;
     s.column("a", col(|q| q.a))?;
     s.column("K_I", col(|q| q.k_i))?;
     s.column("K_II", col(|q| q.k_ii))?;
@@ -174,6 +175,7 @@ fn growth_fields(s: &Shaped<'_>, r: &XfemResult, p: &Problem) -> PyResult<()> {
 fn scalars_and_meta(s: &Shaped<'_>, r: &XfemResult, p: &Problem, wall: f64) -> PyResult<()> {
     let py = s.py;
     let sc = &s.scalars;
+    s.responses(&r.responses)?;
     sc.set_item("K_I", r.k_i)?;
     sc.set_item("K_II", r.k_ii)?;
     sc.set_item("J", r.j_from_k)?;

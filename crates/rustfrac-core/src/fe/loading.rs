@@ -74,7 +74,7 @@ impl PlateEdges {
 }
 
 /// Loading of the plate; `u0` for displacement grips, `traction` (stress) for [`Grip::Traction`].
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PlateLoad {
     pub grip: Grip,
     pub u0: f64,

@@ -2,11 +2,13 @@
 //! ([`quadrature`]), structured Q4 meshes ([`mesh`]), linear elastic materials ([`material`]), the
 //! Q4 element ([`q4`]), the assembled plane-elasticity model ([`model`]), Dirichlet conditions with
 //! the rigid-mode check ([`dirichlet`]), the eliminated and factorised linear system
-//! ([`linear_system`]) and the loading of the paper's plate ([`loading`]).
+//! ([`linear_system`]), the loading of the paper's plate ([`loading`]), supports and loads on
+//! boundary regions ([`regions`]) and graded grids ([`grading`]).
 //!
 //! Built on [`crate::la`]; XFEM and CCM-PD build on it.
 
 pub mod dirichlet;
+pub mod grading;
 pub mod linear_system;
 pub mod loading;
 pub mod material;
@@ -14,6 +16,7 @@ pub mod mesh;
 pub mod model;
 pub mod q4;
 pub mod quadrature;
+pub mod regions;
 
 pub use dirichlet::Dirichlet;
 pub use linear_system::{LinearSystem, Solution};

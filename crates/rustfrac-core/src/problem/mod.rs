@@ -13,6 +13,7 @@
 //! the drivers match on them. Today they hold the paper's plate: the rectangle [0, W] x [0, L]
 //! loaded through its top and bottom edges (eq. 61).
 
+pub mod general;
 pub mod parse;
 pub mod regions;
 pub mod schema;
@@ -65,25 +66,52 @@ impl Domain {
 }
 
 /// Boundary conditions, all proportional to one load factor (growth and the SLA scale it).
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum Boundary {
     /// the paper's grips on the top and bottom edges (eq. 61; [`PlateLoad`])
     Grips(PlateLoad),
+    /// supports and loads on regions (`[[support]]`, `[[load]]`; [`crate::fe::regions`])
+    Regions {
+        supports: Vec<Support>,
+        loads: Vec<RegionLoad>,
+    },
 }
 
 impl Boundary {
-    /// The plate load of [`Boundary::Grips`]; traction grips prescribe no displacement, so
-    /// their `u0` is 0 (the histories' `u0` column is then 0).
-    pub fn plate_load(&self) -> PlateLoad {
+    /// The plate load of [`Boundary::Grips`] (None for regions); traction grips prescribe no
+    /// displacement, so their `u0` is 0 (the histories' `u0` column is then 0).
+    pub fn grips(&self) -> Option<PlateLoad> {
         match self {
-            Boundary::Grips(l) if l.grip == Grip::Traction => PlateLoad { u0: 0.0, ..*l },
-            Boundary::Grips(l) => *l,
+            Boundary::Grips(l) if l.grip == Grip::Traction => Some(PlateLoad { u0: 0.0, ..*l }),
+            Boundary::Grips(l) => Some(*l),
+            Boundary::Regions { .. } => None,
+        }
+    }
+
+    /// The plate load of a problem with grips; for regions, a zero traction load (drivers that
+    /// read it are only reached with grips: [`validate::problem`] refuses regions elsewhere).
+    pub fn plate_load(&self) -> PlateLoad {
+        self.grips().unwrap_or(PlateLoad {
+            grip: Grip::Traction,
+            u0: 0.0,
+            traction: 0.0,
+        })
+    }
+
+    /// The stable name of the conditions: the grip ("free", "clamped", "traction") or "regions".
+    pub fn name(&self) -> &'static str {
+        match self.grips() {
+            Some(l) => l.grip.name(),
+            None => "regions",
         }
     }
 
     /// One line saying which conditions ran (results carry it).
     pub fn description(&self) -> &'static str {
-        match self.plate_load().grip {
+        let Some(load) = self.grips() else {
+            return "supports and loads on regions ([[support]], [[load]])";
+        };
+        match load.grip {
             Grip::Free => "u2 = +-u0 on top/bottom, u1 free (u1 = 0 at the anchor node only)",
             Grip::Clamped => "u2 = +-u0 and u1 = 0 on top/bottom (clamped grips)",
             Grip::Traction => {
@@ -196,15 +224,59 @@ impl XfemOptions {
     }
 }
 
-/// A structured grid of Q4 elements over the domain.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// A structured tensor grid of Q4 elements over the domain: uniform (`xs`, `ys` empty) or on the
+/// given grid lines (then `nx`, `ny` are their counts - 1).
+#[derive(Debug, Clone, PartialEq)]
 pub struct FeGrid {
     pub nx: usize,
     pub ny: usize,
+    /// vertical grid lines (empty: uniform)
+    pub xs: Vec<f64>,
+    /// horizontal grid lines (empty: uniform)
+    pub ys: Vec<f64>,
+}
+
+impl FeGrid {
+    /// The uniform nx x ny grid.
+    pub fn uniform(nx: usize, ny: usize) -> Self {
+        Self {
+            nx,
+            ny,
+            xs: Vec::new(),
+            ys: Vec::new(),
+        }
+    }
+
+    /// The mesh of this grid over the domain's rectangle.
+    pub fn mesh(&self, d: &Domain) -> crate::Result<crate::fe::Mesh> {
+        let uniform = crate::fe::Mesh::uniform(0.0, 0.0, d.width, d.height, self.nx, self.ny);
+        if self.xs.is_empty() && self.ys.is_empty() {
+            return uniform;
+        }
+        let lines = |v: &Vec<f64>, len: f64, n: usize| {
+            if v.is_empty() {
+                (0..=n)
+                    .map(|i| {
+                        if i == n {
+                            len
+                        } else {
+                            len * i as f64 / n as f64
+                        }
+                    })
+                    .collect()
+            } else {
+                v.clone()
+            }
+        };
+        crate::fe::Mesh::from_lines(
+            lines(&self.xs, d.width, self.nx),
+            lines(&self.ys, d.height, self.ny),
+        )
+    }
 }
 
 /// Plain Q4 FEM.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct FemMethod {
     pub grid: FeGrid,
     /// Gauss points per direction
@@ -333,6 +405,8 @@ pub struct Problem {
     pub boundary: Boundary,
     /// the cracks (empty: uncracked); the first is the primary crack (CMOD, history `a`)
     pub cracks: Vec<CrackSpec>,
+    /// named responses (`[[probe]]`)
+    pub probes: Vec<Probe>,
     pub method: Method,
 }
 
@@ -368,8 +442,10 @@ impl Problem {
 
     /// The grips' load (grip, reference displacement, reference traction).
     pub fn load_mut(&mut self) -> &mut PlateLoad {
-        let Boundary::Grips(l) = &mut self.boundary;
-        l
+        match &mut self.boundary {
+            Boundary::Grips(l) => l,
+            Boundary::Regions { .. } => panic!("load_mut on a problem with regions"),
+        }
     }
 
     /// The FEM options (panics for another method: a programming error).
@@ -435,9 +511,18 @@ impl Problem {
         let line = c.polyline(&self.domain);
         let (d0, d1) = (line[1][0] - line[0][0], line[1][1] - line[0][1]);
         let len = d0.hypot(d1);
+        // the spacing of the grid cell holding the tip (graded grids: the fine one)
+        let tip = line[line.len() - 1];
+        let cell = |lines: &[f64], len: f64, n: usize, v: f64| {
+            if lines.len() < 2 {
+                return len / n as f64;
+            }
+            let k = lines.partition_point(|&l| l <= v).clamp(1, lines.len() - 1);
+            lines[k] - lines[k - 1]
+        };
         let (hx, hy) = (
-            self.domain.width / x.grid.nx as f64,
-            self.domain.height / x.grid.ny as f64,
+            cell(&x.grid.xs, self.domain.width, x.grid.nx, tip[0]),
+            cell(&x.grid.ys, self.domain.height, x.grid.ny, tip[1]),
         );
         let chord = |h: f64, d: f64| {
             if (d / len).abs() > 1e-12 {

@@ -9,10 +9,12 @@
 use super::schema::{self, Kind, Val};
 use super::value::{Table, Value};
 use super::{
-    Boundary, CrackKind, CrackSpec, Domain, FeGrid, FemMethod, Growth, Material, Method, PdMethod,
-    Problem, SlaParams, XfemMethod, XfemOptions,
+    Boundary, CrackKind, CrackSpec, Domain, FeGrid, FemMethod, Growth, Hole, LoadKind, Material,
+    Method, PdMethod, Probe, ProbeKind, Problem, Region, RegionLoad, Shape, SlaParams, Support,
+    XfemMethod, XfemOptions,
 };
 use crate::error::{Error, Result};
+use crate::fe::grading::graded_lines;
 use crate::fe::loading::{Grip, PlateLoad};
 use crate::fe::material::{Elastic, Plane};
 use crate::fe::mesh::Side;
@@ -33,7 +35,7 @@ pub fn crack_name(k: usize) -> String {
 
 fn type_error(param: &str, kind: Kind, valid: &str, v: &Value) -> Error {
     let got = match kind {
-        Kind::Pair | Kind::IntList => v.repr(),
+        Kind::Pair | Kind::IntList | Kind::FloatList | Kind::PairList => v.repr(),
         _ => format!("{} {}", v.type_name(), v.repr()),
     };
     Error::InvalidType {
@@ -84,6 +86,23 @@ pub fn key_value(spec: &schema::KeySpec, param: &str, v: &Value) -> Result<Val> 
                 .collect();
             match ints {
                 Some(x) => Val::IntList(x),
+                None => return Err(bad_type()),
+            }
+        }
+        (Kind::FloatList, Value::List(l)) => match numbers(l) {
+            Some(x) => Val::FloatList(x),
+            None => return Err(bad_type()),
+        },
+        (Kind::PairList, Value::List(l)) => {
+            let pairs: Option<Vec<[f64; 2]>> = l
+                .iter()
+                .map(|p| match p {
+                    Value::List(q) if q.len() == 2 => numbers(q).map(|x| [x[0], x[1]]),
+                    _ => None,
+                })
+                .collect();
+            match pairs {
+                Some(x) => Val::PairList(x),
                 None => return Err(bad_type()),
             }
         }
@@ -149,14 +168,78 @@ pub fn section(section: &str, name: &str, t: &Value) -> Result<Section> {
         };
         out.insert(spec.key, v);
     }
+    required_keys(section, name, &out, |k| t.contains_key(k))?;
     section_rules(section, name, &out)?;
     Ok(out)
+}
+
+/// The keys an entry of a general-scene list must state, given its shape, region or kind.
+fn required(section: &str, s: &Section) -> &'static [&'static str] {
+    match (
+        section,
+        s.get("shape")
+            .or(s.get("region"))
+            .or(s.get("kind"))
+            .map(Val::s),
+    ) {
+        ("hole", Some("circle")) => &["center", "radius"],
+        ("hole", Some("rect")) => &["min", "max"],
+        ("hole", Some("polygon")) => &["points"],
+        ("notch", _) => &["at", "width", "depth"],
+        ("support" | "region_load", Some("edge")) => &["side"],
+        ("support" | "region_load", Some("edge_part")) => &["side", "from", "to"],
+        ("support" | "region_load", Some("point")) => &["point"],
+        ("support", Some("box")) => &["box"],
+        ("probe", _) => &["point"],
+        _ => &[],
+    }
+}
+
+/// Refuses an entry of a general-scene list that omits a key its shape / region needs.
+fn required_keys(
+    section: &str,
+    name: &str,
+    s: &Section,
+    given: impl Fn(&str) -> bool,
+) -> Result<()> {
+    let what = s
+        .get("shape")
+        .or(s.get("region"))
+        .map(|v| {
+            format!(
+                " for {} '{}'",
+                if s.contains_key("shape") {
+                    "shape"
+                } else {
+                    "region"
+                },
+                v.s()
+            )
+        })
+        .unwrap_or_default();
+    for key in required(section, s) {
+        if !given(key) {
+            return Err(Error::UnknownKey {
+                param: format!("{name}.{key}"),
+                message: format!("missing required key {name}.{key}{what}"),
+            });
+        }
+    }
+    Ok(())
 }
 
 /// Rules between the keys of one section.
 fn section_rules(section: &str, name: &str, s: &Section) -> Result<()> {
     match section {
         "mesh" => {
+            if !s["refine"].floats().is_empty() && s["refine_h"].f() == 0.0 {
+                return Err(Error::invalid(
+                    &format!("{name}.refine_h"),
+                    "the element size in the refinement box (a length > 0) when mesh.refine is \
+                     set",
+                    0.0,
+                ));
+            }
             let (nx, ny) = (s["nx"].i(), s["ny"].i());
             if nx.saturating_mul(ny) > schema::max_elements() as i64 {
                 return Err(Error::invalid(
@@ -176,6 +259,43 @@ fn section_rules(section: &str, name: &str, s: &Section) -> Result<()> {
                     &format!("{name}.tip_nsub"),
                     &format!("0 (= nsub) or an integer in nsub..64 = {nsub}..64"),
                     tip,
+                ));
+            }
+        }
+        "hole" if s["shape"].s() == "rect" => {
+            let (lo, hi) = (s["min"].pair(), s["max"].pair());
+            if !(lo[0] < hi[0] && lo[1] < hi[1]) {
+                return Err(Error::invalid(
+                    &format!("{name}.max"),
+                    &format!("a corner above and right of {name}.min = {lo:?}"),
+                    format!("{hi:?}"),
+                ));
+            }
+        }
+        "hole" if s["shape"].s() == "polygon" => {
+            let v = s["points"].pairs();
+            if v.len() < 3 {
+                return Err(Error::invalid(
+                    &format!("{name}.points"),
+                    "at least 3 vertices",
+                    v.len(),
+                ));
+            }
+            if let Some((i, j)) = crate::geometry::self_intersection(v) {
+                return Err(Error::invalid(
+                    &format!("{name}.points"),
+                    "a simple polygon (no two edges cross, no repeated vertex)",
+                    format!("edges {i} and {j} intersect"),
+                ));
+            }
+        }
+        "support" | "region_load" if s["region"].s() == "edge_part" => {
+            let (a, b) = (s["from"].f(), s["to"].f());
+            if !(a < b) {
+                return Err(Error::invalid(
+                    &format!("{name}.to"),
+                    &format!("an end after {name}.from = {a}"),
+                    b,
                 ));
             }
         }
@@ -224,6 +344,8 @@ pub struct Checked {
     pub name: String,
     pub sections: BTreeMap<&'static str, Section>,
     pub cracks: Vec<Section>,
+    /// the general scene's lists ([`schema::LIST_SECTIONS`]) by scene key, each entry checked
+    pub lists: BTreeMap<&'static str, Vec<Section>>,
 }
 
 impl Checked {
@@ -247,6 +369,11 @@ impl Checked {
             "crack".into(),
             Value::List(self.cracks.iter().map(table).collect()),
         );
+        // `[[load]]` entries go back as "loads" (the tree's "load" is the grips' table)
+        for (key, list) in &self.lists {
+            let key = if *key == "load" { "loads" } else { key };
+            t.insert(key.into(), Value::List(list.iter().map(table).collect()));
+        }
         t
     }
 }
@@ -255,9 +382,12 @@ impl Checked {
 pub fn check(t: &Table) -> Result<Checked> {
     let method = method(t)?;
     let wanted = schema::method_sections(method);
+    let listed = |k: &str| schema::LIST_SECTIONS.iter().any(|(key, _)| *key == k);
     let unknown: Vec<&String> = t
         .keys()
-        .filter(|k| !matches!(k.as_str(), "method" | "name") && !wanted.contains(&k.as_str()))
+        .filter(|k| {
+            !matches!(k.as_str(), "method" | "name") && !wanted.contains(&k.as_str()) && !listed(k)
+        })
         .collect();
     if let Some(first) = unknown.first() {
         let other: Vec<&str> = unknown
@@ -276,6 +406,12 @@ pub fn check(t: &Table) -> Result<Checked> {
         let list: Vec<String> = unknown.iter().take(20).map(|k| shown(k)).collect();
         let mut allowed = vec!["method", "name"];
         allowed.extend_from_slice(wanted);
+        allowed.extend(
+            schema::LIST_SECTIONS
+                .iter()
+                .map(|(k, _)| *k)
+                .filter(|k| *k != "load"),
+        );
         return Err(Error::UnknownKey {
             param: shown(first),
             message: format!(
@@ -288,12 +424,35 @@ pub fn check(t: &Table) -> Result<Checked> {
     let name = string(t, "name", "a string of Unicode text", |_| true)?.unwrap_or_default();
     let mut sections = BTreeMap::new();
     let mut cracks = Vec::new();
+    let mut lists = BTreeMap::new();
+    for &(key, sec) in &schema::LIST_SECTIONS {
+        let entries = match t.get(key) {
+            None => Vec::new(),
+            // a `[load]` table is the paper's grips, read below
+            Some(Value::Table(_)) if key == "load" => Vec::new(),
+            Some(Value::List(l)) => l
+                .iter()
+                .enumerate()
+                .map(|(k, e)| section(sec, &format!("{key}[{k}]"), e))
+                .collect::<Result<_>>()?,
+            Some(v) => {
+                return Err(Error::InvalidType {
+                    param: key.into(),
+                    expected: format!("a list of tables ([[{key}]])"),
+                    got: v.type_name().to_string(),
+                })
+            }
+        };
+        lists.insert(key, entries);
+    }
     for &sec in wanted {
         let v = t.get(sec);
         if sec == "crack" {
             cracks = crack_tables(method, v)?;
             continue;
         }
+        // `[[load]]` (a list) are region loads: the grips take their defaults
+        let v = v.filter(|v| !(sec == "load" && matches!(v, Value::List(_))));
         let s = match v {
             Some(v) => section(sec, sec, v)?,
             None => section(sec, sec, &Value::Table(Table::new()))?,
@@ -305,8 +464,18 @@ pub fn check(t: &Table) -> Result<Checked> {
         name,
         sections,
         cracks,
+        lists,
     };
     scene_rules(&c)?;
+    let regions = !c.lists["support"].is_empty() || !c.lists["load"].is_empty();
+    if regions && matches!(t.get("load"), Some(Value::Table(_))) {
+        return Err(Error::invalid(
+            "load",
+            "either the paper's grips ([load] bc, u0, traction) or supports and loads on \
+             regions ([[support]], [[load]] tables), not both",
+            "a [load] table beside [[support]] / [[load]] tables",
+        ));
+    }
     Ok(c)
 }
 
@@ -374,11 +543,154 @@ fn crack(s: &Section) -> Option<CrackSpec> {
     })
 }
 
-fn grid(s: &Section) -> FeGrid {
-    FeGrid {
-        nx: s["nx"].i() as usize,
-        ny: s["ny"].i() as usize,
+/// The grid of `[mesh]`: uniform nx x ny, the given lines, or graded around the refinement box
+/// (the uniform grid's spacing far from it).
+fn grid(s: &Section, d: &Domain) -> FeGrid {
+    let (nx, ny) = (s["nx"].i() as usize, s["ny"].i() as usize);
+    let (mut xs, mut ys) = (s["xs"].floats().to_vec(), s["ys"].floats().to_vec());
+    let (b, h, g) = (s["refine"].floats(), s["refine_h"].f(), s["grading"].f());
+    if b.len() == 4 && h > 0.0 {
+        if xs.is_empty() {
+            xs = graded_lines(d.width, b[0], b[2], h, g, d.width / nx as f64);
+        }
+        if ys.is_empty() {
+            ys = graded_lines(d.height, b[1], b[3], h, g, d.height / ny as f64);
+        }
     }
+    FeGrid {
+        nx: if xs.is_empty() { nx } else { xs.len() - 1 },
+        ny: if ys.is_empty() { ny } else { ys.len() - 1 },
+        xs,
+        ys,
+    }
+}
+
+/// The holes and notches (a notch is the rectangle it removes, reaching `depth` beyond the edge).
+fn holes(c: &Checked, d: &Domain) -> Vec<Hole> {
+    let hole = |k: usize, s: &Section| Hole {
+        name: format!("hole[{k}]"),
+        shape: match s["shape"].s() {
+            "rect" => Shape::Rect {
+                min: s["min"].pair(),
+                max: s["max"].pair(),
+            },
+            "polygon" => Shape::Polygon(s["points"].pairs().to_vec()),
+            _ => Shape::Circle {
+                center: s["center"].pair(),
+                radius: s["radius"].f(),
+            },
+        },
+    };
+    let notch = |k: usize, s: &Section| {
+        let (at, w, dp) = (s["at"].f(), s["width"].f() / 2.0, s["depth"].f());
+        let (min, max) = match side(s["side"].s()) {
+            Side::Bottom => ([at - w, -dp], [at + w, dp]),
+            Side::Top => ([at - w, d.height - dp], [at + w, d.height + dp]),
+            Side::Left => ([-dp, at - w], [dp, at + w]),
+            Side::Right => ([d.width - dp, at - w], [d.width + dp, at + w]),
+        };
+        Hole {
+            name: format!("notch[{k}]"),
+            shape: Shape::Rect { min, max },
+        }
+    };
+    let h = c.lists["hole"].iter().enumerate().map(|(k, s)| hole(k, s));
+    h.chain(
+        c.lists["notch"]
+            .iter()
+            .enumerate()
+            .map(|(k, s)| notch(k, s)),
+    )
+    .collect()
+}
+
+fn region(s: &Section) -> Region {
+    let sd = side(s["side"].s());
+    match s["region"].s() {
+        "edge_part" => Region::EdgePart {
+            side: sd,
+            from: s["from"].f(),
+            to: s["to"].f(),
+        },
+        "point" => Region::Point(s["point"].pair()),
+        "box" => {
+            let b = s["box"].floats();
+            Region::Box([b[0], b[1], b[2], b[3]])
+        }
+        _ => Region::Edge(sd),
+    }
+}
+
+/// The supports and loads on regions, or the paper's grips when there are none.
+fn boundary(c: &Checked, load: &Section) -> Boundary {
+    let (sup, loads) = (&c.lists["support"], &c.lists["load"]);
+    if sup.is_empty() && loads.is_empty() {
+        let grip = match load["bc"].s() {
+            "clamped" => Grip::Clamped,
+            "traction" => Grip::Traction,
+            _ => Grip::Free,
+        };
+        return Boundary::Grips(PlateLoad {
+            grip,
+            u0: load["u0"].f(),
+            traction: load["traction"].f(),
+        });
+    }
+    let fix = |s: &Section, comp: &str| {
+        matches!(
+            (s["fix"].s(), comp),
+            ("both", _) | ("u1", "u1") | ("u2", "u2")
+        )
+        .then(|| s[comp].f())
+    };
+    Boundary::Regions {
+        supports: sup
+            .iter()
+            .enumerate()
+            .map(|(k, s)| Support {
+                name: format!("support[{k}]"),
+                region: region(s),
+                u1: fix(s, "u1"),
+                u2: fix(s, "u2"),
+            })
+            .collect(),
+        loads: loads
+            .iter()
+            .enumerate()
+            .map(|(k, s)| RegionLoad {
+                name: format!("load[{k}]"),
+                region: region(s),
+                kind: if s["region"].s() == "point" {
+                    LoadKind::Force(s["force"].pair())
+                } else {
+                    LoadKind::Traction {
+                        normal: s["normal"].f(),
+                        shear: s["shear"].f(),
+                    }
+                },
+            })
+            .collect(),
+    }
+}
+
+fn probes(c: &Checked) -> Vec<Probe> {
+    c.lists["probe"]
+        .iter()
+        .enumerate()
+        .map(|(k, s)| Probe {
+            name: match s["name"].s() {
+                "" => format!("probe[{k}]"),
+                n => n.to_string(),
+            },
+            kind: match s["kind"].s() {
+                "opening" => ProbeKind::Opening {
+                    point: s["point"].pair(),
+                    crack: s["crack"].i() as usize,
+                },
+                _ => ProbeKind::Displacement(s["point"].pair()),
+            },
+        })
+        .collect()
 }
 
 fn positive_or_none(v: f64) -> Option<f64> {
@@ -395,7 +707,7 @@ fn xfem_method(mesh: &Section, x: &Section, domain: &Domain) -> XfemMethod {
     let steps = x["growth_steps"].i() as usize;
     let a_stop = x["a_stop"].f();
     XfemMethod {
-        grid: grid(mesh),
+        grid: grid(mesh, domain),
         options: XfemOptions {
             nsub,
             tip_nsub: if tip == 0 { nsub } else { tip },
@@ -450,7 +762,8 @@ fn pd_method(pd: &Section, ccm: bool) -> PdMethod {
 pub fn from_checked(c: &Checked) -> Problem {
     let s = &c.sections;
     let (plate, mat, load) = (&s["plate"], &s["material"], &s["load"]);
-    let domain = Domain::rect(plate["width"].f(), plate["height"].f());
+    let mut domain = Domain::rect(plate["width"].f(), plate["height"].f());
+    domain.holes = holes(c, &domain);
     let elastic = Elastic {
         e: mat["E"].f(),
         nu: mat["nu"].f(),
@@ -461,14 +774,9 @@ pub fn from_checked(c: &Checked) -> Problem {
         },
         thickness: mat["thickness"].f(),
     };
-    let grip = match load["bc"].s() {
-        "clamped" => Grip::Clamped,
-        "traction" => Grip::Traction,
-        _ => Grip::Free,
-    };
     let method = match c.method {
         "fem" => Method::Fem(FemMethod {
-            grid: grid(&s["mesh"]),
+            grid: grid(&s["mesh"], &domain),
             gauss: s["mesh"]["gauss"].i() as usize,
             condition: true,
         }),
@@ -483,12 +791,9 @@ pub fn from_checked(c: &Checked) -> Problem {
             elastic,
             g0: mat["G0"].f(),
         },
-        boundary: Boundary::Grips(PlateLoad {
-            grip,
-            u0: load["u0"].f(),
-            traction: load["traction"].f(),
-        }),
+        boundary: boundary(c, load),
         cracks: c.cracks.iter().filter_map(crack).collect(),
+        probes: probes(c),
         method,
     }
 }

@@ -57,7 +57,40 @@ pub fn method_sections(method: &str) -> &'static [&'static str] {
     }
 }
 /// Every section, in the order of the docs.
-pub const SECTIONS: [&str; 7] = ["plate", "material", "load", "crack", "mesh", "xfem", "pd"];
+pub const SECTIONS: [&str; 12] = [
+    "plate",
+    "material",
+    "load",
+    "crack",
+    "mesh",
+    "xfem",
+    "pd",
+    "hole",
+    "notch",
+    "support",
+    "region_load",
+    "probe",
+];
+/// The general scene's lists of tables (`[[hole]]`, ...), every method reads them: (scene key,
+/// schema section of its entries). `[[load]]` entries are the section `region_load` (a `[load]`
+/// table is the paper's grips).
+pub const LIST_SECTIONS: [(&str, &str); 5] = [
+    ("hole", "hole"),
+    ("notch", "notch"),
+    ("support", "support"),
+    ("load", "region_load"),
+    ("probe", "probe"),
+];
+/// Hole shapes.
+pub const SHAPES: [&str; 3] = ["circle", "rect", "polygon"];
+/// Regions of supports (loads: all but "box").
+pub const REGIONS: [&str; 4] = ["edge", "edge_part", "point", "box"];
+/// Probe kinds.
+pub const PROBES: [&str; 2] = ["displacement", "opening"];
+/// Largest ratio of neighbouring element sizes of a graded grid (`mesh.grading`).
+pub const MAX_GRADING: f64 = 2.0;
+/// Most vertices of a polygon hole.
+pub const MAX_POLYGON_VERTICES: usize = 10_000;
 
 /// The kind of a key's value.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -70,6 +103,10 @@ pub enum Kind {
     Pair,
     /// a list of integers
     IntList,
+    /// a list of numbers
+    FloatList,
+    /// a list of pairs of numbers
+    PairList,
 }
 
 impl Kind {
@@ -82,6 +119,8 @@ impl Kind {
             Kind::Bool => "bool",
             Kind::Pair => "pair",
             Kind::IntList => "intlist",
+            Kind::FloatList => "floatlist",
+            Kind::PairList => "pairlist",
         }
     }
     /// How messages say "a value of this kind".
@@ -93,6 +132,8 @@ impl Kind {
             Kind::Bool => "true or false",
             Kind::Pair => "a pair of numbers",
             Kind::IntList => "a list of integers",
+            Kind::FloatList => "a list of numbers",
+            Kind::PairList => "a list of pairs of numbers",
         }
     }
 }
@@ -106,6 +147,8 @@ pub enum Val {
     Bool(bool),
     Pair([f64; 2]),
     IntList(Vec<i64>),
+    FloatList(Vec<f64>),
+    PairList(Vec<[f64; 2]>),
 }
 
 impl Val {
@@ -143,6 +186,18 @@ impl Val {
             _ => &[],
         }
     }
+    pub fn floats(&self) -> &[f64] {
+        match self {
+            Val::FloatList(v) => v,
+            _ => &[],
+        }
+    }
+    pub fn pairs(&self) -> &[[f64; 2]] {
+        match self {
+            Val::PairList(v) => v,
+            _ => &[],
+        }
+    }
     /// Back to the tree (defaults and normalised values for Python).
     pub fn to_value(&self) -> Value {
         match self {
@@ -152,6 +207,12 @@ impl Val {
             Val::Bool(v) => Value::Bool(*v),
             Val::Pair(v) => Value::List(v.iter().map(|&x| Value::Float(x)).collect()),
             Val::IntList(v) => Value::List(v.iter().map(|&x| Value::Int(x)).collect()),
+            Val::FloatList(v) => Value::List(v.iter().map(|&x| Value::Float(x)).collect()),
+            Val::PairList(v) => Value::List(
+                v.iter()
+                    .map(|p| Value::List(p.iter().map(|&x| Value::Float(x)).collect()))
+                    .collect(),
+            ),
         }
     }
     /// Python-style repr for messages.
@@ -266,6 +327,26 @@ fn build() -> Vec<KeySpec> {
            the stiffness is rank deficient)",
           "Gauss points per direction of the standard elements (2 is exact for rectangles)",
           |v| (2..=5).contains(&v.i())),
+        k("mesh", "xs", FloatList, Val::FloatList(Vec::new()),
+          "empty (uniform) or strictly increasing x1 grid lines from 0 to plate.width",
+          "the vertical grid lines of a tensor grid (then mesh.nx is their count - 1)",
+          |v| v.floats().iter().all(|&x| finite(x))),
+        k("mesh", "ys", FloatList, Val::FloatList(Vec::new()),
+          "empty (uniform) or strictly increasing x2 grid lines from 0 to plate.height",
+          "the horizontal grid lines of a tensor grid (then mesh.ny is their count - 1)",
+          |v| v.floats().iter().all(|&x| finite(x))),
+        k("mesh", "refine", FloatList, Val::FloatList(Vec::new()),
+          "empty (off) or a box [x0, y0, x1, y1] with x0 < x1, y0 < y1",
+          "graded grid: elements of size mesh.refine_h in this box, growing by mesh.grading \
+           per element away from it up to the uniform grid's size (plate / mesh.nx, mesh.ny)",
+          |v| v.floats().is_empty() || (v.floats().len() == 4 && v.floats().iter().all(|&x| finite(x))
+              && v.floats()[0] < v.floats()[2] && v.floats()[1] < v.floats()[3])),
+        k("mesh", "refine_h", Float, Val::Float(0.0), "0 (off) or a length in [1e-30, 1e30]",
+          "element size in the refinement box", |v| nonneg(v.f())),
+        k("mesh", "grading", Float, Val::Float(1.2),
+          &format!("1 <= grading <= {MAX_GRADING}"),
+          "ratio of neighbouring element sizes outside the refinement box",
+          |v| v.f() >= 1.0 && v.f() <= MAX_GRADING),
         k("xfem", "nsub", Int, Val::Int(4), "an integer in 1..32",
           "sub-quads per direction of split and branch-enriched elements, 2 x 2 Gauss points \
            each (eq. 35)", |v| (1..=32).contains(&v.i())),
@@ -337,6 +418,82 @@ fn build() -> Vec<KeySpec> {
         k("pd", "resume_from", Str, Val::Str(String::new()),
           "a checkpoint file path (empty: none)",
           "continue from a checkpoint of the same model and solver options", |_| true),
+        k("hole", "shape", Str, Val::Str("circle".into()), &choice(&SHAPES),
+          "'circle' (center, radius), 'rect' (min, max corners) or 'polygon' (points)",
+          |v| SHAPES.contains(&v.s())),
+        k("hole", "center", Pair, Val::Pair([0.0, 0.0]), "two finite numbers, |x| <= 1e30",
+          "centre of a circle (length)", |v| v.pair().iter().all(|&x| finite(x))),
+        k("hole", "radius", Float, Val::Float(0.0), POS,
+          "radius of a circle (length; required)", pos),
+        k("hole", "min", Pair, Val::Pair([0.0, 0.0]), "two finite numbers, |x| <= 1e30",
+          "lower-left corner of a rect (length)", |v| v.pair().iter().all(|&x| finite(x))),
+        k("hole", "max", Pair, Val::Pair([0.0, 0.0]), "two finite numbers, |x| <= 1e30",
+          "upper-right corner of a rect (length)", |v| v.pair().iter().all(|&x| finite(x))),
+        k("hole", "points", PairList, Val::PairList(Vec::new()),
+          &format!("3 to {MAX_POLYGON_VERTICES} points [x1, x2] of a simple polygon"),
+          "vertices of a polygon, in order (not closed)",
+          |v| v.pairs().len() <= MAX_POLYGON_VERTICES
+              && v.pairs().iter().all(|p| p.iter().all(|&x| finite(x)))),
+        k("notch", "side", Str, Val::Str("bottom".into()),
+          &choice(&["left", "right", "bottom", "top"]), "the edge the slot is cut from",
+          |v| matches!(v.s(), "left" | "right" | "bottom" | "top")),
+        k("notch", "at", Float, Val::Float(0.0), FINITE,
+          "position of the slot's centre line along its side (x1 on bottom/top, x2 on \
+           left/right; length; required)", fin),
+        k("notch", "width", Float, Val::Float(0.0), POS, "slot width (length; required)", pos),
+        k("notch", "depth", Float, Val::Float(0.0), POS,
+          "slot depth from the edge (length; required); its end is flat", pos),
+        k("support", "region", Str, Val::Str("edge".into()), &choice(&REGIONS),
+          "'edge' (side), 'edge_part' (side, from, to), 'point' (the nearest node) or 'box'",
+          |v| REGIONS.contains(&v.s())),
+        k("support", "side", Str, Val::Str("bottom".into()),
+          &choice(&["left", "right", "bottom", "top"]), "the side of an edge region",
+          |v| matches!(v.s(), "left" | "right" | "bottom" | "top")),
+        k("support", "from", Float, Val::Float(0.0), FINITE,
+          "start of an edge part along its side (x1 on bottom/top, x2 on left/right)", fin),
+        k("support", "to", Float, Val::Float(0.0), FINITE, "end of an edge part", fin),
+        k("support", "point", Pair, Val::Pair([0.0, 0.0]), "two finite numbers, |x| <= 1e30",
+          "the point of a point region", |v| v.pair().iter().all(|&x| finite(x))),
+        k("support", "box", FloatList, Val::FloatList(Vec::new()),
+          "a box [x0, y0, x1, y1] with x0 < x1, y0 < y1", "the box of a box region",
+          |v| v.floats().is_empty() || (v.floats().len() == 4 && v.floats().iter().all(|&x| finite(x))
+              && v.floats()[0] < v.floats()[2] && v.floats()[1] < v.floats()[3])),
+        k("support", "fix", Str, Val::Str("both".into()), &choice(&["u1", "u2", "both"]),
+          "the prescribed components", |v| matches!(v.s(), "u1" | "u2" | "both")),
+        k("support", "u1", Float, Val::Float(0.0), FINITE,
+          "prescribed u1 at the reference load (length)", fin),
+        k("support", "u2", Float, Val::Float(0.0), FINITE,
+          "prescribed u2 at the reference load (length)", fin),
+        k("region_load", "region", Str, Val::Str("edge".into()),
+          &choice(&["edge", "edge_part", "point"]),
+          "'edge' (side), 'edge_part' (side, from, to) or 'point' (a force at the nearest node)",
+          |v| matches!(v.s(), "edge" | "edge_part" | "point")),
+        k("region_load", "side", Str, Val::Str("top".into()),
+          &choice(&["left", "right", "bottom", "top"]), "the side of an edge region",
+          |v| matches!(v.s(), "left" | "right" | "bottom" | "top")),
+        k("region_load", "from", Float, Val::Float(0.0), FINITE,
+          "start of an edge part along its side (x1 on bottom/top, x2 on left/right)", fin),
+        k("region_load", "to", Float, Val::Float(0.0), FINITE, "end of an edge part", fin),
+        k("region_load", "point", Pair, Val::Pair([0.0, 0.0]), "two finite numbers, |x| <= 1e30",
+          "the point of a point force", |v| v.pair().iter().all(|&x| finite(x))),
+        k("region_load", "normal", Float, Val::Float(0.0), FINITE,
+          "traction along the outward normal at the reference load (stress; tension positive)",
+          fin),
+        k("region_load", "shear", Float, Val::Float(0.0), FINITE,
+          "shear traction at the reference load (stress): along +x1 on the bottom and top \
+           sides, along +x2 on the left and right sides", fin),
+        k("region_load", "force", Pair, Val::Pair([0.0, 0.0]), "two finite numbers, |x| <= 1e30",
+          "point force [f1, f2] at the reference load (force, over the thickness)",
+          |v| v.pair().iter().all(|&x| finite(x))),
+        k("probe", "name", Str, Val::Str(String::new()), "a string (empty: probe[k])",
+          "the response's name in results", |_| true),
+        k("probe", "kind", Str, Val::Str("displacement".into()), &choice(&PROBES),
+          "'displacement' (u at the point) or 'opening' (the jump of u across a crack at the \
+           crack point nearest the point)", |v| PROBES.contains(&v.s())),
+        k("probe", "point", Pair, Val::Pair([0.0, 0.0]), "two finite numbers, |x| <= 1e30",
+          "the probed point (length)", |v| v.pair().iter().all(|&x| finite(x))),
+        k("probe", "crack", Int, Val::Int(0), "an integer >= 0 (a crack index)",
+          "the crack of an 'opening' probe (0: the primary crack)", |v| v.i() >= 0),
     ]
 }
 

@@ -38,6 +38,7 @@ pub fn problem(p: &Problem) -> Result<()> {
         }
     }
     cracks_apart(p)?;
+    super::general::check(p)?;
     if !matches!(p.method, Method::Xfem(_)) {
         if let Some(c) = p.cracks.first() {
             if c.angle != 0.0 {
@@ -92,7 +93,6 @@ fn in_range(section: &str, name: &str, key: &str, v: Val) -> Result<()> {
 /// scene meets them already; one built in Rust is checked here).
 fn schema_ranges(p: &Problem) -> Result<()> {
     let (d, m) = (&p.domain, &p.material);
-    let Boundary::Grips(load) = &p.boundary;
     for (section, key, v) in [
         ("plate", "width", d.width),
         ("plate", "height", d.height),
@@ -100,10 +100,12 @@ fn schema_ranges(p: &Problem) -> Result<()> {
         ("material", "nu", m.elastic.nu),
         ("material", "thickness", m.elastic.thickness),
         ("material", "G0", m.g0),
-        ("load", "u0", load.u0),
-        ("load", "traction", load.traction),
     ] {
         in_range(section, section, key, Val::Float(v))?;
+    }
+    if let Boundary::Grips(load) = &p.boundary {
+        in_range("load", "load", "u0", Val::Float(load.u0))?;
+        in_range("load", "load", "traction", Val::Float(load.traction))?;
     }
     for (k, c) in p.cracks.iter().enumerate() {
         // only the keys the crack's kind reads: x for centre cracks and bottom/top edge cracks,
@@ -276,7 +278,10 @@ pub const LOAD_RANGE: [f64; 2] = [1e-200, 1e200];
 /// scene with a zero load is still a valid description, FEM solves it), and, for every method, a
 /// non-zero load whose displacement, strain, stress and edge force lie in [`LOAD_RANGE`].
 pub fn reference_load(p: &Problem) -> Result<()> {
-    let l = p.boundary.plate_load();
+    // supports and loads on regions: their values were checked by `general::check`
+    let Some(l) = p.boundary.grips() else {
+        return Ok(());
+    };
     let zero_ok = matches!(p.method, Method::Fem(_));
     let (d, e, t) = (
         &p.domain,
@@ -343,7 +348,9 @@ pub fn reference_load(p: &Problem) -> Result<()> {
 /// The crack lies inside the plate (tips strictly inside, edge cracks pointing inwards).
 fn crack_geometry(c: &CrackSpec, d: &Domain, pre: &str) -> Result<()> {
     let (w, h) = (d.width, d.height);
-    if !(c.y < h) {
+    // y places seams, centre cracks and left/right edge cracks (bottom/top ones use x)
+    let uses_y = c.kind != CrackKind::Edge || matches!(c.side, Side::Left | Side::Right);
+    if uses_y && !(c.y < h) {
         return Err(Error::invalid(
             &format!("{pre}.y"),
             &format!("0 < y < plate.height = {h}"),

@@ -9,7 +9,7 @@ use super::patch::DeformedPatch;
 use super::plate::{check_tip_clearance, PlateProblem, PlateSolve};
 use crate::error::{Error, Result};
 use crate::fe::loading::PlateEdges;
-use crate::fe::mesh::Mesh;
+use crate::fe::regions::SceneResponses;
 use crate::la::{condition_warning, ConditionEstimate};
 use crate::problem::{validate, Method, Problem, XfemMethod};
 use crate::warning::Warning;
@@ -63,8 +63,13 @@ pub struct XfemResult {
     pub cmod: f64,
     /// the grip condition that ran ("free", "clamped", "traction")
     pub grip: String,
-    /// the node carrying the rigid-body anchor (bottom-right corner)
+    /// the node carrying the rigid-body anchor (bottom-right corner; none with supports on
+    /// regions)
     pub anchor_node: usize,
+    /// supports, loads and probes at the reference load (initial crack)
+    pub responses: SceneResponses,
+    /// growth runs: the responses at every point of `history` (scaled by its load factor)
+    pub response_history: Vec<SceneResponses>,
     /// growth history: history[0] is the unloaded origin (lambda = 0, all loads zero, initial
     /// crack), so the initial loading branch from (0, 0) is part of the curve; then one critical
     /// state per crack length. Empty without growth.
@@ -122,6 +127,7 @@ pub fn run(
         progress,
     )?;
     res.history = growth.history;
+    res.response_history = growth.responses;
     res.tip_history = growth.tip_history;
     res.snapshots = growth.snapshots;
     res.warnings.extend(growth.warnings);
@@ -163,9 +169,7 @@ fn build(p: &Problem) -> Result<(&XfemMethod, XfemModel, PlateProblem)> {
         &format!("the XFEM plate of {n} standard unknowns"),
         n as f64 * crate::memory::BYTES_PER_DOF,
     )?;
-    let mesh = Arc::new(Mesh::uniform(
-        0.0, 0.0, d.width, d.height, x.grid.nx, x.grid.ny,
-    )?);
+    let mesh = Arc::new(x.grid.mesh(d)?);
     let edges = PlateEdges::of_mesh(&mesh);
     let model = XfemModel::new_multi(
         mesh.clone(),
@@ -180,6 +184,9 @@ fn build(p: &Problem) -> Result<(&XfemMethod, XfemModel, PlateProblem)> {
         width: d.width,
         height: d.height,
         condition: x.condition,
+        boundary: p.boundary.clone(),
+        domain: d.clone(),
+        probes: p.probes.clone(),
     };
     Ok((x, model, plate))
 }
@@ -277,8 +284,10 @@ fn initial_result(
         tip_crack: model.tip_crack.clone(),
         sigma22: first.sigma22,
         cmod: first.cmod,
-        grip: p.boundary.plate_load().grip.name().to_string(),
+        grip: p.boundary.name().to_string(),
         anchor_node: first.anchor,
+        responses: first.responses.clone(),
+        response_history: Vec::new(),
         history: Vec::new(),
         tip_history: Vec::new(),
         status: GrowthStatus::SingleSolve,

@@ -143,6 +143,8 @@ pub(super) struct Growth {
     pub(super) status: Option<GrowthStatus>,
     /// final polylines of all cracks
     pub(super) cracks: Vec<Vec<[f64; 2]>>,
+    /// the responses at every point of `history` (scaled by its load factor)
+    pub(super) responses: Vec<crate::fe::regions::SceneResponses>,
 }
 
 /// The state of every tip of one crack configuration at the reference load: the tip element
@@ -289,6 +291,7 @@ impl Growth {
             warnings: Vec::new(),
             status: None,
             cracks: Vec::new(),
+            responses: vec![first.responses.scaled(0.0)],
         }
     }
 
@@ -304,6 +307,7 @@ impl Growth {
     ) -> Result<()> {
         let (t, lam, grows) = (crit.t, crit.lam, &crit.grows);
         let s = st.sifs[t];
+        self.responses.push(sol.responses.scaled(lam));
         self.history.push(GrowthStep {
             lambda: lam,
             sigma22: lam * sol.sigma22,
@@ -350,8 +354,11 @@ pub(super) fn grow(
     progress: &(dyn Fn(usize, usize) -> bool + Sync),
 ) -> Result<Growth> {
     let kic = (g0 * model.material.e_prime()).sqrt();
-    let refs = match plate.load.grip {
-        Grip::Traction => (0.0, plate.load.traction),
+    // the history's u0 and traction columns: the grips' reference values, or (regions) the
+    // load-point displacement of each solve and no traction column
+    let refs = |sol: &PlateSolve| match (&plate.boundary, plate.load.grip) {
+        (crate::problem::Boundary::Regions { .. }, _) => (sol.responses.load_displacement, 0.0),
+        (_, Grip::Traction) => (0.0, plate.load.traction),
         _ => (plate.load.u0, 0.0),
     };
     let mut out = Growth::origin(&model, &first);
@@ -381,7 +388,7 @@ pub(super) fn grow(
             out.status = Some(GrowthStatus::CrackCloses);
             break;
         };
-        out.record(&model, &sol, &st, &crit, refs)?;
+        out.record(&model, &sol, &st, &crit, refs(&sol))?;
         if !progress(step + 1, g.max_steps) {
             out.status = Some(GrowthStatus::Cancelled);
             break;

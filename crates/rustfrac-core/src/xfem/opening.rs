@@ -38,6 +38,47 @@ impl XfemModel {
         }
     }
 
+    /// The jump of the enriched displacement (upper minus lower face: [normal opening, sliding
+    /// along the crack's direction]) across crack `c` at the crack point nearest `x`.
+    pub fn jump_at(&self, u: &[f64], c: usize, x: [f64; 2]) -> Result<[f64; 2]> {
+        let crack = self
+            .cracks
+            .get(c)
+            .ok_or_else(|| Error::invalid("probe.crack", &format!("< {}", self.cracks.len()), c))?;
+        let mut best = (f64::INFINITY, [0.0; 2], [1.0, 0.0]);
+        for w in crack.points.windows(2) {
+            let d = sub(w[1], w[0]);
+            let l2 = dot(d, d);
+            let s = (dot(sub(x, w[0]), d) / l2).clamp(0.0, 1.0);
+            let q = [w[0][0] + s * d[0], w[0][1] + s * d[1]];
+            let dist = norm(sub(x, q));
+            if dist < best.0 {
+                best = (dist, q, unit(d));
+            }
+        }
+        let (_, q, t) = best;
+        let n = [-t[1], t[0]];
+        let eps = 1e-8 * self.mesh.min_spacing();
+        // a hair inside along the crack, so both faces lie on the plate at a mouth
+        let q = [
+            q[0] + 1e-6 * self.mesh.min_spacing() * t[0],
+            q[1] + 1e-6 * self.mesh.min_spacing() * t[1],
+        ];
+        let p = [q[0] + eps * n[0], q[1] + eps * n[1]];
+        let m = [q[0] - eps * n[0], q[1] - eps * n[1]];
+        match (self.displacement_at(u, p), self.displacement_at(u, m)) {
+            (Some(a), Some(b)) => {
+                let j = sub(a, b);
+                Ok([dot(j, n), dot(j, t)])
+            }
+            _ => Err(Error::invalid(
+                "probe.point",
+                "a point whose nearest crack point lies inside the plate",
+                format!("{x:?}"),
+            )),
+        }
+    }
+
     /// CMOD of the primary crack (`cracks[0]`): see [`Self::crack_opening`].
     pub fn cmod(&self, u: &[f64]) -> Result<f64> {
         self.crack_opening(u, 0)

@@ -5,9 +5,11 @@
 use super::model::XfemModel;
 use crate::error::{Error, Result};
 use crate::fe::loading::{plate_conditions, sigma22, PlateEdges, PlateLoad};
+use crate::fe::regions::{region_conditions, SceneResponses};
 use crate::fe::LinearSystem;
 use crate::la::ConditionEstimate;
 use crate::problem::parse::crack_name;
+use crate::problem::{Boundary, Domain, Probe, ProbeKind};
 
 /// The loaded plate [0, width] x [0, height] around a model (the cracks vary, the plate stays).
 pub(super) struct PlateProblem {
@@ -18,6 +20,11 @@ pub(super) struct PlateProblem {
     pub(super) height: f64,
     /// compute the condition estimate of every solve
     pub(super) condition: bool,
+    /// the problem's conditions (grips: `load` and `edges`; or supports and loads on regions)
+    pub(super) boundary: Boundary,
+    /// the domain (holes)
+    pub(super) domain: Domain,
+    pub(super) probes: Vec<Probe>,
 }
 
 /// One solve of a plate model at the reference load.
@@ -27,6 +34,8 @@ pub(super) struct PlateSolve {
     pub(super) cmod: f64,
     pub(super) anchor: usize,
     pub(super) condition: Option<ConditionEstimate>,
+    /// supports, loads and probes at the reference load
+    pub(super) responses: SceneResponses,
 }
 
 impl PlateProblem {
@@ -36,13 +45,43 @@ impl PlateProblem {
     pub(super) fn solve(&self, model: &XfemModel, what: &str) -> Result<PlateSolve> {
         let (edges, load) = (&self.edges, &self.load);
         let t = model.material.thickness;
-        let (bc, f, anchor) = plate_conditions(edges, load, model.n_dofs, t)?;
+        let (bc, f, anchor, regions) = match &self.boundary {
+            Boundary::Grips(_) => {
+                let (bc, f, anchor) = plate_conditions(edges, load, model.n_dofs, t)?;
+                (bc, f, anchor, None)
+            }
+            Boundary::Regions { supports, loads } => {
+                let rc = region_conditions(
+                    &model.mesh,
+                    &self.domain,
+                    &[],
+                    supports,
+                    loads,
+                    model.n_dofs,
+                    t,
+                )?;
+                (rc.bc.clone(), rc.f.clone(), usize::MAX, Some(rc))
+            }
+        };
         bc.check_rigid_modes(&model.mesh.coords)?;
         let sys =
             LinearSystem::with_positions(model.stiffness()?, &bc, Some(&model.dof_positions()))?;
         let condition = sys.checked_condition(what, self.condition)?;
         let sol = sys.solve(&f, 1.0)?;
-        let s22 = sigma22(edges, &sol.reactions, &f, self.width, t);
+        let (s22, mut responses) = match &regions {
+            None => (
+                sigma22(edges, &sol.reactions, &f, self.width, t),
+                SceneResponses {
+                    load_displacement: load.u0,
+                    ..SceneResponses::default()
+                },
+            ),
+            Some(rc) => (
+                rc.primary_response(&sol.u, &sol.reactions, &f, t).0,
+                rc.responses(&sol.u, &sol.reactions, t),
+            ),
+        };
+        responses.probes = self.probe_values(model, &sol.u)?;
         let cmod = model.cmod(&sol.u)?;
         Ok(PlateSolve {
             u: sol.u,
@@ -50,7 +89,30 @@ impl PlateProblem {
             cmod,
             anchor,
             condition,
+            responses,
         })
+    }
+
+    /// The probes: the enriched displacement at a point, or the jump across a crack at the crack
+    /// point nearest the probe's point ([`XfemModel::jump_at`]).
+    fn probe_values(&self, model: &XfemModel, u: &[f64]) -> Result<Vec<(String, [f64; 2])>> {
+        self.probes
+            .iter()
+            .enumerate()
+            .map(|(k, pr)| {
+                let v = match pr.kind {
+                    ProbeKind::Displacement(q) => model.displacement_at(u, q).ok_or_else(|| {
+                        Error::invalid(
+                            &format!("probe[{k}].point"),
+                            "a point on the plate",
+                            format!("{q:?}"),
+                        )
+                    })?,
+                    ProbeKind::Opening { point, crack } => model.jump_at(u, crack, point)?,
+                };
+                Ok((pr.name.clone(), v))
+            })
+            .collect()
     }
 }
 
