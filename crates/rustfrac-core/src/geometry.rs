@@ -182,9 +182,9 @@ pub(crate) fn clipped_length(a: [f64; 2], b: [f64; 2], bx: [f64; 4]) -> f64 {
     }
 }
 
-/// Area of the part of a convex polygon with cross(b - a, x - a) > 0 (the polygon clipped by the
-/// line through a and b, keeping its left side).
-pub(crate) fn positive_area(poly: &[[f64; 2]], a: [f64; 2], b: [f64; 2]) -> f64 {
+/// The part of a convex polygon with cross(b - a, x - a) > 0 (clipped by the line through a and
+/// b, keeping its left side; Sutherland-Hodgman with one edge).
+pub(crate) fn clip_left(poly: &[[f64; 2]], a: [f64; 2], b: [f64; 2]) -> Vec<[f64; 2]> {
     let d = sub(b, a);
     let f = |x: [f64; 2]| cross(d, sub(x, a));
     let mut out: Vec<[f64; 2]> = Vec::with_capacity(poly.len() + 2);
@@ -199,11 +199,21 @@ pub(crate) fn positive_area(poly: &[[f64; 2]], a: [f64; 2], b: [f64; 2]) -> f64 
             out.push([p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])]);
         }
     }
+    out
+}
+
+/// The (unsigned) area of a simple polygon (shoelace).
+pub(crate) fn polygon_area(poly: &[[f64; 2]]) -> f64 {
     let mut area = 0.0;
-    for k in 0..out.len() {
-        area += cross(out[k], out[(k + 1) % out.len()]);
+    for k in 0..poly.len() {
+        area += cross(poly[k], poly[(k + 1) % poly.len()]);
     }
     0.5 * area.abs()
+}
+
+/// Area of the part of a convex polygon with cross(b - a, x - a) > 0 ([`clip_left`]).
+pub(crate) fn positive_area(poly: &[[f64; 2]], a: [f64; 2], b: [f64; 2]) -> f64 {
+    polygon_area(&clip_left(poly, a, b))
 }
 
 #[cfg(test)]

@@ -81,6 +81,47 @@ fn edge_crack_under_shear_matches_the_literature() {
     assert!(rel(-bottom.force[0], 7.0) < 1e-9, "{:?}", bottom.force);
 }
 
+#[test]
+fn edge_crack_under_shear_converges_to_its_richardson_limit() {
+    // a reference converged here: XFEM on four meshes (the crack between grid lines, odd ny),
+    // Richardson with the measured order on the three finest; the finest mesh within 1 % of
+    // the limit, and the limit beside the literature (34.0, 4.55; Yau et al. 1980)
+    let meshes = [(14, 33), (28, 65), (56, 129), (112, 257)];
+    let ks: Vec<(f64, f64, f64)> = meshes
+        .iter()
+        .map(|&(nx, ny)| {
+            let p = Problem::from_scene(&edge_shear(nx, ny)).unwrap();
+            let r = xfem::run(&p, &common::quiet).unwrap();
+            (7.0 / nx as f64, r.k_i, r.k_ii)
+        })
+        .collect();
+    let limit = |v: &dyn Fn(&(f64, f64, f64)) -> f64| {
+        let (a, b, c) = (v(&ks[1]), v(&ks[2]), v(&ks[3]));
+        let ratio = (a - b) / (b - c);
+        let order = if ratio > 1.0 { ratio.log2() } else { 1.0 };
+        (c + (c - b) / (2f64.powf(order) - 1.0), order)
+    };
+    let (ki_inf, p_i) = limit(&|k| k.1);
+    let (kii_inf, p_ii) = limit(&|k| k.2);
+    for k in &ks {
+        eprintln!(
+            "edge shear h = {:.4}: K_I = {:.4}, K_II = {:.4}",
+            k.0, k.1, k.2
+        );
+    }
+    eprintln!(
+        "limit K_I = {ki_inf:.4} (order {p_i:.2}; literature 34.0: {:+.2} %), K_II = \
+         {kii_inf:.4} (order {p_ii:.2}; literature 4.55: {:+.2} %)",
+        100.0 * (ki_inf / 34.0 - 1.0),
+        100.0 * (kii_inf / 4.55 - 1.0)
+    );
+    let finest = ks[3];
+    assert!(rel(finest.1, ki_inf) < 0.01);
+    assert!(rel(finest.2, kii_inf) < 0.01);
+    assert!(rel(ki_inf, 34.0) < 0.02, "{ki_inf}");
+    assert!(rel(kii_inf, 4.55) < 0.03, "{kii_inf}");
+}
+
 /// Srawley (1976), ASTM E399 for S/W = 4: K_I = P S / (B W^1.5) f(a/W), within 0.5 % for all a/W.
 fn srawley(alpha: f64) -> f64 {
     let a = alpha;

@@ -51,7 +51,7 @@ pub fn run<'py>(py: Python<'py>, p: &Problem, prog: &Progress) -> PyResult<Bound
     s.scalars
         .set_item("condition_pivot_ratio", r.condition.map(|c| c.pivot_ratio))?;
     s.anchor(p, r.anchor_node)?;
-    s.responses(&r.responses)?;
+    s.responses(p, &r.responses)?;
     s.meta.set_item("seam_y", r.seam_y)?;
     s.meta.set_item("seam_length", r.seam_length)?;
     let t = PyDict::new(py);

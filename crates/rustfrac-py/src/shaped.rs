@@ -72,39 +72,45 @@ impl<'py> Shaped<'py> {
         }
     }
 
-    /// The general scene's responses: `scalars["regions"]` = {name: {force, mean_stress,
-    /// displacement}}, `scalars["probes"]` = {name: [a, b]}, `scalars["load_displacement"]`;
-    /// with a history, the columns `probe:<name>` (two components each) scaled per state.
-    pub fn responses(&self, r: &SceneResponses) -> PyResult<()> {
-        let regions = PyDict::new(self.py);
+    /// The general scene's responses as flat scalars (present only for the parts a scene has):
+    /// `force:<region>:1|2` (the force a support or load region receives from outside),
+    /// `mean_stress:<region>` (edge regions), `displacement:<region>:1|2` (its mean),
+    /// `probe:<name>:1|2`, and with supports and loads on regions `load_displacement`.
+    pub fn responses(&self, p: &Problem, r: &SceneResponses) -> PyResult<()> {
+        let sc = &self.scalars;
         for (name, v) in &r.regions {
-            let d = PyDict::new(self.py);
-            d.set_item("force", v.force.to_vec())?;
-            d.set_item("mean_stress", v.mean_stress)?;
-            d.set_item("displacement", v.displacement.to_vec())?;
-            regions.set_item(name, d)?;
+            for c in 0..2 {
+                sc.set_item(format!("force:{name}:{}", c + 1), v.force[c])?;
+                sc.set_item(format!("displacement:{name}:{}", c + 1), v.displacement[c])?;
+            }
+            if let Some(m) = v.mean_stress {
+                sc.set_item(format!("mean_stress:{name}"), m)?;
+            }
         }
-        let probes = PyDict::new(self.py);
         for (name, v) in &r.probes {
-            probes.set_item(name, v.to_vec())?;
+            for (c, x) in v.iter().enumerate() {
+                sc.set_item(format!("probe:{name}:{}", c + 1), x)?;
+            }
         }
-        self.scalars.set_item("regions", regions)?;
-        self.scalars.set_item("probes", probes)?;
-        self.scalars
-            .set_item("load_displacement", r.load_displacement)
+        if p.boundary.grips().is_none() {
+            sc.set_item("load_displacement", r.load_displacement)?;
+        }
+        Ok(())
     }
 
     /// History columns of the responses along a load path (one entry per history row):
-    /// `load_displacement`, `probe:<name>:1|2`, `force:<region>:1|2`, `mean_stress:<region>`
-    /// (edge regions).
-    pub fn response_columns(&self, rows: &[SceneResponses]) -> PyResult<()> {
+    /// `probe:<name>:1|2`, `force:<region>:1|2`, `mean_stress:<region>` (edge regions), and
+    /// with supports and loads on regions `load_displacement`.
+    pub fn response_columns(&self, p: &Problem, rows: &[SceneResponses]) -> PyResult<()> {
         let Some(first) = rows.first() else {
             return Ok(());
         };
-        self.column(
-            "load_displacement",
-            rows.iter().map(|r| r.load_displacement).collect(),
-        )?;
+        if p.boundary.grips().is_none() {
+            self.column(
+                "load_displacement",
+                rows.iter().map(|r| r.load_displacement).collect(),
+            )?;
+        }
         for (k, (name, _)) in first.probes.iter().enumerate() {
             for c in 0..2 {
                 let v = rows.iter().map(|r| r.probes[k].1[c]).collect();

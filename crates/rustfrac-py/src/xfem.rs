@@ -6,7 +6,9 @@
 //! enriched dofs), enrichment (n,: 0 standard, 1 Heaviside, 2 tip), heaviside_nodes, tip_nodes
 //! (int64), crack (k,2) final polyline, crack_initial, radii (r,5) [radius, K_I, K_II, J_from_K,
 //! J_domain], radii_factor (r,), tips (t,6) [x1, x2, K_I, K_II, J_from_K, J_domain], tip_crack
-//! (t,), cracks (P,2) with cracks_offsets (C+1,), tip_history_<x|y|K_I|K_II|kink_angle|grows>
+//! (t,), cracks (P,2) with cracks_offsets (C+1,), cut_points / cut_disp (P,2) with cut_offsets
+//! (C+1,) and cut_element (C,) (the enriched elements as polygons on each side of the crack with
+//! their own displacements: files), tip_history_<x|y|K_I|K_II|kink_angle|grows>
 //! (s,t), deformed_cells / deformed_disp (c,4,2), snapshot_cells / snapshot_disp (C,4,2) with
 //! snapshot_offsets (s+1,) (snapshot k belongs to history row k + 1). History (growth runs,
 //! origin first): load_factor, sigma22, cmod, u0, traction, a, K_I, K_II, kink_angle, tip_x,
@@ -76,6 +78,17 @@ fn mesh_fields(s: &Shaped<'_>, r: &XfemResult) -> PyResult<()> {
     s.fields
         .set_item("tip_nodes", index_i64(py, &r.tip_nodes))?;
     s.fields.set_item("crack", arr2(py, r.crack.clone()))?;
+    let mut offsets: Vec<usize> = vec![0];
+    for poly in &r.cut.polygons {
+        offsets.push(offsets[offsets.len() - 1] + poly.len());
+    }
+    s.fields
+        .set_item("cut_points", arr2(py, r.cut.polygons.concat()))?;
+    s.fields
+        .set_item("cut_disp", arr2(py, r.cut.disp.concat()))?;
+    s.fields.set_item("cut_offsets", index_i64(py, &offsets))?;
+    s.fields
+        .set_item("cut_element", index_i64(py, &r.cut.element))?;
     s.fields
         .set_item("deformed_cells", quads(py, r.deformed.cells.clone()))?;
     s.fields
@@ -159,7 +172,7 @@ fn growth_fields(s: &Shaped<'_>, r: &XfemResult, p: &Problem) -> PyResult<()> {
     s.column("cmod", col(|q| q.cmod))?;
     s.column("u0", col(|q| q.u0))?;
     s.column("traction", col(|q| q.traction))?;
-    s.response_columns(&r.response_history)?;
+    s.response_columns(p, &r.response_history)?;
     s.column("a", col(|q| q.a))?;
     s.column("K_I", col(|q| q.k_i))?;
     s.column("K_II", col(|q| q.k_ii))?;
@@ -175,7 +188,7 @@ fn growth_fields(s: &Shaped<'_>, r: &XfemResult, p: &Problem) -> PyResult<()> {
 fn scalars_and_meta(s: &Shaped<'_>, r: &XfemResult, p: &Problem, wall: f64) -> PyResult<()> {
     let py = s.py;
     let sc = &s.scalars;
-    s.responses(&r.responses)?;
+    s.responses(p, &r.responses)?;
     sc.set_item("K_I", r.k_i)?;
     sc.set_item("K_II", r.k_ii)?;
     sc.set_item("J", r.j_from_k)?;

@@ -23,7 +23,7 @@ pub struct RegionSet {
     pub name: String,
     pub nodes: Vec<usize>,
     /// edge regions: the loaded length and the outward normal (mean stress = F . n / (L h))
-    pub edge: Option<(f64, [f64; 2])>,
+    pub edge: EdgeGeometry,
     /// the direction the region is driven in at the reference load (the applied force or the
     /// prescribed displacement; None when it is held at zero): responses are read along it
     pub drive: Option<[f64; 2]>,
@@ -94,12 +94,16 @@ fn local_size(mesh: &Mesh, p: [f64; 2]) -> f64 {
     cell(&mesh.xs, p[0]).max(cell(&mesh.ys, p[1]))
 }
 
+/// An edge region's loaded length and outward normal.
+type EdgeGeometry = Option<(f64, [f64; 2])>;
+
+/// The nodes of a region (and its edge geometry), refusing a region with none.
 fn nodes_of(
     mesh: &Mesh,
     active: &[bool],
     region: &Region,
     name: &str,
-) -> Result<(Vec<usize>, Option<(f64, [f64; 2])>)> {
+) -> Result<(Vec<usize>, EdgeGeometry)> {
     let on = |n: &usize| active.get(*n).copied().unwrap_or(true);
     let (w, h) = mesh.size();
     let tol = 1e-9 * w.max(h);
@@ -214,12 +218,10 @@ fn edge_forces(
         if e <= s {
             continue;
         }
-        let len = hi - lo;
         // N_a(x) = (x_b - x) / (x_b - x_a) on the segment (either orientation)
         let int_na = |x: f64| (x * xb - 0.5 * x * x) / (xb - xa);
         let wa = int_na(e) - int_na(s);
         let wb = (e - s) - wa;
-        let _ = len;
         for (n, w) in [(a, wa), (b, wb)] {
             f[2 * n] += w * thickness * t[0];
             f[2 * n + 1] += w * thickness * t[1];
@@ -330,9 +332,10 @@ impl RegionConditions {
         self.sets.iter().find(|s| s.drive.is_some())
     }
 
-    /// The primary response (stress for edges: the mean normal stress; force along the drive
-    /// direction for points and boxes) and the primary displacement (the region's mean
-    /// displacement along the drive direction).
+    /// The primary response (edges: the mean traction along the drive direction, F . d / (L h),
+    /// so the applied stress for a normal or a shear traction; points and boxes: the force along
+    /// the drive direction) and the primary displacement (the region's mean displacement along
+    /// the drive direction).
     pub fn primary_response(
         &self,
         u: &[f64],
@@ -347,7 +350,10 @@ impl RegionConditions {
         let d = s.drive.unwrap_or([0.0, 0.0]);
         let dn = d[0].hypot(d[1]).max(f64::MIN_POSITIVE);
         let along = |v: [f64; 2]| (v[0] * d[0] + v[1] * d[1]) / dn;
-        let resp = r.mean_stress.unwrap_or_else(|| along(r.force));
+        let resp = match s.edge {
+            Some((l, _)) => along(r.force) / (l * thickness),
+            None => along(r.force),
+        };
         (resp, along(r.displacement))
     }
 }

@@ -5,6 +5,7 @@
 use super::growth::{grow, GrowthStatus, GrowthStep, TipStep};
 use super::interaction_integral::DomainSifs;
 use super::model::XfemModel;
+use super::patch::CutCells;
 use super::patch::DeformedPatch;
 use super::plate::{check_tip_clearance, PlateProblem, PlateSolve};
 use crate::error::{Error, Result};
@@ -86,6 +87,10 @@ pub struct XfemResult {
     /// deformed-mesh cells near the primary tip of the initial crack (5 element lengths around it,
     /// 4 x 4 cells per element)
     pub deformed: DeformedPatch,
+    /// the enriched elements of the initial crack as cells on each side of the crack with their
+    /// own displacements at the reference load (files: [`XfemModel::cut_cells`], 2 x 2 cells per
+    /// element)
+    pub cut: CutCells,
     /// growth runs: the deformed patch around the growing tip at every critical state
     /// (displacements at the critical load, i.e. scaled by lambda), for Fig. 8b
     pub snapshots: Vec<DeformedPatch>,
@@ -294,6 +299,7 @@ fn initial_result(
         crack: model.cracks[0].points.clone(),
         cracks: model.cracks.iter().map(|c| c.points.clone()).collect(),
         deformed,
+        cut: model.cut_cells(&first.u, 2)?,
         snapshots: Vec::new(),
         condition: first.condition,
         warnings: p

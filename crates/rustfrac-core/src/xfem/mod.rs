@@ -94,5 +94,5 @@ pub use enrichment::{branch_functions, branch_functions_snapped, DEFAULT_AREA_TH
 pub use growth::{k_equivalent, kink_angle, GrowthStatus, GrowthStep, TipStep};
 pub use interaction_integral::{DomainIntegral, DomainSifs};
 pub use model::{XfemModel, XfemOptions};
-pub use patch::DeformedPatch;
+pub use patch::{CutCells, DeformedPatch};
 pub use plate::MIN_TIP_CLEARANCE;

@@ -5,6 +5,7 @@
 use super::model::{BasisBuf, XfemModel};
 use crate::error::{Error, Result};
 use crate::fe::q4::geometry;
+use crate::geometry::{clip_left, point_segment_distance, polygon_area};
 
 impl XfemModel {
     /// Deformed-mesh data near a tip: every element whose centre lies within `half_width` of the
@@ -68,6 +69,107 @@ impl XfemModel {
         }
         Ok(patch)
     }
+}
+
+impl XfemModel {
+    /// The enriched elements as cells for files (VTU): each element carrying an enrichment is
+    /// split into m x m cells, and a cell that a crack segment crosses from side to side is
+    /// split along the crack's line into its two parts (a cell holding a tip stays whole: the
+    /// field is continuous beyond the tip). Each polygon's vertices carry the enriched
+    /// displacement evaluated a hair inside that polygon, so each side of the crack shows its
+    /// own face. Returns (polygons, displacements per vertex, element of each polygon).
+    pub fn cut_cells(&self, u: &[f64], m: usize) -> Result<CutCells> {
+        if m == 0 || m > 16 {
+            return Err(Error::invalid("cells per element", "1..=16", m));
+        }
+        let mut out = CutCells::default();
+        let mut buf = BasisBuf::default();
+        let segments: Vec<[[f64; 2]; 2]> = self
+            .cracks
+            .iter()
+            .flat_map(|c| c.points.windows(2).map(|w| [w[0], w[1]]))
+            .collect();
+        for e in 0..self.mesh.n_elements() {
+            let Some(en) = self.enriched(e) else { continue };
+            let xy = self.mesh.element_coords(e);
+            let dofs = self.element_dofs(e);
+            let (x0, y0, hx, hy) = (
+                xy[0][0],
+                xy[0][1],
+                (xy[1][0] - xy[0][0]) / m as f64,
+                (xy[3][1] - xy[0][1]) / m as f64,
+            );
+            for b in 0..m {
+                for a in 0..m {
+                    let (cx0, cy0) = (x0 + a as f64 * hx, y0 + b as f64 * hy);
+                    let cell = vec![
+                        [cx0, cy0],
+                        [cx0 + hx, cy0],
+                        [cx0 + hx, cy0 + hy],
+                        [cx0, cy0 + hy],
+                    ];
+                    let parts = split_by_crack(&cell, &segments);
+                    for poly in parts {
+                        if polygon_area(&poly) <= 1e-14 * hx * hy {
+                            continue;
+                        }
+                        let n = poly.len() as f64;
+                        let c = poly
+                            .iter()
+                            .fold([0.0, 0.0], |s, p| [s[0] + p[0] / n, s[1] + p[1] / n]);
+                        let disp = poly
+                            .iter()
+                            .map(|p| {
+                                let q = [p[0] + 1e-7 * (c[0] - p[0]), p[1] + 1e-7 * (c[1] - p[1])];
+                                let xi = 2.0 * (q[0] - xy[0][0]) / (xy[1][0] - xy[0][0]) - 1.0;
+                                let eta = 2.0 * (q[1] - xy[0][1]) / (xy[3][1] - xy[0][1]) - 1.0;
+                                self.basis(e, Some(en), xi, eta, &mut buf);
+                                let mut d = [0.0; 2];
+                                for (f, v) in buf.vals.iter().enumerate() {
+                                    d[0] += v * u[dofs[2 * f]];
+                                    d[1] += v * u[dofs[2 * f + 1]];
+                                }
+                                d
+                            })
+                            .collect();
+                        out.polygons.push(poly);
+                        out.disp.push(disp);
+                        out.element.push(e);
+                    }
+                }
+            }
+        }
+        Ok(out)
+    }
+}
+
+/// A convex cell split along the line of the first crack segment that crosses it from side to
+/// side (both crossings on the segment); the cell itself otherwise.
+fn split_by_crack(cell: &[[f64; 2]], segments: &[[[f64; 2]; 2]]) -> Vec<Vec<[f64; 2]>> {
+    for &[a, b] in segments {
+        let left = clip_left(cell, a, b);
+        let right = clip_left(cell, b, a);
+        if left.len() < 3 || right.len() < 3 {
+            continue;
+        }
+        // the crossing points are the vertices both parts share; they must lie on the segment
+        let on_segment = left
+            .iter()
+            .filter(|p| right.iter().any(|q| q == *p))
+            .all(|&p| point_segment_distance(p, a, b) <= 1e-12 * (1.0 + p[0].abs() + p[1].abs()));
+        if on_segment {
+            return vec![left, right];
+        }
+    }
+    vec![cell.to_vec()]
+}
+
+/// The enriched elements as cells with their own displacements ([`XfemModel::cut_cells`]).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct CutCells {
+    pub polygons: Vec<Vec<[f64; 2]>>,
+    pub disp: Vec<Vec<[f64; 2]>>,
+    pub element: Vec<usize>,
 }
 
 /// Deformed-mesh data for a magnified plot near a tip (Fig. 8b): reference corners of small cells
