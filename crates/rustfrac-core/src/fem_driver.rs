@@ -87,11 +87,11 @@ pub fn run(p: &Problem) -> Result<FemPlateResult> {
         seam_length,
         warning,
     } = seamed_mesh(p, method)?;
-    let model = FemModel::new(mesh, material, method.gauss)?;
+    let model = FemModel::with_domain(mesh, material, method.gauss, &p.domain)?;
     let edges = PlateEdges::of_mesh(&model.mesh);
     let load = p.boundary.plate_load();
-    let (bc, f, anchor) = plate_conditions(&edges, &load, model.n_dofs(), material.thickness)?;
-    bc.check_rigid_modes(&model.mesh.coords)?;
+    let (bc, mut f, anchor) = plate_conditions(&edges, &load, model.n_dofs(), material.thickness)?;
+    let bc = model.constrain(bc, &mut f)?;
     let sys = LinearSystem::with_positions(model.stiffness(), &bc, Some(&model.dof_positions()))?;
     let condition = sys.checked_condition("solve", method.condition)?;
     let sol = sys.solve(&f, 1.0)?;
