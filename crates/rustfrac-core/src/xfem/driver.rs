@@ -167,11 +167,12 @@ fn build(p: &Problem) -> Result<(&XfemMethod, XfemModel, PlateProblem)> {
         0.0, 0.0, d.width, d.height, x.grid.nx, x.grid.ny,
     )?);
     let edges = PlateEdges::of_mesh(&mesh);
-    let model = XfemModel::new_multi(
+    let model = XfemModel::new_in_domain(
         mesh.clone(),
         p.material.elastic,
         p.crack_polylines(),
         x.options,
+        d,
     )?;
     check_tip_clearance(&model)?;
     let plate = PlateProblem {
