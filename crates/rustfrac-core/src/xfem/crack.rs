@@ -60,8 +60,9 @@ impl Crack {
         Self::named_in(points, mesh, param, None)
     }
 
-    /// [`Crack::named`] in a domain with holes: an end on or inside a hole or notch (level set
-    /// <= 1e-9 x the plate diagonal) is a mouth too.
+    /// [`Crack::named`] in a domain with holes: when neither end lies on the plate's boundary,
+    /// an end on or inside a hole or notch (level set <= 1e-9 x the plate diagonal; the first
+    /// such) is the mouth.
     pub fn named_in(
         points: Vec<[f64; 2]>,
         mesh: &Mesh,
@@ -107,15 +108,24 @@ impl Crack {
                 ));
             }
         }
-        let on_boundary = |p: [f64; 2]| {
+        let on_plate_boundary = |p: [f64; 2]| {
             (p[0] - x0).abs() <= tol
                 || (p[0] - x0 - w).abs() <= tol
                 || (p[1] - y0).abs() <= tol
                 || (p[1] - y0 - h).abs() <= tol
-                || domain.is_some_and(|d| d.level_set(p) <= tol)
         };
+        let on_hole = |p: [f64; 2]| domain.is_some_and(|d| d.level_set(p) <= tol);
         let n = points.len();
-        let (start_b, end_b) = (on_boundary(points[0]), on_boundary(points[n - 1]));
+        let (mut start_b, mut end_b) = (
+            on_plate_boundary(points[0]),
+            on_plate_boundary(points[n - 1]),
+        );
+        // without an end on the plate's boundary, the first end on (or in) a hole is the mouth;
+        // an end in a hole facing a mouth is a tip (refused by the driver's tip clearance)
+        if !start_b && !end_b {
+            start_b = on_hole(points[0]);
+            end_b = !start_b && on_hole(points[n - 1]);
+        }
         if start_b && end_b {
             return Err(Error::invalid(
                 param,
