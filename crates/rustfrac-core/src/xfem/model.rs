@@ -352,6 +352,7 @@ impl XfemModel {
             options.fixed_area_radius,
             options.area_threshold,
             &rules,
+            fictitious.as_deref(),
         )?;
         let numbering = DofNumbering::new(mesh.n_nodes(), &sets);
         let (enr_index, enr) = ElementEnrichment {
