@@ -167,8 +167,8 @@ pub(crate) fn polygon_area(poly: &[[f64; 2]]) -> f64 {
     0.5 * area
 }
 
-/// The part of a convex polygon strictly left of the directed line a -> b, cross(b - a, x - a)
-/// > 0 (Sutherland-Hodgman against one half-plane; the crossing points are interpolated along
+/// The part of a convex polygon strictly left of the directed line a -> b (cross(b - a, x - a)
+/// positive; Sutherland-Hodgman against one half-plane; the crossing points are interpolated along
 /// the edges). Empty when nothing lies there.
 pub(crate) fn clip_left(poly: &[[f64; 2]], a: [f64; 2], b: [f64; 2]) -> Vec<[f64; 2]> {
     let d = sub(b, a);

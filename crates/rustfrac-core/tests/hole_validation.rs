@@ -156,10 +156,11 @@ fn dense_solve(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Vec<f64> {
             .unwrap();
         a.swap(c, p);
         b.swap(c, p);
+        let pivot = a[c].clone();
         for r in c + 1..n {
-            let f = a[r][c] / a[c][c];
-            for k in c..n {
-                a[r][k] -= f * a[c][k];
+            let f = a[r][c] / pivot[c];
+            for (ark, pk) in a[r].iter_mut().zip(&pivot).skip(c) {
+                *ark -= f * pk;
             }
             b[r] -= f * b[c];
         }
@@ -224,7 +225,7 @@ fn kirsch_field_is_consistent() {
     let d = material().d_matrix();
     for &(r, t) in &[
         (1.0, 0.3),
-        (1.0, 1.5707963),
+        (1.0, std::f64::consts::FRAC_PI_2),
         (1.3, 0.7),
         (2.0, 2.5),
         (1.1, -1.0),
