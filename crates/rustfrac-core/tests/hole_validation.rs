@@ -14,8 +14,8 @@ use rustfrac_core::fe::material::{Elastic, Plane};
 use rustfrac_core::fe::mesh::{Mesh, Side};
 use rustfrac_core::fe::{Dirichlet, ElementKind, FemModel, LinearSystem};
 use rustfrac_core::fem_driver;
-use rustfrac_core::problem::{CrackKind, Domain, Hole, Method, Problem, Shape};
-use rustfrac_core::xfem::{self, XfemModel};
+use rustfrac_core::problem::{CrackKind, Domain, Growth, Hole, Method, Problem, Shape};
+use rustfrac_core::xfem::{self, GrowthStatus, XfemModel};
 use std::sync::Arc;
 
 /// Kirsch (1898; Timoshenko & Goodier, Theory of Elasticity, sec. 35): an infinite plate with a
@@ -667,4 +667,30 @@ fn xfem_small_area_rule_sees_the_material() {
     );
     assert!(r.k_i.is_finite() && r.k_i > 0.0 && r.cmod > 0.0);
     assert!(r.n_dropped_nodes >= 8);
+}
+
+/// Growth towards a hole stops with `ligament_used_up` once the next tip would come closer to
+/// the hole than the tip clearance (or the hole would enter the SIF domain), instead of failing.
+#[test]
+fn xfem_growth_towards_a_hole_stops_at_the_ligament() {
+    let mut p = xfem_plate(44, 83, 1.1);
+    p.domain.holes.push(circle("hole[0]", [4.0, 10.5], 0.75));
+    if let Method::Xfem(x) = &mut p.method {
+        x.growth = Some(Growth {
+            max_steps: 40,
+            da: None,
+            a_stop: 8.0,
+        });
+    }
+    let r = xfem::run(&p, &|_, _| true).unwrap();
+    let tip = *r.crack.last().unwrap();
+    let gap = p.domain.level_set(tip);
+    eprintln!(
+        "growth towards a hole: {} steps, status {}, last tip {tip:?} {gap:.3} from the hole",
+        r.history.len() - 1,
+        r.status.name()
+    );
+    assert_eq!(r.status, GrowthStatus::LigamentUsedUp);
+    assert!(r.history.len() > 2 && gap > 0.0);
+    assert!(r.history.iter().all(|h| h.lambda.is_finite()));
 }
