@@ -137,9 +137,14 @@ impl FictitiousDomain {
                 min_fraction,
             ));
         }
-        for h in &domain.holes {
-            check_hole(h)?;
-        }
+        let holes = domain
+            .holes
+            .iter()
+            .map(|h| {
+                check_hole(h)?;
+                convex_parts(h).map(|parts| (h, parts))
+            })
+            .collect::<Result<Vec<_>>>()?;
         let (nx, ne) = (mesh.nx(), mesh.n_elements());
         let degree = degree_of(gauss);
         let mut fd = Self {
@@ -156,7 +161,7 @@ impl FictitiousDomain {
         for e in 0..ne {
             let (i, j) = (e % nx, e / nx);
             let bx = [mesh.xs[i], mesh.ys[j], mesh.xs[i + 1], mesh.ys[j + 1]];
-            let (kind, frac, pieces) = classify(bx, &domain.holes);
+            let (kind, frac, pieces) = classify(bx, &holes);
             fd.kind.push(kind);
             fd.fraction.push(frac);
             if kind == ElementKind::Cut {
@@ -339,6 +344,34 @@ fn check_hole(h: &Hole) -> Result<()> {
     Ok(())
 }
 
+/// The convex parts of a straight-edged hole (a rectangle itself, a polygon's ear-clipping
+/// triangles; none for a circle). Refuses a polygon that is not simple (its triangles do not
+/// cover its area), naming `hole[k].vertices`.
+fn convex_parts(h: &Hole) -> Result<Vec<Vec<[f64; 2]>>> {
+    match &h.shape {
+        Shape::Circle { .. } => Ok(Vec::new()),
+        Shape::Rect { min, max } => Ok(vec![box_polygon([min[0], min[1], max[0], max[1]])]),
+        Shape::Polygon(v) => {
+            let tris = triangulate(v);
+            let (a, t) = (
+                polygon_area(v).abs(),
+                tris.iter().map(|t| polygon_area(t)).sum::<f64>(),
+            );
+            if (t - a).abs() > 1e-9 * a {
+                return Err(Error::invalid(
+                    &format!("{}.vertices", h.name),
+                    "a simple polygon (no crossing edges)",
+                    format!(
+                        "{} vertices whose triangulation covers {t:e} of area {a:e}",
+                        v.len()
+                    ),
+                ));
+            }
+            Ok(tris.into_iter().map(|t| t.to_vec()).collect())
+        }
+    }
+}
+
 /// The counter-clockwise polygon of a box [x0, y0, x1, y1].
 fn box_polygon(bx: [f64; 4]) -> Vec<[f64; 2]> {
     vec![
@@ -355,21 +388,25 @@ fn centre_half(bx: [f64; 4]) -> ([f64; 2], f64) {
     (c, 0.5 * (bx[2] - bx[0]).hypot(bx[3] - bx[1]))
 }
 
-/// The element box `bx` against the holes: its kind, material fraction and (cut) material
-/// pieces in reference coordinates.
-fn classify(bx: [f64; 4], holes: &[Hole]) -> (ElementKind, f64, Vec<Vec<[f64; 2]>>) {
+/// The element box `bx` against the holes (each with its convex parts, [`convex_parts`]): its
+/// kind, material fraction and (cut) material pieces in reference coordinates.
+fn classify(
+    bx: [f64; 4],
+    holes: &[(&Hole, Vec<Vec<[f64; 2]>>)],
+) -> (ElementKind, f64, Vec<Vec<[f64; 2]>>) {
     let (c, hd) = centre_half(bx);
     let area = (bx[2] - bx[0]) * (bx[3] - bx[1]);
     let min_area = WHOLE * area;
     // the level set is a signed distance: |phi(centre)| >= half diagonal decides the box
-    let mut near: Vec<&Hole> = Vec::new();
-    for h in holes {
+    let mut near: Vec<&(&Hole, Vec<Vec<[f64; 2]>>)> = Vec::new();
+    for hp in holes {
+        let h = hp.0;
         let phi = h.shape.level_set(c);
         if phi <= -hd {
             return (ElementKind::Void, 0.0, Vec::new());
         }
         if phi < hd {
-            near.push(h);
+            near.push(hp);
         }
     }
     if near.is_empty() {
@@ -382,7 +419,7 @@ fn classify(bx: [f64; 4], holes: &[Hole]) -> (ElementKind, f64, Vec<Vec<[f64; 2]
     let lbx = [0.0, 0.0, bx[2] - bx[0], bx[3] - bx[1]];
     let circles: Vec<([f64; 2], f64)> = near
         .iter()
-        .filter_map(|h| match h.shape {
+        .filter_map(|h| match h.0.shape {
             Shape::Circle { center, radius } => Some((local(&center), radius)),
             _ => None,
         })
@@ -400,20 +437,10 @@ fn classify(bx: [f64; 4], holes: &[Hole]) -> (ElementKind, f64, Vec<Vec<[f64; 2]
         circle_cells(lbx, &circles, depth, min_area, &mut out);
         out
     };
-    for h in &near {
-        let parts: Vec<Vec<[f64; 2]>> = match &h.shape {
-            Shape::Circle { .. } => continue,
-            Shape::Rect { min, max } => {
-                let (a, b) = (local(min), local(max));
-                vec![box_polygon([a[0], a[1], b[0], b[1]])]
-            }
-            Shape::Polygon(v) => {
-                let lv: Vec<[f64; 2]> = v.iter().map(local).collect();
-                triangulate(&lv).into_iter().map(|t| t.to_vec()).collect()
-            }
-        };
+    for (_, parts) in &near {
         for part in parts {
-            pieces = subtract_convex(pieces, &part, min_area);
+            let lp: Vec<[f64; 2]> = part.iter().map(local).collect();
+            pieces = subtract_convex(pieces, &lp, min_area);
         }
     }
     let to_ref = |p: &[f64; 2]| [2.0 * p[0] / lbx[2] - 1.0, 2.0 * p[1] / lbx[3] - 1.0];
@@ -665,6 +692,16 @@ mod tests {
         d.holes[0].shape = Shape::Polygon(vec![[0.0, 0.0], [1.0, 1.0], [f64::NAN, 0.0]]);
         let e = FictitiousDomain::new(&mesh, &d, 2, 1e-3).unwrap_err();
         assert!(e.to_string().contains("notch[1].vertices"), "{e}");
+        // crossing edges, non-zero signed area
+        d.holes[0].shape = Shape::Polygon(vec![
+            [0.1, 0.1],
+            [0.9, 0.1],
+            [0.9, 0.9],
+            [0.5, 0.0],
+            [0.1, 0.9],
+        ]);
+        let e = FictitiousDomain::new(&mesh, &d, 2, 1e-3).unwrap_err();
+        assert!(e.to_string().contains("no crossing edges"), "{e}");
         assert!(
             FictitiousDomain::new(&mesh, &Domain::rect(1.0, 1.0), 2, 1e-3)
                 .unwrap()
