@@ -91,10 +91,14 @@ pub fn run(p: &Problem) -> Result<FemPlateResult> {
         seam_length,
         warning,
     } = seamed_mesh(p, method)?;
-    let model = FemModel::new(mesh, material, method.gauss)?;
+    let model = FemModel::with_domain(mesh, material, method.gauss, &p.domain)?;
     let edges = PlateEdges::of_mesh(&model.mesh);
+    let active = model
+        .fictitious
+        .as_ref()
+        .map_or_else(Vec::new, |fd| fd.active_nodes(model.mesh.n_nodes()));
     let t = material.thickness;
-    let (bc, f, anchor, regions) = match p.boundary.grips() {
+    let (bc, mut f, anchor, regions) = match p.boundary.grips() {
         Some(load) => {
             let (bc, f, anchor) = plate_conditions(&edges, &load, model.n_dofs(), t)?;
             (bc, f, anchor, None)
@@ -106,7 +110,7 @@ pub fn run(p: &Problem) -> Result<FemPlateResult> {
             let rc = region_conditions(
                 &model.mesh,
                 &p.domain,
-                &[],
+                &active,
                 supports,
                 loads,
                 model.n_dofs(),
@@ -115,7 +119,7 @@ pub fn run(p: &Problem) -> Result<FemPlateResult> {
             (rc.bc.clone(), rc.f.clone(), usize::MAX, Some(rc))
         }
     };
-    bc.check_rigid_modes(&model.mesh.coords)?;
+    let bc = model.constrain(bc, &mut f)?;
     let sys = LinearSystem::with_positions(model.stiffness(), &bc, Some(&model.dof_positions()))?;
     let condition = sys.checked_condition("solve", method.condition)?;
     let sol = sys.solve(&f, 1.0)?;

@@ -1,7 +1,8 @@
 //! Plane geometry on `[f64; 2]` points, one copy for the whole crate: vector arithmetic, the
 //! orientation test, distances between points, segments and polylines, whether a segment crosses
 //! another (the PD pre-crack's broken bonds), and clipping: a segment by a box (Liang-Barsky) and
-//! a convex polygon by a line (the XFEM small-area rule).
+//! a convex polygon by a line (the XFEM small-area rule) or a box, the difference of convex polygons
+//! and ear-clipping triangulation (the fictitious domain of holes, [`crate::fe::fictitious`]).
 //!
 //! Users: the crack level sets, enrichment sets and SIF domains of [`crate::xfem`], the pre-crack
 //! of [`crate::pd::splice`] and the cross-parameter checks of [`crate::problem::validate`]. No
@@ -182,8 +183,24 @@ pub(crate) fn clipped_length(a: [f64; 2], b: [f64; 2], bx: [f64; 4]) -> f64 {
     }
 }
 
-/// The part of a convex polygon with cross(b - a, x - a) > 0 (clipped by the line through a and
-/// b, keeping its left side; Sutherland-Hodgman with one edge).
+/// Area of the part of a convex polygon with cross(b - a, x - a) > 0 (the polygon clipped by the
+/// line through a and b, keeping its left side).
+pub(crate) fn positive_area(poly: &[[f64; 2]], a: [f64; 2], b: [f64; 2]) -> f64 {
+    polygon_area(&clip_left(poly, a, b)).abs()
+}
+
+/// Signed area of a polygon (shoelace; positive counter-clockwise).
+pub(crate) fn polygon_area(poly: &[[f64; 2]]) -> f64 {
+    let mut area = 0.0;
+    for k in 0..poly.len() {
+        area += cross(poly[k], poly[(k + 1) % poly.len()]);
+    }
+    0.5 * area
+}
+
+/// The part of a convex polygon strictly left of the directed line a -> b (cross(b - a, x - a)
+/// positive; Sutherland-Hodgman against one half-plane; the crossing points are interpolated along
+/// the edges). Empty when nothing lies there.
 pub(crate) fn clip_left(poly: &[[f64; 2]], a: [f64; 2], b: [f64; 2]) -> Vec<[f64; 2]> {
     let d = sub(b, a);
     let f = |x: [f64; 2]| cross(d, sub(x, a));
@@ -202,18 +219,112 @@ pub(crate) fn clip_left(poly: &[[f64; 2]], a: [f64; 2], b: [f64; 2]) -> Vec<[f64
     out
 }
 
-/// The (unsigned) area of a simple polygon (shoelace).
-pub(crate) fn polygon_area(poly: &[[f64; 2]]) -> f64 {
-    let mut area = 0.0;
-    for k in 0..poly.len() {
-        area += cross(poly[k], poly[(k + 1) % poly.len()]);
+/// The convex polygon clipped to the closed box [lo, hi] (its four half-planes, points on the
+/// box's edges kept).
+pub(crate) fn clip_box(poly: &[[f64; 2]], lo: [f64; 2], hi: [f64; 2]) -> Vec<[f64; 2]> {
+    let corners = [lo, [hi[0], lo[1]], hi, [lo[0], hi[1]]];
+    let mut p = poly.to_vec();
+    for k in 0..4 {
+        if p.len() < 3 {
+            return Vec::new();
+        }
+        p = clip_keep_closed(&p, corners[k], corners[(k + 1) % 4]);
     }
-    0.5 * area.abs()
+    p
 }
 
-/// Area of the part of a convex polygon with cross(b - a, x - a) > 0 ([`clip_left`]).
-pub(crate) fn positive_area(poly: &[[f64; 2]], a: [f64; 2], b: [f64; 2]) -> f64 {
-    polygon_area(&clip_left(poly, a, b))
+/// [`clip_left`] keeping points on the line too (cross >= 0).
+fn clip_keep_closed(poly: &[[f64; 2]], a: [f64; 2], b: [f64; 2]) -> Vec<[f64; 2]> {
+    let d = sub(b, a);
+    let f = |x: [f64; 2]| cross(d, sub(x, a));
+    let mut out: Vec<[f64; 2]> = Vec::with_capacity(poly.len() + 2);
+    for k in 0..poly.len() {
+        let (p, q) = (poly[k], poly[(k + 1) % poly.len()]);
+        let (fp, fq) = (f(p), f(q));
+        if fp >= 0.0 {
+            out.push(p);
+        }
+        if (fp >= 0.0) != (fq >= 0.0) && fp != fq {
+            let t = fp / (fp - fq);
+            out.push([p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])]);
+        }
+    }
+    out
+}
+
+/// The convex pieces of `pieces \ hole` for a convex, counter-clockwise `hole`: for each edge
+/// a -> b of the hole in turn, the part of what is left that lies right of the edge's line is
+/// outside the hole (kept), the rest goes on to the next edge; what is left after the last edge
+/// lies inside the hole (dropped). Exact for straight edges; pieces of area below `min_area` are
+/// dropped.
+pub(crate) fn subtract_convex(
+    pieces: Vec<Vec<[f64; 2]>>,
+    hole: &[[f64; 2]],
+    min_area: f64,
+) -> Vec<Vec<[f64; 2]>> {
+    let mut out = Vec::with_capacity(pieces.len() + hole.len());
+    for piece in pieces {
+        let mut rest = piece;
+        for k in 0..hole.len() {
+            if rest.len() < 3 {
+                break;
+            }
+            let (a, b) = (hole[k], hole[(k + 1) % hole.len()]);
+            let outside = clip_left(&rest, b, a);
+            if outside.len() >= 3 && polygon_area(&outside).abs() > min_area {
+                out.push(outside);
+            }
+            rest = clip_keep_closed(&rest, a, b);
+        }
+    }
+    out
+}
+
+/// Triangles of a simple polygon by ear clipping (O(n^2); either orientation; the triangles are
+/// counter-clockwise). Collinear vertices are skipped. A polygon that is not simple returns the
+/// triangles found before no ear is left.
+pub(crate) fn triangulate(poly: &[[f64; 2]]) -> Vec<[[f64; 2]; 3]> {
+    let mut v: Vec<[f64; 2]> = poly.to_vec();
+    if polygon_area(&v) < 0.0 {
+        v.reverse();
+    }
+    let mut tris = Vec::with_capacity(v.len().saturating_sub(2));
+    while v.len() > 3 {
+        let n = v.len();
+        let ear = (0..n).find(|&i| {
+            let (a, b, c) = (v[(i + n - 1) % n], v[i], v[(i + 1) % n]);
+            orient(a, b, c) > 0.0
+                && (0..n).all(|k| {
+                    let p = v[k];
+                    k == i
+                        || k == (i + n - 1) % n
+                        || k == (i + 1) % n
+                        || !(orient(a, b, p) >= 0.0
+                            && orient(b, c, p) >= 0.0
+                            && orient(c, a, p) >= 0.0)
+                })
+        });
+        match ear {
+            Some(i) => {
+                let n = v.len();
+                tris.push([v[(i + n - 1) % n], v[i], v[(i + 1) % n]]);
+                v.remove(i);
+            }
+            None => {
+                // collinear vertex (zero-area ear): drop it, else give up
+                match (0..n).find(|&i| orient(v[(i + n - 1) % n], v[i], v[(i + 1) % n]) == 0.0) {
+                    Some(i) => {
+                        v.remove(i);
+                    }
+                    None => return tris,
+                }
+            }
+        }
+    }
+    if v.len() == 3 && orient(v[0], v[1], v[2]) > 0.0 {
+        tris.push([v[0], v[1], v[2]]);
+    }
+    tris
 }
 
 #[cfg(test)]
@@ -266,5 +377,31 @@ mod tests {
         );
         let square = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
         assert_eq!(positive_area(&square, [0.0, 0.25], [1.0, 0.25]), 0.75);
+        // the unit square less the square [0.25, 0.75]^2: area 0.75 in convex pieces
+        let hole = [[0.25, 0.25], [0.75, 0.25], [0.75, 0.75], [0.25, 0.75]];
+        let pieces = subtract_convex(vec![square.to_vec()], &hole, 0.0);
+        let a: f64 = pieces.iter().map(|p| polygon_area(p)).sum();
+        assert!((a - 0.75).abs() < 1e-15, "{a}");
+        // a hole covering the square leaves nothing; one outside leaves it whole
+        let big = [[-1.0, -1.0], [2.0, -1.0], [2.0, 2.0], [-1.0, 2.0]];
+        assert!(subtract_convex(vec![square.to_vec()], &big, 0.0).is_empty());
+        let far = [[3.0, 3.0], [4.0, 3.0], [4.0, 4.0]];
+        let whole = subtract_convex(vec![square.to_vec()], &far, 1e-15);
+        assert_eq!(whole.len(), 1);
+        assert!((polygon_area(&whole[0]) - 1.0).abs() < 1e-15);
+        assert!((polygon_area(&clip_box(&big, [0.0, 0.0], [1.0, 1.0])) - 1.0).abs() < 1e-15);
+        // an L-shaped (non-convex, clockwise) polygon: 4 triangles of total area 3
+        let l = [
+            [0.0, 0.0],
+            [0.0, 2.0],
+            [1.0, 2.0],
+            [1.0, 1.0],
+            [2.0, 1.0],
+            [2.0, 0.0],
+        ];
+        let t = triangulate(&l);
+        assert_eq!(t.len(), 4);
+        let at: f64 = t.iter().map(|t| polygon_area(t)).sum();
+        assert!((at - 3.0).abs() < 1e-15 && t.iter().all(|t| polygon_area(t) > 0.0));
     }
 }

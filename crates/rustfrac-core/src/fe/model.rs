@@ -3,13 +3,21 @@
 //! forces, Gauss-point and nodal stresses, and error norms against an exact field.
 //!
 //! The standard dofs of node n are 2n (u1) and 2n + 1 (u2).
+//!
+//! With holes ([`FemModel::with_domain`]) every integral runs over the material only
+//! ([`crate::fe::fictitious`]): cut elements use their material part's rule, void elements add
+//! nothing, and the nodes without material are prescribed to 0 ([`FemModel::constrain`]).
+//! Without holes nothing changes, bit for bit.
 
 use crate::error::{Error, Result};
+use crate::fe::dirichlet::Dirichlet;
+use crate::fe::fictitious::{ElementKind, FictitiousDomain, DEFAULT_MIN_SUPPORT_FRACTION};
 use crate::fe::material::Elastic;
 use crate::fe::mesh::{Mesh, Side};
 use crate::fe::q4::{element_stiffness, geometry, shape, strain, stress};
 use crate::fe::quadrature::{subquad_rule, QPoint};
 use crate::la::{CscMatrix, Pattern};
+use crate::problem::Domain;
 
 /// A Q4 plane-elasticity model on a mesh: standard dofs only.
 pub struct FemModel {
@@ -17,6 +25,8 @@ pub struct FemModel {
     pub material: Elastic,
     /// element quadrature (2 x 2 Gauss by default: exact for rectangles)
     pub rule: Vec<QPoint>,
+    /// the holes' fictitious-domain data (None: no holes)
+    pub fictitious: Option<FictitiousDomain>,
     blocks: Vec<Vec<usize>>,
     pattern: Pattern,
 }
@@ -43,9 +53,54 @@ impl FemModel {
             mesh,
             material,
             rule: subquad_rule(1, gauss),
+            fictitious: None,
             blocks,
             pattern,
         })
+    }
+
+    /// [`FemModel::new`] on the material of `domain`: with holes, the fictitious-domain data
+    /// ([`FictitiousDomain::new`], the default node removal threshold
+    /// [`DEFAULT_MIN_SUPPORT_FRACTION`]); without, the plain model.
+    pub fn with_domain(
+        mesh: Mesh,
+        material: Elastic,
+        gauss: usize,
+        domain: &Domain,
+    ) -> Result<Self> {
+        let mut m = Self::new(mesh, material, gauss)?;
+        m.fictitious = FictitiousDomain::new(&m.mesh, domain, gauss, DEFAULT_MIN_SUPPORT_FRACTION)?;
+        Ok(m)
+    }
+
+    /// The Dirichlet conditions `bc` of this model checked for rigid-body modes; with holes, the
+    /// removed nodes' conditions dropped, their dofs prescribed to 0 and their forces in `f`
+    /// zeroed ([`FictitiousDomain::constrain`]).
+    pub fn constrain(&self, bc: Dirichlet, f: &mut [f64]) -> Result<Dirichlet> {
+        match &self.fictitious {
+            Some(fd) => fd.constrain(bc, f, &self.mesh.coords, |_| Vec::new()),
+            None => {
+                bc.check_rigid_modes(&self.mesh.coords)?;
+                Ok(bc)
+            }
+        }
+    }
+
+    /// The kind of element `e` (material without holes).
+    fn kind(&self, e: usize) -> ElementKind {
+        self.fictitious
+            .as_ref()
+            .map_or(ElementKind::Material, |fd| fd.kind(e))
+    }
+
+    /// A rule on the material part of element `e`: `full` for a material element, empty for a
+    /// void one, the degree-5 rule of the material part for a cut one.
+    fn material_rule(&self, e: usize, full: &[QPoint]) -> Vec<QPoint> {
+        match (&self.fictitious, self.kind(e)) {
+            (Some(fd), ElementKind::Cut) => fd.cut_rule(e, 5).unwrap_or_default(),
+            (_, ElementKind::Void) => Vec::new(),
+            _ => full.to_vec(),
+        }
     }
 
     pub fn n_dofs(&self) -> usize {
@@ -59,6 +114,16 @@ impl FemModel {
 
     /// Global stiffness (full symmetric storage), assembled in parallel.
     pub fn stiffness(&self) -> CscMatrix {
+        if let Some(fd) = &self.fictitious {
+            return self.pattern.assemble(&self.blocks, &self.blocks, |e, out| {
+                element_stiffness(
+                    &self.mesh.element_coords(e),
+                    &self.material,
+                    fd.rule(e, &self.rule),
+                    out,
+                )
+            });
+        }
         self.pattern.assemble(&self.blocks, &self.blocks, |e, out| {
             element_stiffness(
                 &self.mesh.element_coords(e),
@@ -74,12 +139,14 @@ impl FemModel {
         edge_traction(&self.mesh, side, t, self.material.thickness, f)
     }
 
-    /// Consistent nodal forces of a body force b(x) (force per volume), 3 x 3 Gauss per element.
+    /// Consistent nodal forces of a body force b(x) (force per volume), 3 x 3 Gauss per element
+    /// (over the material only).
     pub fn body_forces(&self, b: impl Fn(f64, f64) -> [f64; 2]) -> Vec<f64> {
         let mut f = vec![0.0; self.n_dofs()];
-        let rule = subquad_rule(1, 3);
+        let full = subquad_rule(1, 3);
         for (e, conn) in self.mesh.elements.iter().enumerate() {
             let xy = self.mesh.element_coords(e);
+            let rule = self.material_rule(e, &full);
             for q in &rule {
                 let (x, _, det) = geometry(&xy, q.xi, q.eta);
                 let n = shape(q.xi, q.eta);
@@ -101,6 +168,7 @@ impl FemModel {
     }
 
     /// Stresses at the 2 x 2 Gauss points of every element: (n_elements * 4) x 3, plus the points.
+    /// With holes, only the points in the material (of material and cut elements).
     pub fn gauss_stresses(&self, u: &[f64]) -> (Vec<[f64; 2]>, Vec<[f64; 3]>) {
         let d = self.material.d_matrix();
         let rule = subquad_rule(1, 2);
@@ -111,6 +179,11 @@ impl FemModel {
             let ue = self.element_u(e, u);
             for q in &rule {
                 let (x, g, _) = geometry(&xy, q.xi, q.eta);
+                if let Some(fd) = &self.fictitious {
+                    if !fd.in_material(x) {
+                        continue;
+                    }
+                }
                 pts.push(x);
                 sig.push(stress(&d, &strain(&g, &ue)));
             }
@@ -118,13 +191,17 @@ impl FemModel {
         (pts, sig)
     }
 
-    /// Nodal stresses: element corner values averaged over the elements sharing a node.
+    /// Nodal stresses: element corner values averaged over the elements sharing a node (with
+    /// holes: the elements holding material; 0 at a node without any).
     pub fn nodal_stresses(&self, u: &[f64]) -> Vec<[f64; 3]> {
         let d = self.material.d_matrix();
         let mut acc = vec![[0.0; 3]; self.mesh.n_nodes()];
         let mut cnt = vec![0usize; self.mesh.n_nodes()];
         let corners = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)];
         for (e, conn) in self.mesh.elements.iter().enumerate() {
+            if self.kind(e) == ElementKind::Void {
+                continue;
+            }
             let xy = self.mesh.element_coords(e);
             let ue = self.element_u(e, u);
             for (k, &(xi, eta)) in corners.iter().enumerate() {
@@ -144,18 +221,20 @@ impl FemModel {
 
     /// L2 norm of the displacement error and energy norm of the error against an exact field
     /// `exact(x, y) -> (u, grad u)` with grad u = [[du1/dx1, du1/dx2], [du2/dx1, du2/dx2]],
-    /// integrated with 4 x 4 Gauss points per element.
+    /// integrated with 4 x 4 Gauss points per element (with holes: over the material only, the
+    /// degree-5 rule on the material part of a cut element).
     pub fn error_norms(
         &self,
         u: &[f64],
         exact: impl Fn(f64, f64) -> ([f64; 2], [[f64; 2]; 2]),
     ) -> (f64, f64) {
         let d = self.material.d_matrix();
-        let rule = subquad_rule(1, 4);
+        let full = subquad_rule(1, 4);
         let (mut l2, mut en) = (0.0, 0.0);
         for e in 0..self.mesh.n_elements() {
             let xy = self.mesh.element_coords(e);
             let ue = self.element_u(e, u);
+            let rule = self.material_rule(e, &full);
             for q in &rule {
                 let (x, g, det) = geometry(&xy, q.xi, q.eta);
                 let n = shape(q.xi, q.eta);

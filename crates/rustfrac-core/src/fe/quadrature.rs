@@ -63,6 +63,34 @@ pub fn subquad_rule(nsub: usize, ng: usize) -> Vec<QPoint> {
     pts
 }
 
+/// A rule on the reference triangle: barycentric coordinates (l1, l2; l3 = 1 - l1 - l2) and
+/// weights summing to 1 (multiply by the triangle's area). `degree` 2: the 3-point rule (exact
+/// for quadratics, Strang & Fix 1973); above 2: the 7-point degree-5 rule (Radon 1948;
+/// Zienkiewicz & Taylor, The Finite Element Method, table 5.3).
+pub fn triangle_rule(degree: usize) -> Vec<([f64; 2], f64)> {
+    if degree <= 2 {
+        let (a, b) = (1.0 / 6.0, 2.0 / 3.0);
+        return vec![
+            ([a, a], 1.0 / 3.0),
+            ([b, a], 1.0 / 3.0),
+            ([a, b], 1.0 / 3.0),
+        ];
+    }
+    let s15 = 15f64.sqrt();
+    let (a1, a2) = ((6.0 - s15) / 21.0, (6.0 + s15) / 21.0);
+    let (w1, w2) = ((155.0 - s15) / 1200.0, (155.0 + s15) / 1200.0);
+    let (b1, b2) = (1.0 - 2.0 * a1, 1.0 - 2.0 * a2);
+    vec![
+        ([1.0 / 3.0, 1.0 / 3.0], 0.225),
+        ([a1, a1], w1),
+        ([b1, a1], w1),
+        ([a1, b1], w1),
+        ([a2, a2], w2),
+        ([b2, a2], w2),
+        ([a2, b2], w2),
+    ]
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -87,5 +115,23 @@ mod tests {
         assert!((area - 4.0).abs() < 1e-14);
         let m: f64 = r.iter().map(|p| p.w * p.xi.powi(2) * p.eta.powi(2)).sum();
         assert!((m - 4.0 / 9.0).abs() < 1e-14);
+    }
+
+    #[test]
+    fn triangle_rules_integrate_polynomials_exactly() {
+        // int over the unit triangle of x^p y^q = p! q! / (p + q + 2)!
+        let fact = |n: u32| (1..=n).map(f64::from).product::<f64>();
+        for (deg, rule) in [(2, triangle_rule(2)), (5, triangle_rule(5))] {
+            for p in 0..=deg {
+                for q in 0..=deg - p {
+                    let v: f64 = rule
+                        .iter()
+                        .map(|(l, w)| 0.5 * w * l[0].powi(p as i32) * l[1].powi(q as i32))
+                        .sum();
+                    let exact = fact(p) * fact(q) / fact(p + q + 2);
+                    assert!((v - exact).abs() < 1e-15, "deg {deg}: x^{p} y^{q}");
+                }
+            }
+        }
     }
 }

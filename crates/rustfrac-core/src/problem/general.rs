@@ -36,6 +36,13 @@ fn holes(p: &Problem) -> Result<()> {
             ));
         }
         if let Shape::Polygon(v) = &hole.shape {
+            if v.len() < 3 {
+                return Err(Error::invalid(
+                    &format!("{}.points", hole.name),
+                    "at least 3 vertices",
+                    v.len(),
+                ));
+            }
             if let Some((i, j)) = crate::geometry::self_intersection(v) {
                 return Err(Error::invalid(
                     &format!("{}.points", hole.name),
@@ -233,7 +240,7 @@ fn supported(p: &Problem) -> Result<()> {
 }
 
 /// Holes for FEM and XFEM arrive with the fictitious-domain integration (cut elements).
-const FICTITIOUS_DOMAIN_PENDING: bool = true;
+const FICTITIOUS_DOMAIN_PENDING: bool = false;
 
 /// Tensor grid lines from 0 to the plate's size, strictly increasing.
 fn grid_lines(p: &Problem) -> Result<()> {

@@ -272,23 +272,6 @@ fn section_rules(section: &str, name: &str, s: &Section) -> Result<()> {
                 ));
             }
         }
-        "hole" if s["shape"].s() == "polygon" => {
-            let v = s["points"].pairs();
-            if v.len() < 3 {
-                return Err(Error::invalid(
-                    &format!("{name}.points"),
-                    "at least 3 vertices",
-                    v.len(),
-                ));
-            }
-            if let Some((i, j)) = crate::geometry::self_intersection(v) {
-                return Err(Error::invalid(
-                    &format!("{name}.points"),
-                    "a simple polygon (no two edges cross, no repeated vertex)",
-                    format!("edges {i} and {j} intersect"),
-                ));
-            }
-        }
         "support" | "region_load" if s["region"].s() == "edge_part" => {
             let (a, b) = (s["from"].f(), s["to"].f());
             if !(a < b) {

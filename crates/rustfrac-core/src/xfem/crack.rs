@@ -1,7 +1,8 @@
 //! Crack geometry (paper section 2.1, eq. 1): a crack is a polyline `points[0..n]` inside the
-//! plate. An end lying on the plate boundary is a *mouth* (edge crack); an end inside the plate is
-//! a *tip*, so a crack has one tip (edge crack) or two (interior crack). A crack with both ends on
-//! the boundary would cut the plate in two and is refused.
+//! plate. An end lying on the plate boundary, or on or in a hole or notch of the domain (an edge
+//! crack from a notch tip: [`Crack::named_in`]), is a *mouth* (edge crack); an end inside the
+//! material is a *tip*, so a crack has one tip (edge crack) or two (interior crack). A crack with
+//! both ends on the boundary would cut the plate in two and is refused.
 //!
 //! The level set phi(x) is the signed distance to the polyline; its sign is (x - x*) . n (eq. 1)
 //! with x* the closest point and n the unit normal obtained by turning the segment direction (from
@@ -19,6 +20,7 @@ use crate::error::{Error, Result};
 use crate::fe::mesh::Mesh;
 use crate::geometry::{cross, dot, norm, segment_distance, sub, unit};
 use crate::problem::parse::crack_name;
+use crate::problem::Domain;
 
 /// A crack tip: position and unit direction of crack advance (the tip frame's x~1 axis).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -55,6 +57,18 @@ impl Crack {
 
     /// [`Crack::new`] with errors naming the parameter `param` (e.g. "crack[1]").
     pub fn named(points: Vec<[f64; 2]>, mesh: &Mesh, param: &str) -> Result<Self> {
+        Self::named_in(points, mesh, param, None)
+    }
+
+    /// [`Crack::named`] in a domain with holes: when neither end lies on the plate's boundary,
+    /// an end on or inside a hole or notch (level set <= 1e-9 x the plate diagonal; the first
+    /// such) is the mouth.
+    pub fn named_in(
+        points: Vec<[f64; 2]>,
+        mesh: &Mesh,
+        param: &str,
+        domain: Option<&Domain>,
+    ) -> Result<Self> {
         if points.len() < 2 {
             return Err(Error::invalid(
                 param,
@@ -94,14 +108,24 @@ impl Crack {
                 ));
             }
         }
-        let on_boundary = |p: [f64; 2]| {
+        let on_plate_boundary = |p: [f64; 2]| {
             (p[0] - x0).abs() <= tol
                 || (p[0] - x0 - w).abs() <= tol
                 || (p[1] - y0).abs() <= tol
                 || (p[1] - y0 - h).abs() <= tol
         };
+        let on_hole = |p: [f64; 2]| domain.is_some_and(|d| d.level_set(p) <= tol);
         let n = points.len();
-        let (start_b, end_b) = (on_boundary(points[0]), on_boundary(points[n - 1]));
+        let (mut start_b, mut end_b) = (
+            on_plate_boundary(points[0]),
+            on_plate_boundary(points[n - 1]),
+        );
+        // without an end on the plate's boundary, the first end on (or in) a hole is the mouth;
+        // an end in a hole facing a mouth is a tip (refused by the driver's tip clearance)
+        if !start_b && !end_b {
+            start_b = on_hole(points[0]);
+            end_b = !start_b && on_hole(points[n - 1]);
+        }
         if start_b && end_b {
             return Err(Error::invalid(
                 param,
@@ -113,7 +137,7 @@ impl Crack {
             // orient the polyline so that a mouth is always points[0]
             let mut p = points;
             p.reverse();
-            return Self::named(p, mesh, param);
+            return Self::named_in(p, mesh, param, domain);
         }
         let mut tips = vec![Tip {
             pos: points[n - 1],
@@ -255,16 +279,20 @@ fn check_cracks_apart(cracks: &[Crack], mesh: &Mesh) -> Result<()> {
 }
 
 /// The cracks of a model from their polylines (at least one): each validated against the plate
-/// (errors name crack k by its scene key, [`crack_name`]: "crack", "crack[1]", ...), then refused
-/// if two of them cross or touch (the later one's key).
-pub(super) fn build_cracks(polylines: Vec<Vec<[f64; 2]>>, mesh: &Mesh) -> Result<Vec<Crack>> {
+/// (errors name crack k by its scene key, [`crack_name`]: "crack", "crack[1]", ...; an end on a
+/// hole of `domain` is a mouth), then refused if two of them cross or touch (the later one's key).
+pub(super) fn build_cracks(
+    polylines: Vec<Vec<[f64; 2]>>,
+    mesh: &Mesh,
+    domain: Option<&Domain>,
+) -> Result<Vec<Crack>> {
     if polylines.is_empty() {
         return Err(Error::invalid("crack", "at least one crack", 0));
     }
     let cracks = polylines
         .into_iter()
         .enumerate()
-        .map(|(k, p)| Crack::named(p, mesh, &crack_name(k)))
+        .map(|(k, p)| Crack::named_in(p, mesh, &crack_name(k), domain))
         .collect::<Result<Vec<Crack>>>()?;
     check_cracks_apart(&cracks, mesh)?;
     Ok(cracks)

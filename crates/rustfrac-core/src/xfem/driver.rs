@@ -176,11 +176,12 @@ fn build(p: &Problem) -> Result<(&XfemMethod, XfemModel, PlateProblem)> {
     )?;
     let mesh = Arc::new(x.grid.mesh(d)?);
     let edges = PlateEdges::of_mesh(&mesh);
-    let model = XfemModel::new_multi(
+    let model = XfemModel::new_in_domain(
         mesh.clone(),
         p.material.elastic,
         p.crack_polylines(),
         x.options,
+        d,
     )?;
     check_tip_clearance(&model)?;
     let plate = PlateProblem {

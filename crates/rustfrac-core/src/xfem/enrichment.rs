@@ -17,7 +17,9 @@
 //!   fractions is compared. Such a node's enrichment is nearly (or exactly, e.g. for a crack
 //!   running along a grid line) linearly dependent on the standard functions and would make the
 //!   matrix singular or badly conditioned. Default threshold: [`DEFAULT_AREA_THRESHOLD`] = 1e-4
-//!   (Dolbow 1999; Moes et al. 1999 use the same order).
+//!   (Dolbow 1999; Moes et al. 1999 use the same order). With holes the areas are the support's
+//!   material ([`crate::fe::fictitious`]): a cut element's material part measured by the rule the
+//!   model integrates it with, on either side of the crack.
 //! * Several cracks (module [`crate::xfem`], "Several cracks"): split elements, Heaviside
 //!   candidates (tip nodes of the crack's own tips excluded) and the small-area rule are evaluated
 //!   for each crack separately; every tip has its own branch functions (a node near two tips
@@ -29,6 +31,7 @@
 use super::crack::{on_face, Crack, Tip};
 use super::integration::{RuleKind, Rules};
 use crate::error::{Error, Result};
+use crate::fe::fictitious::{ElementKind, FictitiousDomain};
 use crate::fe::mesh::Mesh;
 use crate::geometry::{norm, positive_area, seg_box, sub};
 use crate::problem::parse::crack_name;
@@ -147,8 +150,10 @@ pub(super) struct EnrichmentSets {
 
 impl EnrichmentSets {
     /// The sets for the given cracks and tips (global tip order, `tip_crack` the crack of each);
-    /// `rules` are the model's quadrature rules (for the quadrature side of the small-area rule).
+    /// `rules` are the model's quadrature rules (for the quadrature side of the small-area rule),
+    /// `holes` the fictitious domain (the small-area rule then measures the material only).
     /// Refuses tips of different cracks in one element.
+    #[allow(clippy::too_many_arguments)]
     pub(super) fn new(
         mesh: &Mesh,
         cracks: &[Crack],
@@ -157,6 +162,7 @@ impl EnrichmentSets {
         fixed_area_radius: Option<f64>,
         area_threshold: f64,
         rules: &Rules,
+        holes: Option<&FictitiousDomain>,
     ) -> Result<Self> {
         let cells = Cells::new(mesh);
         let (tip_elements, tip_nodes): (Vec<_>, Vec<_>) = tips
@@ -185,7 +191,8 @@ impl EnrichmentSets {
             let own_tip = |t: usize| tip_crack[t] == c;
             let split = sets.split_elements_of(mesh, c, crack, &own_tip);
             let cand = sets.heaviside_candidates(mesh, &split, &own_tip);
-            let (hn, dn) = sets.small_area_rule(&cells, c, crack, &cand, area_threshold, rules);
+            let (hn, dn) =
+                sets.small_area_rule(&cells, (c, crack), &cand, area_threshold, rules, holes);
             sets.split_elements.push(split);
             sets.heaviside_nodes.push(hn);
             sets.dropped_nodes.push(dn);
@@ -207,11 +214,12 @@ impl EnrichmentSets {
 
     /// The sub-quad rule a crossed element will use.
     fn crossed_rule<'r>(&self, rules: &'r Rules, e: usize) -> &'r [crate::fe::quadrature::QPoint] {
-        rules.get(RuleKind::select(
-            self.is_tip_element(e),
-            true,
-            self.n_crossing(e) >= 2,
-        ))
+        rules.get(self.crossed_kind(e))
+    }
+
+    /// The rule kind of a crossed element `e`.
+    fn crossed_kind(&self, e: usize) -> RuleKind {
+        RuleKind::select(self.is_tip_element(e), true, self.n_crossing(e) >= 2)
     }
 
     /// The split elements of crack `c`: crossed by it, not a tip element of its own tips, with
@@ -271,14 +279,17 @@ impl EnrichmentSets {
     }
 
     /// The small-area rule on the candidates of crack `c`: (kept Heaviside nodes, dropped nodes).
+    /// With holes, a cut element's areas are those of its material part, both measures (the
+    /// geometric and the quadrature one) taken with its material rule, the one the model
+    /// integrates it with ([`crate::xfem::integration`]); a void element's are 0.
     fn small_area_rule(
         &self,
         cells: &Cells,
-        c: usize,
-        crack: &Crack,
+        (c, crack): (usize, &Crack),
         cand: &[usize],
         area_threshold: f64,
         rules: &Rules,
+        holes: Option<&FictitiousDomain>,
     ) -> (Vec<usize>, Vec<usize>) {
         let mesh = cells.mesh;
         let crossed = &self.crossed[c];
@@ -289,6 +300,30 @@ impl EnrichmentSets {
             *pos_area.entry(e).or_insert_with(|| {
                 let (lo, hi) = cells.ebox(e);
                 let area = (hi[0] - lo[0]) * (hi[1] - lo[1]);
+                if let Some(fd) = holes.filter(|fd| fd.kind(e) != ElementKind::Material) {
+                    let kind = if crossed.contains_key(&e) {
+                        self.crossed_kind(e)
+                    } else {
+                        RuleKind::Gauss
+                    };
+                    let rule = match kind {
+                        RuleKind::Gauss => fd.rule(e, &[]).to_vec(),
+                        k => fd.subcell_rule(e, rules.nsub(k)).unwrap_or_default(),
+                    };
+                    let (mut ap, mut at) = (0.0, 0.0);
+                    for q in &rule {
+                        let x = [
+                            lo[0] + 0.5 * (q.xi + 1.0) * (hi[0] - lo[0]),
+                            lo[1] + 0.5 * (q.eta + 1.0) * (hi[1] - lo[1]),
+                        ];
+                        let w = 0.25 * q.w * area;
+                        at += w;
+                        if crack.heaviside(x) > 0.0 {
+                            ap += w;
+                        }
+                    }
+                    return (ap, at, ap);
+                }
                 let Some(&(k, _)) = crossed.get(&e) else {
                     let c = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
                     let ap = if crack.heaviside(c) > 0.0 { area } else { 0.0 };
@@ -319,7 +354,12 @@ impl EnrichmentSets {
                 at += t;
                 aq += q;
             }
-            let frac = (ap.min(at - ap) / at).min(aq.min(at - aq) / at);
+            // with holes `at` is the support's material area (0: no material, dropped)
+            let frac = if at > 0.0 {
+                (ap.min(at - ap) / at).min(aq.min(at - aq) / at)
+            } else {
+                0.0
+            };
             if frac > area_threshold && frac > 1e-12 {
                 hn.push(n);
             } else {

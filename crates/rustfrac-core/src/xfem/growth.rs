@@ -99,7 +99,8 @@ pub enum GrowthStatus {
     SingleSolve,
     /// the next length `a` of a crack would exceed `a_stop`
     AStopReached,
-    /// a new tip would come closer to the boundary than [`MIN_TIP_CLEARANCE`] element lengths
+    /// a new tip would come closer to the boundary, or to a hole or notch, than
+    /// [`MIN_TIP_CLEARANCE`] element lengths, or a hole would enter a tip's SIF domain
     LigamentUsedUp,
     MaxStepsReached,
     /// the cracks would cross or touch, or another crack would enter a tip's SIF domain
@@ -209,7 +210,7 @@ struct Extension {
     polylines: Vec<Vec<[f64; 2]>>,
     /// the next length `a` of every crack
     next_a: Vec<f64>,
-    /// a new tip comes too close to the plate boundary
+    /// a new tip comes too close to the plate boundary or to a hole
     ligament: bool,
 }
 
@@ -240,6 +241,14 @@ fn extend_tips(
         // the next tip must stay resolvable (the q-domain may be clipped by the boundary)
         let margin = MIN_TIP_CLEARANCE * st.sizes[k];
         if p[0] < margin || p[0] > x_max - margin || p[1] < margin || p[1] > y_max - margin {
+            ligament = true;
+        }
+        // a hole or notch is a boundary of the material too
+        if model
+            .fictitious
+            .as_ref()
+            .is_some_and(|fd| fd.domain.level_set(p) < margin)
+        {
             ligament = true;
         }
         if tip.at_start {
@@ -381,6 +390,10 @@ pub(super) fn grow(
                 .is_some()
         }) {
             out.status = Some(GrowthStatus::CracksMeet);
+            break;
+        }
+        if (0..n_tips).any(|t| model.hole_in_domain(t, r_i_factor * sizes[t]).is_some()) {
+            out.status = Some(GrowthStatus::LigamentUsedUp);
             break;
         }
         let st = TipStates::new(&model, &sol.u, sizes, r_i_factor, kic)?;

@@ -9,6 +9,14 @@
 //! sample every Heaviside and branch function at their Gauss points; they do not follow the crack
 //! (hence the quadrature side of the small-area rule, [`crate::xfem::enrichment`]).
 //!
+//! Holes ([`crate::fe::fictitious`]): a cut element integrates over its material part only. A
+//! plain (or Heaviside-enriched, uncrossed) cut element uses the material part's rule (3-point
+//! triangles, exact for its polynomial integrand); a cut element needing sub-quads uses the
+//! material part *clipped by each sub-quad* with the 3-point rule on its triangles
+//! ([`crate::fe::FictitiousDomain::subcell_rule`]): the sub-quads' sampling of the enrichment,
+//! restricted to the material (no Gauss point in a hole, the hole's boundary followed exactly).
+//! Void elements add nothing.
+//!
 //! Standard element blocks are computed once per distinct element shape and reused across growth
 //! steps (the standard-standard block of an enriched element is the same polynomial integrand, so
 //! it is exact either way). The enriched blocks themselves (eqs. 25-26, 34) are assembled by
@@ -106,6 +114,8 @@ fn multi_nsub(n: usize) -> usize {
 /// The quadrature rules of a model, one per [`RuleKind`] (on the reference square).
 #[derive(Debug, Clone)]
 pub(super) struct Rules {
+    nsub: usize,
+    tip_nsub: usize,
     gauss: Vec<QPoint>,
     sub: Vec<QPoint>,
     tip: Vec<QPoint>,
@@ -117,11 +127,24 @@ impl Rules {
     /// The rules for `nsub` and `tip_nsub` sub-quads per direction (2 x 2 Gauss in each).
     pub(super) fn new(nsub: usize, tip_nsub: usize) -> Self {
         Self {
+            nsub,
+            tip_nsub,
             gauss: subquad_rule(1, 2),
             sub: subquad_rule(nsub, 2),
             tip: subquad_rule(tip_nsub, 2),
             sub_multi: subquad_rule(multi_nsub(nsub), 2),
             tip_multi: subquad_rule(multi_nsub(tip_nsub), 2),
+        }
+    }
+
+    /// Sub-quads per direction of a rule.
+    pub(super) fn nsub(&self, kind: RuleKind) -> usize {
+        match kind {
+            RuleKind::Gauss => 1,
+            RuleKind::Sub => self.nsub,
+            RuleKind::Tip => self.tip_nsub,
+            RuleKind::SubMulti => multi_nsub(self.nsub),
+            RuleKind::TipMulti => multi_nsub(self.tip_nsub),
         }
     }
 

@@ -282,12 +282,8 @@ impl QDomain<'_> {
         b: &mut BasisBuf,
     ) {
         let model = self.model;
-        let rule = if en.is_some() {
-            model.rule(en)
-        } else {
-            model.rules.get(RuleKind::Sub)
-        };
-        for qp in rule {
+        let rule = model.material_rule(e, en.map_or(RuleKind::Sub, |x| x.rule));
+        for qp in rule.iter() {
             let (xl, gl, det) = self.field(e, en, dofs, qp.xi, qp.eta, b);
             let mut gq = [0.0; 2];
             for (gk, qk) in b.grads.iter().zip(q) {
@@ -386,6 +382,33 @@ impl XfemModel {
         None
     }
 
+    /// The hole or notch (its scene name) that enters the support of tip `tip`'s q-function for
+    /// q-radius `radius` (an element with a node closer to the tip than `radius` that is not
+    /// wholly material): the domain form assumes material throughout the domain, so
+    /// [`Self::sifs`] refuses such a radius (a traction-free hole boundary inside the domain
+    /// would add boundary terms, the auxiliary field not being traction-free there).
+    pub fn hole_in_domain(&self, tip: usize, radius: f64) -> Option<String> {
+        let fd = self.fictitious.as_ref()?;
+        let tp = self.tips.get(tip)?.pos;
+        let mesh = &self.mesh;
+        for (e, conn) in mesh.elements.iter().enumerate() {
+            if fd.kind(e) == crate::fe::ElementKind::Material
+                || !conn.iter().any(|&n| norm(sub(mesh.coords[n], tp)) < radius)
+            {
+                continue;
+            }
+            let xy = mesh.element_coords(e);
+            let c = [0.5 * (xy[0][0] + xy[2][0]), 0.5 * (xy[0][1] + xy[2][1])];
+            return fd
+                .domain
+                .holes
+                .iter()
+                .min_by(|a, b| a.shape.level_set(c).total_cmp(&b.shape.level_set(c)))
+                .map(|h| h.name.clone());
+        }
+        None
+    }
+
     /// Whether the q-domain of tip `tip` for q-radius `radius` would reach (within 1.5 tip-element
     /// lengths) the other tip of the same crack (a centre crack shorter than the domain).
     pub fn other_tip_in_domain(&self, tip: usize, radius: f64) -> bool {
@@ -439,6 +462,17 @@ impl XfemModel {
             return Err(Error::invalid(
                 "r_I",
                 "a q-domain that does not reach the other crack tip",
+                radius,
+            ));
+        }
+        if let Some(name) = self.hole_in_domain(tip, radius) {
+            return Err(Error::invalid(
+                "r_I",
+                &format!(
+                    "a q-domain that no hole or notch enters ({name} enters the domain of the tip \
+                     at {:?}: the interaction integral would miss the terms of its boundary)",
+                    tp.pos
+                ),
                 radius,
             ));
         }

@@ -19,12 +19,16 @@ use super::crack::{build_cracks, global_tips, Crack, Tip};
 use super::enrichment::{branch_functions_snapped, node_support, EnrichmentSets};
 use super::integration::{RuleKind, Rules, StdBlocks};
 use crate::error::{Error, Result};
+use crate::fe::dirichlet::Dirichlet;
+use crate::fe::fictitious::{ElementKind, FictitiousDomain, DEFAULT_MIN_SUPPORT_FRACTION};
 use crate::fe::material::Elastic;
 use crate::fe::mesh::Mesh;
 use crate::fe::q4::{add_btdb, geometry, shape};
 use crate::fe::quadrature::QPoint;
 use crate::la::{CscMatrix, Pattern};
+use crate::problem::Domain;
 pub use crate::problem::XfemOptions;
+use std::borrow::Cow;
 use std::collections::HashMap;
 use std::sync::Arc;
 
@@ -99,6 +103,8 @@ pub struct XfemModel {
     pub tip_elements: Vec<Vec<usize>>,
     /// split elements of each crack (crossed by it, not containing one of its tips)
     pub split_elements: Vec<Vec<usize>>,
+    /// the holes' fictitious-domain data (None: no holes; [`XfemModel::new_in_domain`])
+    pub fictitious: Option<Arc<FictitiousDomain>>,
     std: Arc<StdBlocks>,
     enr_index: Vec<u32>,
     enr: Vec<EnrElement>,
@@ -106,6 +112,18 @@ pub struct XfemModel {
 }
 
 const NONE: u32 = u32::MAX;
+
+/// XFEM models cracks by enrichment: a mesh with seam duplicates is refused.
+fn check_no_seam(mesh: &Mesh) -> Result<()> {
+    if !mesh.duplicate_of.is_empty() {
+        return Err(Error::invalid(
+            "mesh",
+            "a structured mesh without seam duplicates",
+            format!("{} duplicated nodes", mesh.duplicate_of.len()),
+        ));
+    }
+    Ok(())
+}
 
 /// The dof numbering (see the module documentation): the first dof of every Heaviside node of
 /// each crack and of every branch-enriched node of each tip.
@@ -264,15 +282,29 @@ impl XfemModel {
         cracks: Vec<Vec<[f64; 2]>>,
         options: XfemOptions,
     ) -> Result<Self> {
-        if !mesh.duplicate_of.is_empty() {
-            return Err(Error::invalid(
-                "mesh",
-                "a structured mesh without seam duplicates",
-                format!("{} duplicated nodes", mesh.duplicate_of.len()),
-            ));
-        }
+        check_no_seam(&mesh)?;
         let std = Arc::new(StdBlocks::new(&mesh, &material));
-        Self::with_blocks(mesh, material, cracks, options, std)
+        Self::with_blocks(mesh, material, cracks, options, std, None)
+    }
+
+    /// [`XfemModel::new_multi`] on the material of `domain`: with holes, cut elements are
+    /// integrated over their material part ([`crate::xfem::integration`]), nodes without
+    /// material are prescribed to 0 ([`XfemModel::constrain`]) and a crack end on a hole is a
+    /// mouth ([`Crack::named_in`]). Without holes, the plain model.
+    pub fn new_in_domain(
+        mesh: Arc<Mesh>,
+        material: Elastic,
+        cracks: Vec<Vec<[f64; 2]>>,
+        options: XfemOptions,
+        domain: &Domain,
+    ) -> Result<Self> {
+        let fd = FictitiousDomain::new(&mesh, domain, 2, DEFAULT_MIN_SUPPORT_FRACTION)?;
+        let Some(fd) = fd else {
+            return Self::new_multi(mesh, material, cracks, options);
+        };
+        check_no_seam(&mesh)?;
+        let std = Arc::new(StdBlocks::new(&mesh, &material));
+        Self::with_blocks(mesh, material, cracks, options, std, Some(Arc::new(fd)))
     }
 
     /// A model of the same plate with another (single) crack, reusing the mesh and the standard
@@ -289,6 +321,7 @@ impl XfemModel {
             cracks,
             self.options,
             self.std.clone(),
+            self.fictitious.clone(),
         )
     }
 
@@ -305,9 +338,10 @@ impl XfemModel {
         polylines: Vec<Vec<[f64; 2]>>,
         options: XfemOptions,
         std: Arc<StdBlocks>,
+        fictitious: Option<Arc<FictitiousDomain>>,
     ) -> Result<Self> {
         options.validate()?;
-        let cracks = build_cracks(polylines, &mesh)?;
+        let cracks = build_cracks(polylines, &mesh, fictitious.as_deref().map(|f| &f.domain))?;
         let (tips, tip_crack) = global_tips(&cracks);
         let rules = Rules::new(options.nsub, options.tip_nsub);
         let sets = EnrichmentSets::new(
@@ -318,6 +352,7 @@ impl XfemModel {
             options.fixed_area_radius,
             options.area_threshold,
             &rules,
+            fictitious.as_deref(),
         )?;
         let numbering = DofNumbering::new(mesh.n_nodes(), &sets);
         let (enr_index, enr) = ElementEnrichment {
@@ -351,6 +386,7 @@ impl XfemModel {
             tip_nodes,
             tip_elements,
             split_elements,
+            fictitious,
             std,
             enr_index,
             enr,
@@ -401,8 +437,51 @@ impl XfemModel {
         }
     }
 
-    pub(super) fn rule(&self, en: Option<&EnrElement>) -> &[QPoint] {
-        self.rules.get(en.map_or(RuleKind::Gauss, |x| x.rule))
+    /// Rule `kind` of element `e` restricted to the material ([`crate::xfem::integration`]):
+    /// the rule itself without holes or in a material element, nothing in a void one, and in a
+    /// cut one the material part's rule (`Gauss`) or its pieces clipped by the sub-quads.
+    pub(super) fn material_rule(&self, e: usize, kind: RuleKind) -> Cow<'_, [QPoint]> {
+        let full = self.rules.get(kind);
+        let Some(fd) = &self.fictitious else {
+            return Cow::Borrowed(full);
+        };
+        match (fd.kind(e), kind) {
+            (ElementKind::Material, _) => Cow::Borrowed(full),
+            (ElementKind::Void, _) => Cow::Borrowed(&[]),
+            (ElementKind::Cut, RuleKind::Gauss) => Cow::Borrowed(fd.rule(e, full)),
+            (ElementKind::Cut, k) => {
+                Cow::Owned(fd.subcell_rule(e, self.rules.nsub(k)).unwrap_or_default())
+            }
+        }
+    }
+
+    /// The Dirichlet conditions `bc` checked for rigid-body modes; with holes, the removed
+    /// nodes' conditions dropped and all their dofs (standard and enriched) prescribed to 0,
+    /// their forces in `f` zeroed ([`FictitiousDomain::constrain`]).
+    pub fn constrain(&self, bc: Dirichlet, f: &mut [f64]) -> Result<Dirichlet> {
+        let Some(fd) = &self.fictitious else {
+            bc.check_rigid_modes(&self.mesh.coords)?;
+            return Ok(bc);
+        };
+        let mut enriched: HashMap<usize, Vec<usize>> = HashMap::new();
+        for (e, conn) in self.mesh.elements.iter().enumerate() {
+            let Some(en) = self.enriched(e) else { continue };
+            for (k, func) in en.funcs.iter().enumerate() {
+                if let Func::Heav { k: node, .. } | Func::Branch { k: node, .. } = *func {
+                    if fd.is_removed(conn[node]) {
+                        let v = enriched.entry(conn[node]).or_default();
+                        v.extend([en.dofs[2 * k], en.dofs[2 * k + 1]]);
+                    }
+                }
+            }
+        }
+        for v in enriched.values_mut() {
+            v.sort_unstable();
+            v.dedup();
+        }
+        fd.constrain(bc, f, &self.mesh.coords, |n| {
+            enriched.get(&n).cloned().unwrap_or_default()
+        })
     }
 
     /// Values and global gradients of the scalar basis functions of element `e` at (xi, eta), in
@@ -457,16 +536,19 @@ impl XfemModel {
     /// Element stiffness block (row-major, dofs of [`Self::element_dofs`]), eqs. (25)-(26), (34).
     pub fn element_block(&self, e: usize, out: &mut Vec<f64>) {
         out.clear();
-        let Some(en) = self.enriched(e) else {
+        let en = self.enriched(e);
+        let kind = self.fictitious.as_ref().map(|fd| fd.kind(e));
+        if en.is_none() && kind.is_none_or(|k| k == ElementKind::Material) {
             out.extend_from_slice(self.std.of(e));
             return;
-        };
-        let nd = en.dofs.len();
+        }
+        let nd = en.map_or(8, |x| x.dofs.len());
         out.resize(nd * nd, 0.0);
         let d = self.material.d_matrix();
         let mut b = BasisBuf::default();
-        for q in self.rule(Some(en)) {
-            let (_, det) = self.basis(e, Some(en), q.xi, q.eta, &mut b);
+        let rule = self.material_rule(e, en.map_or(RuleKind::Gauss, |x| x.rule));
+        for q in rule.iter() {
+            let (_, det) = self.basis(e, en, q.xi, q.eta, &mut b);
             add_btdb(out, &b.grads, &d, q.w * det * self.material.thickness);
         }
     }

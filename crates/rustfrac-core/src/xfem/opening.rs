@@ -79,13 +79,37 @@ impl XfemModel {
         }
     }
 
+    /// Where the crack's first segment a -> b enters the material: `a` itself without holes or
+    /// when `a` lies in the material, else the first point of the segment outside every hole
+    /// (bisection on the domain's level set, to 1e-12 of the segment; a crack drawn from the
+    /// plate's edge through a notch opens at the notch's tip).
+    fn mouth_in_material(&self, a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
+        let Some(fd) = &self.fictitious else {
+            return a;
+        };
+        let at = |t: f64| [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
+        if fd.in_material(a) || !fd.in_material(b) {
+            return a;
+        }
+        let (mut lo, mut hi) = (0.0, 1.0);
+        while hi - lo > 1e-12 {
+            let mid = 0.5 * (lo + hi);
+            if fd.in_material(at(mid)) {
+                hi = mid;
+            } else {
+                lo = mid;
+            }
+        }
+        at(hi)
+    }
+
     /// CMOD of the primary crack (`cracks[0]`): see [`Self::crack_opening`].
     pub fn cmod(&self, u: &[f64]) -> Result<f64> {
         self.crack_opening(u, 0)
     }
 
-    /// The opening of crack `c` at the mouth of an edge crack (points[0]), or at the middle of an
-    /// interior crack (arc-length midpoint).
+    /// The opening of crack `c` at the mouth of an edge crack (points[0]; with holes, where the
+    /// crack enters the material), or at the middle of an interior crack (arc-length midpoint).
     pub fn crack_opening(&self, u: &[f64], c: usize) -> Result<f64> {
         let Some(crack) = self.cracks.get(c) else {
             return Err(Error::invalid(
@@ -100,7 +124,8 @@ impl XfemModel {
             // a hair inside the plate along the crack (well above the normal offset of
             // `opening_at`) so both evaluation points lie inside the plate
             let eps = 1e-6 * self.mesh.min_spacing();
-            let x = [p[0][0] + eps * t[0], p[0][1] + eps * t[1]];
+            let m = self.mouth_in_material(p[0], p[1]);
+            let x = [m[0] + eps * t[0], m[1] + eps * t[1]];
             return self.opening_at(u, x, [-t[1], t[0]]);
         }
         let half = 0.5 * crack.length();

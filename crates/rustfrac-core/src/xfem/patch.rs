@@ -110,7 +110,7 @@ impl XfemModel {
                     ];
                     let parts = split_by_crack(&cell, &segments);
                     for poly in parts {
-                        if polygon_area(&poly) <= 1e-14 * hx * hy {
+                        if polygon_area(&poly).abs() <= 1e-14 * hx * hy {
                             continue;
                         }
                         let n = poly.len() as f64;

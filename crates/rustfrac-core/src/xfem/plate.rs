@@ -45,7 +45,11 @@ impl PlateProblem {
     pub(super) fn solve(&self, model: &XfemModel, what: &str) -> Result<PlateSolve> {
         let (edges, load) = (&self.edges, &self.load);
         let t = model.material.thickness;
-        let (bc, f, anchor, regions) = match &self.boundary {
+        let active = model
+            .fictitious
+            .as_ref()
+            .map_or_else(Vec::new, |fd| fd.active_nodes(model.mesh.n_nodes()));
+        let (bc, mut f, anchor, regions) = match &self.boundary {
             Boundary::Grips(_) => {
                 let (bc, f, anchor) = plate_conditions(edges, load, model.n_dofs, t)?;
                 (bc, f, anchor, None)
@@ -54,7 +58,7 @@ impl PlateProblem {
                 let rc = region_conditions(
                     &model.mesh,
                     &self.domain,
-                    &[],
+                    &active,
                     supports,
                     loads,
                     model.n_dofs,
@@ -63,7 +67,7 @@ impl PlateProblem {
                 (rc.bc.clone(), rc.f.clone(), usize::MAX, Some(rc))
             }
         };
-        bc.check_rigid_modes(&model.mesh.coords)?;
+        let bc = model.constrain(bc, &mut f)?;
         let sys =
             LinearSystem::with_positions(model.stiffness()?, &bc, Some(&model.dof_positions()))?;
         let condition = sys.checked_condition(what, self.condition)?;
@@ -125,8 +129,9 @@ impl PlateProblem {
 /// the q-domain may be clipped by the boundary.
 pub const MIN_TIP_CLEARANCE: f64 = 2.0;
 
-/// Refuses crack tips closer than [`MIN_TIP_CLEARANCE`] element lengths to the plate boundary
-/// (naming the crack's length, "crack.a0" or "crack[k].a0").
+/// Refuses crack tips closer than [`MIN_TIP_CLEARANCE`] element lengths to the plate boundary or
+/// to a hole or notch, and tips inside a hole (naming the crack's length, "crack.a0" or
+/// "crack[k].a0").
 pub(super) fn check_tip_clearance(model: &XfemModel) -> Result<()> {
     let mesh = &model.mesh;
     let (w, h) = mesh.size();
@@ -138,6 +143,32 @@ pub(super) fn check_tip_clearance(model: &XfemModel) -> Result<()> {
             .min(p[1] - y0)
             .min(y0 + h - p[1]);
         let h_el = model.tip_element_size(t);
+        if let Some(fd) = &model.fictitious {
+            let hole = fd
+                .domain
+                .holes
+                .iter()
+                .min_by(|a, b| a.shape.level_set(p).total_cmp(&b.shape.level_set(p)));
+            if let Some(hole) = hole {
+                let dh = hole.shape.level_set(p);
+                if dh < MIN_TIP_CLEARANCE * h_el * (1.0 - 1e-9) {
+                    let what = if dh <= 0.0 { "inside" } else { "near" };
+                    return Err(Error::invalid(
+                        &format!("{}.a0", crack_name(model.tip_crack[t])),
+                        &format!(
+                            "crack tips in the material, at least {MIN_TIP_CLEARANCE} element \
+                             lengths from every hole and notch (refine the mesh or change the \
+                             crack)"
+                        ),
+                        format!(
+                            "tip {p:?} {what} {} (level set {dh:.4e} = {:.2} element lengths)",
+                            hole.name,
+                            dh / h_el
+                        ),
+                    ));
+                }
+            }
+        }
         if d < MIN_TIP_CLEARANCE * h_el * (1.0 - 1e-9) {
             return Err(Error::invalid(
                 &format!("{}.a0", crack_name(model.tip_crack[t])),
