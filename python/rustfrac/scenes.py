@@ -6,7 +6,7 @@ from collections.abc import Mapping, Sequence
 from typing import Any
 
 from .errors import InvalidTypeError, UnknownParameterError
-from .scene import Crack, Scene, keys
+from .scene import METHOD_SECTIONS, Crack, Scene, keys
 
 __all__ = ["edge_crack_plate"]
 
@@ -20,9 +20,12 @@ _ALIASES: dict[str, tuple[str, str]] = {
     "pd_center": ("pd", "center"),
     "pd_size": ("pd", "size"),
 }
-#: every other keyword is the scene key of that name (the key names are unique across sections)
+#: the sections of the paper's plate (the methods' tables, not the general scene's lists)
+_PLATE_SECTIONS = set().union(*METHOD_SECTIONS.values()) - {"crack"}
+#: every other keyword is the scene key of that name (the key names are unique across these
+#: sections)
 _KEYS: dict[str, tuple[str, str]] = {
-    **{k["key"]: (k["section"], k["key"]) for k in keys() if k["section"] != "crack"},
+    **{k["key"]: (k["section"], k["key"]) for k in keys() if k["section"] in _PLATE_SECTIONS},
     **{k["key"]: ("crack", k["key"]) for k in keys("crack") if k["key"] == "a0"},
     **_ALIASES,
 }
