@@ -535,17 +535,7 @@ class Scene:
 
     def to_toml(self) -> str:
         """The scene as TOML text; ``Scene.from_toml_str(s.to_toml()) == s``."""
-        d = self.to_dict()
-        lines = [
-            f"{k} = {_toml_value(v)}" for k, v in d.items() if not isinstance(v, (dict, list))
-        ]
-        for k, v in d.items():
-            tables = [v] if isinstance(v, dict) else v if isinstance(v, list) else []
-            for t in tables:
-                lines.append("")
-                lines.append(f"[{k}]" if isinstance(v, dict) else f"[[{k}]]")
-                lines.extend(f"{kk} = {_toml_value(vv)}" for kk, vv in t.items())
-        return "\n".join(lines) + "\n"
+        return _dict_toml(self.to_dict())
 
     def save_toml(self, path: PathLike) -> Path:
         """Writes :meth:`to_toml` to ``path``."""
@@ -566,8 +556,12 @@ class Scene:
             crack = "uncracked"
         elif c.kind == "center":
             crack = f"center crack half-length a0={c.a0:g} at ({c.x:g}, {c.y:g})"
+        elif c.kind == "edge" and c.side in ("bottom", "top"):
+            crack = f"edge crack a0={c.a0:g} from the {c.side} at x1={c.x:g}"
         else:
             crack = f"{c.kind} crack a0={c.a0:g} at x2={c.y:g}"
+            if c.kind == "edge" and c.side != "left":
+                crack += f" from the {c.side}"
         if c.kind != "none" and c.angle != 0.0:
             crack += f", angle {c.angle:g} deg"
         if self.extra_cracks:
@@ -658,6 +652,25 @@ def _show(v: Any) -> str:
     """A short repr for messages."""
     r = repr(v)
     return r if len(r) <= 120 else r[:117] + "..."
+
+
+def _dict_toml(d: Mapping[str, Any]) -> str:
+    """A TOML-shaped scene dict as TOML text: top-level values, then a ``[table]`` per dict and
+    a ``[[table]]`` per entry of a list of dicts."""
+    def is_tables(v: Any) -> bool:
+        return isinstance(v, dict) or (
+            isinstance(v, list) and bool(v) and all(isinstance(t, dict) for t in v)
+        )
+
+    lines = [f"{k} = {_toml_value(v)}" for k, v in d.items() if not is_tables(v)]
+    for k, v in d.items():
+        if not is_tables(v):
+            continue
+        for t in [v] if isinstance(v, dict) else v:
+            lines.append("")
+            lines.append(f"[{k}]" if isinstance(v, dict) else f"[[{k}]]")
+            lines.extend(f"{kk} = {_toml_value(vv)}" for kk, vv in t.items())
+    return "\n".join(lines) + "\n"
 
 
 def _toml_value(v: Any) -> str:
