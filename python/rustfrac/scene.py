@@ -165,12 +165,40 @@ class _Section:
 
     _name: ClassVar[str] = ""
     _kinds: ClassVar[dict[str, str]] = {}
+    #: an entry of a list table: only the keys that differ from the schema's defaults are
+    #: handed to the core (and written), plus those the core says the entry must state
+    _entry: ClassVar[bool] = False
 
     def __post_init__(self) -> None:
         values = {_key(f.name): getattr(self, f.name) for f in fields(self)}  # type: ignore[arg-type]
+        if self._entry:
+            values = self._stated(values)
         checked = _core.check_section(self._name, values)
         for k, v in _normalised(self._kinds, checked).items():
             object.__setattr__(self, _attr(k), v)
+
+    @classmethod
+    def _stated(cls, values: Mapping[str, Any]) -> dict[str, Any]:
+        """The keys of a list entry worth stating: those that differ from their default, and
+        those the core requires for the entry's shape or region (a polygon hole states no
+        radius; an edge support states its side even when it is the default one). The core
+        answers which keys are required (its "missing required key" error names them)."""
+        defaults = {f.name: f.default for f in fields(cls)}  # type: ignore[arg-type]
+        norm = _normalised(cls._kinds, values)
+        out = {k: v for k, v in values.items() if norm[k] != defaults[_attr(k)]}
+        for _ in range(len(values)):
+            try:
+                _core.check_section(cls._name, out)
+            except UnknownParameterError as e:
+                key = str(e.param).rpartition(".")[2]
+                if e.param != f"{cls._name}.{key}" or key not in values or key in out:
+                    raise
+                out[key] = values[key]
+                continue
+            except InvalidParameterError:
+                pass  # a bad value: the caller's full check reports it
+            break
+        return dict(sorted(out.items(), key=lambda kv: list(values).index(kv[0])))
 
     @classmethod
     def from_dict(cls, d: Any, name: str | None = None) -> Any:
@@ -187,7 +215,8 @@ class _Section:
     def to_dict(self) -> dict[str, Any]:
         """The section's keys (as the scene names them: ``from``, not ``from_``) and values;
         pairs and lists as lists."""
-        return {_key(f.name): _plain(getattr(self, f.name)) for f in fields(self)}  # type: ignore[arg-type]
+        values = {_key(f.name): _plain(getattr(self, f.name)) for f in fields(self)}  # type: ignore[arg-type]
+        return self._stated(values) if self._entry else values
 
 
 def _section_class(cls_name: str, section: str, doc: str, **methods: Any) -> Any:
@@ -259,12 +288,14 @@ Hole = _section_class(
     "hole",
     "A hole cut out of the plate (``[[hole]]``): a circle, a rectangle or a simple polygon. "
     "Holes must lie inside the plate and not overlap the cracks or each other (the core checks).",
+    _entry=True,
 )
 Notch = _section_class(
     "Notch",
     "notch",
     "A flat-ended slot cut from one side of the plate (``[[notch]]``), ``width`` wide and "
     "``depth`` deep, centred at ``at`` along the side.",
+    _entry=True,
 )
 Support = _section_class(
     "Support",
@@ -273,6 +304,7 @@ Support = _section_class(
     "(``edge``), part of one (``edge_part``: ``from_`` to ``to``), the node nearest a ``point``, "
     "or the nodes in a ``box``; ``fix`` names the prescribed components (values ``u1``, ``u2`` "
     "at the reference load). Its reaction is in ``Result.reaction('support[k]')``.",
+    _entry=True,
 )
 RegionLoad = _section_class(
     "RegionLoad",
@@ -281,12 +313,14 @@ RegionLoad = _section_class(
     "positive) and ``shear`` on a side or part of one, or a point ``force`` at the node nearest "
     "``point`` (per unit thickness). Its force and mean stress are in "
     "``Result.reaction('load[k]')``, ``Result.mean_stress('load[k]')``.",
+    _entry=True,
 )
 Probe = _section_class(
     "Probe",
     "probe",
     "A response read at a point (``[[probe]]``): the displacement there, or the opening (jump "
     "of u) of a crack at its point nearest ``point``; ``Result.probe(name)``.",
+    _entry=True,
 )
 
 #: the single tables of a scene ([plate], [material], ...): Scene field -> section class
