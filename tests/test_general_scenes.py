@@ -349,3 +349,10 @@ def test_cli_plot_load_path(tmp_path: Path, capsys: pytest.CaptureFixture[str]) 
     assert main(argv) == 0 and png.stat().st_size > 1000
     assert main([*argv[:4], "nope", *argv[5:]]) == 2
     assert "valid: " in capsys.readouterr().err
+
+
+def test_readme_general_section_shows_the_edge_shear_specimen(root: Path) -> None:
+    text = (root / "README.md").read_text(encoding="utf-8")
+    section = text.split("<!-- docs:general -->")[1].split("<!-- /docs:general -->")[0]
+    toml = section.split("```toml\n")[1].split("```")[0]
+    assert Scene.from_toml_str(toml) == specimens.edge_shear("xfem")

@@ -210,7 +210,7 @@ def senb(
     centre. E = 1000, nu = 0.3, plane stress, thickness B = 1; consistent units.
 
     Reference: Srawley (1976), Int. J. Fract. 12, 475-476 (ASTM E399):
-    K_I = P S / (B W^1.5) f(a/W), :func:`rustfrac.handbook.srawley_senb_F`, within 0.5 %.
+    K_I = P S / (B W^1.5) f(a/W), ``rustfrac.handbook.srawley_senb_F``, within 0.5 %.
     The point loads make the compliance converge slowly (about h^0.5): on the default grid
     (40 elements per depth) XFEM gives K_I within about 1.5 % of it.
 
