@@ -12,6 +12,7 @@ from pathlib import Path
 import pytest
 
 import rustfrac as rf
+from general_support import HOLES_REFUSED, has_holes
 from rustfrac import _core
 
 if sys.version_info >= (3, 11):
@@ -47,7 +48,10 @@ def test_examples_accessor() -> None:
     assert "paper_ccm_pd.toml" in names and "pd_coarse.toml" in names and len(names) >= 10
     for name in names:
         p = rf.examples.path(name)
-        assert p.is_file() and rf.Scene.from_toml(p).method in rf.METHODS
+        assert p.is_file()
+        if HOLES_REFUSED is not None and has_holes(p):
+            continue  # the core refuses holes for now (tests/test_general_scenes.py checks them)
+        assert rf.Scene.from_toml(p).method in rf.METHODS
     assert rf.examples.path("paper_ccm_pd") == rf.examples.path("paper_ccm_pd.toml")
     with pytest.raises(rf.InvalidParameterError, match=r"valid: double_edge_crack\.toml") as e:
         rf.examples.path("paper_ccm.toml")

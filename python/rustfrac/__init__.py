@@ -14,7 +14,7 @@ Units are consistent; the paper's case uses N, mm and MPa.
 from __future__ import annotations
 
 from . import errors as _errors
-from . import examples, plotting, scenes
+from . import examples, plotting, scenes, specimens
 from ._core import __version__
 from .errors import *  # noqa: F403 (the exception and warning classes, errors.__all__)
 from .result import Result, load
@@ -31,5 +31,6 @@ __all__ = [
     "plotting",
     "run",
     "scenes",
+    "specimens",
     *_errors.__all__,
 ]

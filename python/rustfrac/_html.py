@@ -47,6 +47,11 @@ def result_html(res: Result) -> str:
     for key in ("bc", "status", "sla_steps_done"):
         if key in res.meta:
             rows.append((key, res.meta[key]))
+    for name, r in res.regions.items():
+        f = r["force"]
+        rows.append((f"reaction {name}", f"({f[0]:.6g}, {f[1]:.6g})"))
+    for name, (a, b) in res.probes.items():
+        rows.append((f"probe {name}", f"({a:.6g}, {b:.6g})"))
     if res.history:
         n = len(next(iter(res.history.values())))
         rows.append(("history", f"{n} rows: {', '.join(res.history)}"))

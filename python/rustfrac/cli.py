@@ -3,7 +3,9 @@
 ``rustfrac sweep --out DIR [--preset tiny|full] [--scheduler ADDR|local] [--workers N] [--quiet]``
 (the paper's plate) and ``rustfrac sweep SCENE.toml --param mesh|pd.dx|SECTION.KEY --levels
 L1,L2,... [--quantity K_I] [--repeats 3] [--dask ADDR|local]`` (the user's scene) and
-``rustfrac examples [NAME]`` (the shipped example scenes and their paths).
+``rustfrac examples [NAME]`` (the shipped example scenes and their paths) and ``rustfrac plot
+load-path RESULT_DIR --x COL --y COL -o FILE`` (a load path of a saved result) and ``rustfrac
+specimens`` / ``rustfrac specimen NAME [--method M] -o SCENE.toml`` (the literature specimens).
 
 Exit codes: 0 success, 1 the run failed (singular system, internal error) or its output could not
 be written at the end (the output is then saved to a temporary folder the message names), 2 bad
@@ -124,7 +126,66 @@ def _parser() -> argparse.ArgumentParser:
         "name", nargs="?", default=None,
         help="print only this example's path (e.g. rustfrac run $(rustfrac examples pd_coarse))",
     )
+    pl = sub.add_parser("plot", help="draw a figure of a saved result folder")
+    plsub = pl.add_subparsers(dest="figure", required=True)
+    lp = plsub.add_parser(
+        "load-path",
+        help="two history columns of a growth / SLA result against each other (e.g. --x "
+        "load_displacement --y force:load[0]:2)",
+    )
+    lp.add_argument("result", type=Path, help="result folder (written by rustfrac run)")
+    lp.add_argument("--x", default="u0", help="history column on the x axis (default u0)")
+    lp.add_argument("--y", default="sigma22", help="history column on the y axis (default sigma22)")
+    lp.add_argument("-o", "--out", type=Path, required=True, help="image file (format from suffix)")
+    lp.add_argument(
+        "--units", choices=("default", "paper"), default="default",
+        help="axis units: default (length, force) or paper (mm, N, MPa)",
+    )
+    sub.add_parser("specimens", help="list the literature specimens (rustfrac.specimens)")
+    s1 = sub.add_parser("specimen", help="write one specimen's scene as a TOML file")
+    s1.add_argument("name", help="specimen name (see rustfrac specimens)")
+    s1.add_argument("--method", default=None, help="fem | xfem | pd | ccm_pd (default: the "
+                    "specimen's example method)")
+    s1.add_argument("-o", "--out", type=Path, required=True, help="scene file to write (TOML)")
     return p
+
+
+def _cmd_plot(args: argparse.Namespace) -> int:
+    from .plotting import DEFAULT_UNITS, PAPER_UNITS, plot_load_path
+    from .result import load
+
+    res = load(args.result)
+    units = PAPER_UNITS if args.units == "paper" else DEFAULT_UNITS
+    fig = plot_load_path(res, x=args.x, y=args.y, units=units)
+    try:
+        fig.savefig(args.out, dpi=150, bbox_inches="tight")
+    except (OSError, ValueError) as e:  # unwritable path, unknown image format
+        print(f"rustfrac: error: cannot write {args.out}: {e}", file=sys.stderr)
+        return 2
+    print(f"saved   {args.out} ({args.y} against {args.x})")
+    return 0
+
+
+def _cmd_specimens(args: argparse.Namespace) -> int:
+    from .specimens import SPECIMENS
+
+    for name, sp in SPECIMENS.items():
+        print(f"{name:18s} {sp.reference}; example {sp.example}")
+    return 0
+
+
+def _cmd_specimen(args: argparse.Namespace) -> int:
+    from .specimens import get
+
+    sp = get(args.name)
+    scene = sp.build(args.method or sp.example_method)
+    try:
+        scene.save_toml(args.out)
+    except OSError as e:
+        print(f"rustfrac: error: cannot write {args.out}: {e.strerror or e}", file=sys.stderr)
+        return 2
+    print(f"saved   {args.out}: {scene.describe()}")
+    return 0
 
 
 def _cmd_examples(args: argparse.Namespace) -> int:
@@ -495,6 +556,15 @@ def _cmd_run(args: argparse.Namespace) -> int:
                     f"  tip {k} (crack {t['crack']}) at ({t['x1']:.6g}, {t['x2']:.6g}): "
                     f"K_I = {t['K_I']:.10g}, K_II = {t['K_II']:.10g}"
                 )
+    for name, r in res.regions.items():
+        f = r["force"]
+        ms = r.get("mean_stress")
+        log(
+            f"region  {name}: force ({f[0]:.10g}, {f[1]:.10g})"
+            + (f", mean stress {ms:.10g}" if ms is not None else "")
+        )
+    for name, (a, b) in res.probes.items():
+        log(f"probe   {name}: ({a:.10g}, {b:.10g})")
     if res.method in ("pd", "ccm_pd"):
         _log_pd(log, res)
     elif "status" in res.meta:
@@ -625,7 +695,15 @@ def _log_pd(log: Callable[..., None], res: _Result) -> None:
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``rustfrac`` console script; returns the exit code."""
     args = _parser().parse_args(argv)
-    commands = {"run": _cmd_run, "fig7": _cmd_fig7, "sweep": _cmd_sweep, "examples": _cmd_examples}
+    commands = {
+        "run": _cmd_run,
+        "fig7": _cmd_fig7,
+        "sweep": _cmd_sweep,
+        "examples": _cmd_examples,
+        "plot": _cmd_plot,
+        "specimens": _cmd_specimens,
+        "specimen": _cmd_specimen,
+    }
     # one mapping of errors to exit codes for every command (commands handle only their own
     # special cases, such as an unreadable scene file or an interrupted sweep)
     try:

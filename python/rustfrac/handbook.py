@@ -1,7 +1,8 @@
 """Handbook LEFM formulas (Tada, Paris and Irwin; Anderson) used as independent references.
 
-Each holds only for the geometry it names: a single edge crack of length ``a`` in a long strip of
-width ``b`` under remote uniform tension ``sigma`` (ends free to rotate). The paper's plate
+Each holds only for the geometry it names: the three-point bend beam for :func:`srawley_senb_F`;
+for the others a single edge crack of length ``a`` in a long strip of width ``b`` under remote
+uniform tension ``sigma`` (ends free to rotate). The paper's plate
 (W = 11, L = 21, loaded through grips) is *not* that geometry, so the curve drawn from these
 formulas in Fig. 7 is labelled "LEFM handbook (long strip, traction)" and is a guide, not a target.
 """
@@ -15,6 +16,7 @@ __all__ = [
     "brown_srawley_F",
     "e_prime",
     "edge_crack_curve",
+    "srawley_senb_F",
     "tada_F",
     "tada_V",
 ]
@@ -62,3 +64,14 @@ def edge_crack_curve(
     sigma = kic / (np.sqrt(np.pi * a) * tada_F(x))
     cmod = 4 * sigma * a * tada_V(x) / ep
     return cmod, sigma
+
+
+def srawley_senb_F(x: ArrayLike) -> NDArray[np.float64]:
+    """Geometry factor of the single-edge notched bend beam with S/W = 4 (three-point bend):
+    K_I = P S / (B W^1.5) F(a/W), Srawley (1976), Int. J. Fract. 12, 475-476, as in ASTM E399
+    (within 0.5 % for 0 <= a/W <= 1)."""
+    a = np.asarray(x, dtype=float)
+    return (
+        3 * np.sqrt(a) * (1.99 - a * (1 - a) * (2.15 - 3.93 * a + 2.7 * a**2))
+        / (2 * (1 + 2 * a) * (1 - a) ** 1.5)
+    )

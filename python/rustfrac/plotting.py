@@ -36,12 +36,14 @@ from .result import Result
 __all__ = [
     "COMPONENTS",
     "DEFAULT_UNITS",
+    "HISTORY_PREFIXES",
     "HISTORY_QUANTITIES",
     "PAPER_UNITS",
     "NotebookFigure",
     "Units",
     "damage_ridge",
     "field_components",
+    "history_quantity",
     "plot_crack_path",
     "plot_damage",
     "plot_field",
@@ -65,9 +67,11 @@ class Units:
         return self.stress or f"{self.force}/{self.length}^2"
 
     def of(self, quantity: str) -> str:
-        """The unit of a quantity kind: "length", "stress", "sif", "1" (dimensionless), "rad"."""
+        """The unit of a quantity kind: "length", "force", "stress", "sif", "1"
+        (dimensionless), "rad"."""
         return {
             "length": self.length,
+            "force": self.force,
             "stress": self.stress_unit,
             "sif": f"{self.stress_unit} {self.length}^1/2",
             "1": "-",
@@ -92,7 +96,9 @@ _STRESS_COLUMN = {"s11": 0, "s22": 1, "s12": 2}
 
 #: quantity kind of every history column (rustfrac.Result.history); others are labelled bare
 HISTORY_QUANTITIES: dict[str, str] = {
-    **dict.fromkeys(("u0", "cmod", "a", "crack_length", "tip_x", "tip_y"), "length"),
+    **dict.fromkeys(
+        ("u0", "cmod", "a", "crack_length", "tip_x", "tip_y", "load_displacement"), "length"
+    ),
     **dict.fromkeys(("sigma22", "traction"), "stress"),
     **dict.fromkeys(("K_I", "K_II"), "sif"),
     "kink_angle": "rad",
@@ -103,8 +109,23 @@ HISTORY_QUANTITIES: dict[str, str] = {
 }
 
 
-def _history_label(key: str, units: Units) -> str:
+#: quantity kind of the per-name history columns of general scenes, by prefix:
+#: ``probe:<name>:<k>`` (a displacement or opening), ``force:<region>:<k>`` (a region's force,
+#: per thickness), ``mean_stress:<region>``
+HISTORY_PREFIXES: dict[str, str] = {"probe": "length", "force": "force", "mean_stress": "stress"}
+
+
+def history_quantity(key: str) -> str | None:
+    """The quantity kind of a history column (:data:`HISTORY_QUANTITIES`, or by the prefix of
+    a probe, force or mean-stress column), None when unknown."""
     q = HISTORY_QUANTITIES.get(key)
+    if q is None and ":" in key:
+        q = HISTORY_PREFIXES.get(key.split(":", 1)[0])
+    return q
+
+
+def _history_label(key: str, units: Units) -> str:
+    q = history_quantity(key)
     return key if q is None else units.label(key, q)
 
 
@@ -364,7 +385,18 @@ def plot_load_path(
     ax: Axes | None = None,
     units: Units = DEFAULT_UNITS,
 ) -> Figure:
-    """A load path from ``res.history`` (e.g. sigma22 against u0 or cmod, as in Fig. 7)."""
+    """A load path: two columns of ``res.history`` against each other, e.g. sigma22 against u0
+    or cmod as in Fig. 7, or for a general scene ``x="load_displacement"`` (the load point's
+    displacement along its force), ``"probe:<name>:<k>"`` (component k = 1, 2 of a probe),
+    ``"force:<region>:<k>"`` (a region's force, e.g. ``"force:load[0]:2"``) or
+    ``"mean_stress:<region>"``. The axis labels carry the columns' units (``units``).
+
+    Raises:
+        PlotDataError: the result has no history (a single solve: run with growth_steps > 0
+            or sla_steps > 0).
+        InvalidParameterError: ``x`` or ``y`` is not a column (``param`` "x" / "y"; the
+            message lists the available ones).
+    """
     if not res.history:
         raise PlotDataError(
             f"{res.method} result has no history (run with growth_steps > 0 or sla_steps > 0)"

@@ -33,7 +33,7 @@ import numpy as np
 
 from ._folder import FolderWriter, locked, writing
 from ._folder import atomic_file as _atomic  # noqa: F401 (figures, fig7 and sweep use it)
-from .errors import InvalidResultError, ResultNotFoundError
+from .errors import InvalidParameterError, InvalidResultError, ResultNotFoundError
 
 __all__ = ["Result", "load"]
 
@@ -56,7 +56,10 @@ class Result:
 
     Attributes:
         method: "fem" | "xfem" | "pd" | "ccm_pd".
-        sigma22: mean normal stress on the loaded top edge (reaction / width), stress units.
+        sigma22: mean normal stress on the loaded top edge (reaction / width), stress units;
+            with supports and loads on regions (``meta["bc"] == "regions"``) the mean normal
+            stress on the first loaded edge region, or the force of a point load along its
+            direction.
         cmod: crack-mouth opening displacement at x1 = 0 (0 when uncracked), length units.
         n_dofs: number of unknowns (displacement dofs, Dirichlet ones included).
         wall_time_s: wall time of the Rust run, in seconds.
@@ -179,6 +182,70 @@ class Result:
         """Nodal damage index (PD and CCM-PD), else None."""
         return self.fields.get("damage")
 
+    # -- responses of general scenes (supports, loads on regions, probes) ----------------------
+
+    @property
+    def regions(self) -> dict[str, dict[str, Any]]:
+        """The responses of every region (``support[k]``, ``load[k]``): dicts with ``force``
+        [F1, F2] (the reaction of a support, the applied resultant of a load; per thickness:
+        force units), ``mean_stress`` (mean normal traction on an edge region, stress; None for
+        point and box regions) and ``displacement`` [u1, u2] (mean, length). Empty without
+        regions."""
+        return dict(self.scalars.get("regions") or {})
+
+    def _region(self, name: str) -> dict[str, Any]:
+        regions = self.regions
+        if name not in regions:
+            raise InvalidParameterError(
+                f"invalid name: the result has no region {name!r}; valid: "
+                f"{', '.join(regions) or 'none (the scene has no [[support]] or [[load]])'}",
+                "name",
+            )
+        return regions[name]
+
+    def reaction(self, name: str) -> tuple[float, float]:
+        """(F1, F2) of the region ``name`` (``"support[0]"``, ``"load[1]"``) at the reference
+        load: a support's reaction, a load's resultant (force units, per the scene's
+        thickness). The forces of all regions sum to zero (equilibrium)."""
+        f = self._region(name)["force"]
+        return float(f[0]), float(f[1])
+
+    def mean_stress(self, name: str) -> float | None:
+        """The mean normal traction on the edge region ``name`` (stress units; tension
+        positive), None for point and box regions."""
+        v = self._region(name)["mean_stress"]
+        return None if v is None else float(v)
+
+    @property
+    def probes(self) -> dict[str, tuple[float, float]]:
+        """Every probe's value at the reference load: name -> (a, b), the displacement (u1, u2)
+        or the crack opening (jump of u1, u2) at the probe (length units)."""
+        return {k: (float(v[0]), float(v[1])) for k, v in (self.scalars.get("probes") or {}).items()}
+
+    def probe(self, name: str) -> tuple[float, float]:
+        """The value (a, b) of the probe ``name`` at the reference load (see :attr:`probes`)."""
+        probes = self.probes
+        if name not in probes:
+            raise InvalidParameterError(
+                f"invalid name: the result has no probe {name!r}; valid: "
+                f"{', '.join(probes) or 'none (the scene has no [[probe]])'}",
+                "name",
+            )
+        return probes[name]
+
+    def probe_history(self, name: str) -> np.ndarray:
+        """Growth runs (XFEM): the probe ``name`` at every history row, shape (s, 2) (columns
+        ``probe:<name>:1`` and ``probe:<name>:2`` of :attr:`history`)."""
+        cols = [f"probe:{name}:{k}" for k in (1, 2)]
+        if not all(c in self.history for c in cols):
+            have = sorted({c.split(":")[1] for c in self.history if c.startswith("probe:")})
+            raise InvalidParameterError(
+                f"invalid name: the history has no probe {name!r}; probes in the history: "
+                f"{', '.join(have) or 'none (growth runs have a history)'}",
+                "name",
+            )
+        return np.column_stack([np.asarray(self.history[c], dtype=float) for c in cols])
+
     def summary(self) -> str:
         """A short human-readable summary."""
         s = (
@@ -201,10 +268,17 @@ class Result:
             s += f", status {self.meta['status']}"
         if self.meta.get("anchor_node") is not None:
             s += f" (u1 anchor at node {self.meta['anchor_node']})"
+        for name, r in self.regions.items():
+            f = r["force"]
+            s += f"\n  {name}: force ({f[0]:.6g}, {f[1]:.6g})"
+            if r.get("mean_stress") is not None:
+                s += f", mean stress {r['mean_stress']:.6g}"
+        for name, (a, b) in self.probes.items():
+            s += f"\n  probe {name}: ({a:.6g}, {b:.6g})"
         return s
 
     def __repr__(self) -> str:
-        return f"<Result {self.summary()}>"
+        return f"<Result {self.summary().splitlines()[0]}>"
 
     def _repr_html_(self) -> str:
         """Jupyter's view: a table of the scalars, status, history columns and fields."""

@@ -21,11 +21,31 @@ TOML layout (only ``method`` is required; omitted sections and keys take the pap
     [material]  E, nu, plane, thickness, G0
     [load]      bc, u0, traction                               # bc: free | clamped | traction
     [crack]     kind, a0, y, angle, x, side                    # or [[crack]] tables (XFEM)
-    [mesh]      nx, ny, gauss                                  # fem and xfem
-    [xfem]      nsub, tip_nsub, r_I, fixed_area_radius, area_threshold, growth_steps, da, a_stop
+    [mesh]      nx, ny, gauss, xs, ys, refine, refine_h, grading     # fem and xfem
+    [xfem]      nsub, tip_nsub, r_I, fixed_area_radius, area_threshold, growth_steps,
+                tip_tie_tol, da, a_stop
     [pd]        dx, m, center, size, sla_steps, tie_tol, refactor_every, fast,
                 stop_crack_length, damage_at_steps, checkpoint_every, checkpoint_path,
                 resume_from                                    # pd and ccm_pd
+
+    # the general scene: list tables, each optional, any number of each (Scene fields holes,
+    # notches, supports, loads, probes; section classes Hole, Notch, Support, RegionLoad, Probe)
+    [[hole]]    shape, center, radius, min, max, points        # circle | rect | polygon
+    [[notch]]   side, at, width, depth
+    [[support]] region, side, from, to, point, box, fix, u1, u2 # edge | edge_part | point | box
+    [[load]]    region, side, from, to, point, normal, shear, force   # edge | edge_part | point
+    [[probe]]   name, kind, point, crack                       # displacement | opening
+
+``[[load]]`` tables (loads on regions) and ``[[support]]`` replace the grips of a ``[load]``
+table: a scene has one or the other (the core refuses both; the result's ``meta["bc"]`` is then
+"regions" and ``sigma22`` the mean normal stress on the first loaded edge, or the force of a
+point load along its direction). The k-th entry of each list is named ``support[k]``,
+``load[k]``, ``hole[k]`` in errors (``support[1].point``) and in results
+(``Result.reaction("support[0]")``). Supports, region loads and probes run with "fem" and
+"xfem"; holes and notches are refused by the core for now (the fictitious-domain integration
+is not in this build), as are regions with the PD methods: the core's message says so when the
+scene is built. In Python the key ``from`` is the attribute ``from_`` (``Support(from_=1.0)``);
+dicts use ``"from"``.
 
 :func:`keys` lists every key with its default, valid range and meaning (the section classes'
 docstrings too).
@@ -44,6 +64,7 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import keyword
 import sys
 from collections.abc import Mapping
 from dataclasses import dataclass, field, fields, make_dataclass
@@ -62,12 +83,17 @@ __all__ = [
     "MAX_SCENE_BYTES",
     "METHODS",
     "Crack",
+    "Hole",
     "Load",
     "Material",
     "MeshOptions",
+    "Notch",
     "PdOptions",
     "Plate",
+    "Probe",
+    "RegionLoad",
     "Scene",
+    "Support",
     "XfemOptions",
     "keys",
 ]
@@ -119,31 +145,78 @@ def _normalised(kinds: dict[str, str], values: Mapping[str, Any]) -> dict[str, A
     return {k: norm(k, v) for k, v in values.items()}
 
 
+def _attr(key: str) -> str:
+    """The Python attribute of a scene key: the key itself, ``from_`` for ``from`` (a keyword)."""
+    return key + "_" if keyword.iskeyword(key) else key
+
+
+def _key(attr: str) -> str:
+    """The scene key of a section attribute (inverse of :func:`_attr`)."""
+    return attr[:-1] if attr.endswith("_") and keyword.iskeyword(attr[:-1]) else attr
+
+
+def _plain(v: Any) -> Any:
+    """Tuples (pairs, lists, pair lists) as lists, for TOML and JSON."""
+    return [_plain(x) for x in v] if isinstance(v, tuple) else v
+
+
 class _Section:
     """Base of the scene sections: the core checks the fields after init."""
 
     _name: ClassVar[str] = ""
     _kinds: ClassVar[dict[str, str]] = {}
+    #: an entry of a list table: only the keys that differ from the schema's defaults are
+    #: handed to the core (and written), plus those the core says the entry must state
+    _entry: ClassVar[bool] = False
 
     def __post_init__(self) -> None:
-        values = {f.name: getattr(self, f.name) for f in fields(self)}  # type: ignore[arg-type]
+        values = {_key(f.name): getattr(self, f.name) for f in fields(self)}  # type: ignore[arg-type]
+        if self._entry:
+            values = self._stated(values)
         checked = _core.check_section(self._name, values)
         for k, v in _normalised(self._kinds, checked).items():
-            object.__setattr__(self, k, v)
+            object.__setattr__(self, _attr(k), v)
+
+    @classmethod
+    def _stated(cls, values: Mapping[str, Any]) -> dict[str, Any]:
+        """The keys of a list entry worth stating: those that differ from their default, and
+        those the core requires for the entry's shape or region (a polygon hole states no
+        radius; an edge support states its side even when it is the default one). The core
+        answers which keys are required (its "missing required key" error names them)."""
+        defaults = {f.name: f.default for f in fields(cls)}  # type: ignore[arg-type]
+        norm = _normalised(cls._kinds, values)
+        out = {k: v for k, v in values.items() if norm[k] != defaults[_attr(k)]}
+        for _ in range(len(values)):
+            try:
+                _core.check_section(cls._name, out)
+            except UnknownParameterError as e:
+                key = str(e.param).rpartition(".")[2]
+                if e.param != f"{cls._name}.{key}" or key not in values or key in out:
+                    raise
+                out[key] = values[key]
+                continue
+            except InvalidParameterError:
+                pass  # a bad value: the caller's full check reports it
+            break
+        return dict(sorted(out.items(), key=lambda kv: list(values).index(kv[0])))
 
     @classmethod
     def from_dict(cls, d: Any, name: str | None = None) -> Any:
         """The section of a (TOML-shaped) dict; ``name`` is the scene name errors carry
-        (``crack[2]`` for the third crack)."""
+        (``crack[2]`` for the third crack, ``support[1]`` for the second support)."""
         checked = _core.check_section(cls._name, d, name)
-        return cls(**_normalised(cls._kinds, checked))
+        return cls._from_checked(checked)
+
+    @classmethod
+    def _from_checked(cls, checked: Mapping[str, Any]) -> Any:
+        """The section of values the core has checked (keys as the scene names them)."""
+        return cls(**{_attr(k): v for k, v in _normalised(cls._kinds, checked).items()})
 
     def to_dict(self) -> dict[str, Any]:
-        out = {}
-        for f in fields(self):  # type: ignore[arg-type]
-            v = getattr(self, f.name)
-            out[f.name] = list(v) if isinstance(v, tuple) else v
-        return out
+        """The section's keys (as the scene names them: ``from``, not ``from_``) and values;
+        pairs and lists as lists."""
+        values = {_key(f.name): _plain(getattr(self, f.name)) for f in fields(self)}  # type: ignore[arg-type]
+        return self._stated(values) if self._entry else values
 
 
 def _section_class(cls_name: str, section: str, doc: str, **methods: Any) -> Any:
@@ -151,13 +224,18 @@ def _section_class(cls_name: str, section: str, doc: str, **methods: Any) -> Any
     specs = keys(section)
     flds = [
         (
-            s["key"],
+            _attr(s["key"]),
             _PY_TYPES[s["kind"]],
             field(default=tuple(s["default"]) if isinstance(s["default"], list) else s["default"]),
         )
         for s in specs
     ]
-    lines = [f"- ``{s['key']}`` ({s['default']!r}; {s['valid']}): {s['doc']}" for s in specs]
+    lines = [
+        f"- ``{s['key']}``"
+        + (f" (attribute ``{_attr(s['key'])}``)" if _attr(s["key"]) != s["key"] else "")
+        + f" ({s['default']!r}; {s['valid']}): {s['doc']}"
+        for s in specs
+    ]
     namespace = {
         "_name": section,
         "_kinds": {s["key"]: s["kind"] for s in specs},
@@ -205,7 +283,48 @@ PdOptions = _section_class(
     "Peridynamics (grid, horizon, the CCM-PD rectangle) and the sequentially linear analysis.",
 )
 
-_SECTIONS: dict[str, Any] = {
+Hole = _section_class(
+    "Hole",
+    "hole",
+    "A hole cut out of the plate (``[[hole]]``): a circle, a rectangle or a simple polygon. "
+    "Holes must lie inside the plate and not overlap the cracks or each other (the core checks).",
+    _entry=True,
+)
+Notch = _section_class(
+    "Notch",
+    "notch",
+    "A flat-ended slot cut from one side of the plate (``[[notch]]``), ``width`` wide and "
+    "``depth`` deep, centred at ``at`` along the side.",
+    _entry=True,
+)
+Support = _section_class(
+    "Support",
+    "support",
+    "Prescribed displacements on a region of the boundary (``[[support]]``): a whole side "
+    "(``edge``), part of one (``edge_part``: ``from_`` to ``to``), the node nearest a ``point``, "
+    "or the nodes in a ``box``; ``fix`` names the prescribed components (values ``u1``, ``u2`` "
+    "at the reference load). Its reaction is in ``Result.reaction('support[k]')``.",
+    _entry=True,
+)
+RegionLoad = _section_class(
+    "RegionLoad",
+    "region_load",
+    "A load on a region of the boundary (a ``[[load]]`` table): tractions ``normal`` (tension "
+    "positive) and ``shear`` on a side or part of one, or a point ``force`` at the node nearest "
+    "``point`` (per unit thickness). Its force and mean stress are in "
+    "``Result.reaction('load[k]')``, ``Result.mean_stress('load[k]')``.",
+    _entry=True,
+)
+Probe = _section_class(
+    "Probe",
+    "probe",
+    "A response read at a point (``[[probe]]``): the displacement there, or the opening (jump "
+    "of u) of a crack at its point nearest ``point``; ``Result.probe(name)``.",
+    _entry=True,
+)
+
+#: the single tables of a scene ([plate], [material], ...): Scene field -> section class
+_TABLES: dict[str, Any] = {
     "plate": Plate,
     "material": Material,
     "load": Load,
@@ -214,6 +333,20 @@ _SECTIONS: dict[str, Any] = {
     "xfem": XfemOptions,
     "pd": PdOptions,
 }
+
+
+#: the scene's list tables: Scene field -> (TOML key, section class, key in check_scene's tree)
+_LISTS: dict[str, tuple[str, Any, str]] = {
+    "holes": ("hole", Hole, "hole"),
+    "notches": ("notch", Notch, "notch"),
+    "supports": ("support", Support, "support"),
+    "loads": ("load", RegionLoad, "loads"),
+    "probes": ("probe", Probe, "probe"),
+}
+
+
+#: every section of the core's schema -> its class (the list tables' entries included)
+_SECTIONS: dict[str, Any] = {**_TABLES, **{sec._name: sec for _, sec, _ in _LISTS.values()}}
 
 
 def _crack_name(k: int) -> str:
@@ -243,6 +376,20 @@ class Scene:
     name: str = ""
     #: further cracks (XFEM only); ``cracks`` is ``(crack, *extra_cracks)``
     extra_cracks: tuple[Crack, ...] = ()
+    #: holes (``[[hole]]``) and notches (``[[notch]]``) cut out of the plate
+    holes: tuple[Hole, ...] = ()
+    notches: tuple[Notch, ...] = ()
+    #: supports (``[[support]]``) and loads on regions (``[[load]]`` tables), in place of the
+    #: grips of ``load`` (which must then keep its defaults: the core refuses both)
+    supports: tuple[Support, ...] = ()
+    loads: tuple[RegionLoad, ...] = ()
+    #: responses read at points (``[[probe]]``)
+    probes: tuple[Probe, ...] = ()
+
+    @property
+    def uses_regions(self) -> bool:
+        """True when supports or loads on regions replace the paper's grips."""
+        return bool(self.supports or self.loads)
 
     @property
     def cracks(self) -> tuple[Crack, ...]:
@@ -256,7 +403,7 @@ class Scene:
         if self.crack is None:
             kind = _CONST["DEFAULT_CRACK_KIND"][self.method]
             object.__setattr__(self, "crack", Crack(kind=kind))
-        for key, cls in _SECTIONS.items():
+        for key, cls in _TABLES.items():
             v = getattr(self, key)
             if isinstance(v, Mapping):
                 object.__setattr__(self, key, cls.from_dict(v))
@@ -264,6 +411,8 @@ class Scene:
                 raise InvalidTypeError(
                     f"{key} must be a {cls.__name__} or a dict, got {type(v).__name__}", key
                 )
+        for attr, (toml_key, cls, _) in _LISTS.items():
+            object.__setattr__(self, attr, _section_list(attr, toml_key, cls, getattr(self, attr)))
         _core.check_scene(self.to_dict())
 
     def _split_cracks(self) -> None:
@@ -308,12 +457,16 @@ class Scene:
         c = _core.check_scene(d)
         method = c["method"]
         sections = {
-            key: _SECTIONS[key](**_normalised(_SECTIONS[key]._kinds, c[key]))
+            key: _TABLES[key]._from_checked(c[key])
             for key in METHOD_SECTIONS[method]
             if key != "crack"
         }
         cracks = [Crack(**_normalised(Crack._kinds, x)) for x in c["crack"]]
-        return cls(method=method, name=c["name"], crack=cracks, **sections)
+        lists = {
+            attr: tuple(sec._from_checked(x) for x in c[tree_key])
+            for attr, (_, sec, tree_key) in _LISTS.items()
+        }
+        return cls(method=method, name=c["name"], crack=cracks, **sections, **lists)
 
     @classmethod
     def from_toml(cls, path: PathLike) -> Scene:
@@ -363,15 +516,17 @@ class Scene:
         for k, v in changes.items():
             if "__" in k:
                 sec, key = k.split("__", 1)
-                if sec not in _SECTIONS:
+                if sec not in _TABLES:
                     raise UnknownParameterError(
-                        f"unknown section {sec!r}; allowed: {', '.join(_SECTIONS)}", sec
+                        f"unknown section {sec!r}; allowed: {', '.join(_TABLES)} (the list "
+                        f"tables {', '.join(_LISTS)} are replaced whole)",
+                        sec,
                     )
                 nested.setdefault(sec, {})[key] = v
             else:
                 top[k] = v
         for sec, kv in nested.items():
-            top[sec] = _SECTIONS[sec].from_dict({**getattr(self, sec).to_dict(), **kv})
+            top[sec] = _TABLES[sec].from_dict({**getattr(self, sec).to_dict(), **kv})
         unknown = sorted(set(top) - {f.name for f in fields(self)})
         if unknown:
             raise UnknownParameterError(
@@ -389,9 +544,23 @@ class Scene:
         if self.name:
             out["name"] = self.name
         for key in METHOD_SECTIONS[self.method]:
+            if key == "load" and self.uses_regions and self.load == Load():
+                continue  # the grips' defaults: not written beside supports and region loads
             out[key] = getattr(self, key).to_dict()
         if self.extra_cracks:
             out["crack"] = [c.to_dict() for c in self.cracks]
+        for attr, (toml_key, _, _) in _LISTS.items():
+            items = getattr(self, attr)
+            if items:
+                if isinstance(out.get(toml_key), dict):
+                    # grips beside loads on regions: one TOML key cannot hold both
+                    raise InvalidParameterError(
+                        "invalid load: a scene has either the grips of a [load] table or loads "
+                        "on regions ([[load]] tables), not both; got grips "
+                        f"{_show(out[toml_key])} and {len(items)} region load(s)",
+                        "load",
+                    )
+                out[toml_key] = [x.to_dict() for x in items]
         return out
 
     def crack_polylines(self) -> list[list[tuple[float, float]]]:
@@ -400,17 +569,7 @@ class Scene:
 
     def to_toml(self) -> str:
         """The scene as TOML text; ``Scene.from_toml_str(s.to_toml()) == s``."""
-        d = self.to_dict()
-        lines = [
-            f"{k} = {_toml_value(v)}" for k, v in d.items() if not isinstance(v, (dict, list))
-        ]
-        for k, v in d.items():
-            tables = [v] if isinstance(v, dict) else v if isinstance(v, list) else []
-            for t in tables:
-                lines.append("")
-                lines.append(f"[{k}]" if isinstance(v, dict) else f"[[{k}]]")
-                lines.extend(f"{kk} = {_toml_value(vv)}" for kk, vv in t.items())
-        return "\n".join(lines) + "\n"
+        return _dict_toml(self.to_dict())
 
     def save_toml(self, path: PathLike) -> Path:
         """Writes :meth:`to_toml` to ``path``."""
@@ -431,8 +590,12 @@ class Scene:
             crack = "uncracked"
         elif c.kind == "center":
             crack = f"center crack half-length a0={c.a0:g} at ({c.x:g}, {c.y:g})"
+        elif c.kind == "edge" and c.side in ("bottom", "top"):
+            crack = f"edge crack a0={c.a0:g} from the {c.side} at x1={c.x:g}"
         else:
             crack = f"{c.kind} crack a0={c.a0:g} at x2={c.y:g}"
+            if c.kind == "edge" and c.side != "left":
+                crack += f" from the {c.side}"
         if c.kind != "none" and c.angle != 0.0:
             crack += f", angle {c.angle:g} deg"
         if self.extra_cracks:
@@ -443,15 +606,72 @@ class Scene:
             disc = f"mesh {self.mesh.nx}x{self.mesh.ny} Q4"
         else:
             disc = f"PD grid dx={self.pd.dx:.6g}, m={self.pd.m}"
-        load = (
-            f"traction {self.load.traction:g}"
-            if self.load.bc == "traction"
-            else f"u0 = +-{self.load.u0:g}"
+        if self.uses_regions:
+            bc = "bc regions (" + ", ".join(
+                [_region_text("support", s) for s in self.supports]
+                + [_region_text("load", x) for x in self.loads]
+            ) + ")"
+        else:
+            load = (
+                f"traction {self.load.traction:g}"
+                if self.load.bc == "traction"
+                else f"u0 = +-{self.load.u0:g}"
+            )
+            bc = f"bc {self.load.bc} ({load})"
+        cuts = [
+            f"{len(v)} {what}"
+            for what, v in (("hole(s)", self.holes), ("notch(es)", self.notches))
+            if v
+        ]
+        if cuts:
+            crack += ", " + " and ".join(cuts)
+        probes = (
+            f", probes {', '.join(p.name or f'probe[{k}]' for k, p in enumerate(self.probes))}"
+            if self.probes
+            else ""
         )
         return (
             f"method {self.method}, plate {self.plate.width:g} x {self.plate.height:g}, {crack}, "
-            f"bc {self.load.bc} ({load}), {disc}"
+            f"{bc}, {disc}{probes}"
         )
+
+
+def _region_text(what: str, r: Any) -> str:
+    """A short description of a support or a region load (for :meth:`Scene.describe`)."""
+    if r.region == "point":
+        where = f"point ({r.point[0]:g}, {r.point[1]:g})"
+    elif r.region == "box":
+        where = "box [" + ", ".join(f"{v:g}" for v in r.box) + "]"
+    elif r.region == "edge_part":
+        where = f"{r.side} {r.from_:g}..{r.to:g}"
+    else:
+        where = f"{r.side} edge"
+    if what == "support":
+        return f"{where} fixed {r.fix}"
+    if r.region == "point":
+        return f"force ({r.force[0]:g}, {r.force[1]:g}) at {where}"
+    parts = [f"{k} {getattr(r, k):g}" for k in ("normal", "shear") if getattr(r, k) != 0.0]
+    return f"{' '.join(parts) or 'no traction'} on {where}"
+
+
+def _section_list(attr: str, toml_key: str, cls: Any, items: Any) -> tuple[Any, ...]:
+    """A list table of the scene (``holes``, ``supports``, ...) as a tuple of section objects;
+    dicts are checked by the core under their scene name (``support[1]``)."""
+    if isinstance(items, (Mapping, _Section, str)) or not isinstance(items, (list, tuple)):
+        raise InvalidTypeError(
+            f"{attr} must be a list of {cls.__name__} or dicts, got {type(items).__name__}", attr
+        )
+    out = []
+    for k, x in enumerate(items):
+        if isinstance(x, Mapping):
+            x = cls.from_dict(x, f"{toml_key}[{k}]")
+        elif not isinstance(x, cls):
+            raise InvalidTypeError(
+                f"{toml_key}[{k}] must be a {cls.__name__} or a dict, got {type(x).__name__}",
+                f"{toml_key}[{k}]",
+            )
+        out.append(x)
+    return tuple(out)
 
 
 def _too_large(what: str) -> InvalidParameterError:
@@ -466,6 +686,25 @@ def _show(v: Any) -> str:
     """A short repr for messages."""
     r = repr(v)
     return r if len(r) <= 120 else r[:117] + "..."
+
+
+def _dict_toml(d: Mapping[str, Any]) -> str:
+    """A TOML-shaped scene dict as TOML text: top-level values, then a ``[table]`` per dict and
+    a ``[[table]]`` per entry of a list of dicts."""
+    def is_tables(v: Any) -> bool:
+        return isinstance(v, dict) or (
+            isinstance(v, list) and bool(v) and all(isinstance(t, dict) for t in v)
+        )
+
+    lines = [f"{k} = {_toml_value(v)}" for k, v in d.items() if not is_tables(v)]
+    for k, v in d.items():
+        if not is_tables(v):
+            continue
+        for t in [v] if isinstance(v, dict) else v:
+            lines.append("")
+            lines.append(f"[{k}]" if isinstance(v, dict) else f"[[{k}]]")
+            lines.extend(f"{kk} = {_toml_value(vv)}" for kk, vv in t.items())
+    return "\n".join(lines) + "\n"
 
 
 def _toml_value(v: Any) -> str:
