@@ -146,16 +146,13 @@ def test_bad_entries_are_named_with_the_cores_keys() -> None:
     assert e.value.param == "probe[0]"
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="core gap (main 5e072c5): a traction on a point region is ignored, not refused; the "
-    "core should name load[0].region (Python validates nothing itself)",
-)
 def test_traction_on_a_point_region_is_refused_by_name() -> None:
     base = _no_cuts(_every_table_dict())
     d = {**base, "load": [{"region": "point", "point": [7.0, 16.0], "force": [0.0, 1.0],
                            "shear": 1.0}]}  # fmt: skip
-    assert _param(d) == "load[0].region"
+    assert _param(d) == "load[0].shear"
+    d = {**base, "load": [{"region": "edge", "side": "top", "force": [0.0, 1.0]}]}
+    assert _param(d) == "load[0].force"
 
 
 def test_pd_refuses_regions_by_name() -> None:
@@ -320,9 +317,9 @@ def test_cli_runs_the_edge_shear_example(tmp_path: Path, capsys: pytest.CaptureF
     assert "region  support[0]: force (-7" in printed and "region  load[0]" in printed
     doc = json.loads((out / "result.json").read_text(encoding="utf-8"))
     assert doc["meta"]["bc"] == "regions"
-    regions = doc["scalars"]["regions"]
-    assert set(regions) == {"support[0]", "load[0]"}
-    assert regions["load[0]"]["force"][0] == pytest.approx(7.0, rel=1e-9)
+    sc = doc["scalars"]
+    assert {k.split(":")[1] for k in sc if k.startswith("force:")} == {"support[0]", "load[0]"}
+    assert sc["force:load[0]:1"] == pytest.approx(7.0, rel=1e-9)
     res = rf.load(out)
     assert res.reaction("support[0]")[0] == pytest.approx(-7.0, rel=1e-9)
     assert "support[0]: force" in res.summary()

@@ -189,9 +189,23 @@ class Result:
         """The responses of every region (``support[k]``, ``load[k]``): dicts with ``force``
         [F1, F2] (the reaction of a support, the applied resultant of a load; per thickness:
         force units), ``mean_stress`` (mean normal traction on an edge region, stress; None for
-        point and box regions) and ``displacement`` [u1, u2] (mean, length). Empty without
-        regions."""
-        return dict(self.scalars.get("regions") or {})
+        point and box regions) and ``displacement`` [u1, u2] (mean, length), read from the
+        scalars ``force:<name>:1|2``, ``mean_stress:<name>`` and ``displacement:<name>:1|2``.
+        Empty without regions."""
+        out: dict[str, dict[str, Any]] = {}
+        for key in self.scalars:
+            if key.startswith("force:") and key.endswith(":1"):
+                name = key[len("force:") : -2]
+                sc = self.scalars
+                out[name] = {
+                    "force": [sc[f"force:{name}:1"], sc[f"force:{name}:2"]],
+                    "mean_stress": sc.get(f"mean_stress:{name}"),
+                    "displacement": [
+                        sc.get(f"displacement:{name}:1"),
+                        sc.get(f"displacement:{name}:2"),
+                    ],
+                }
+        return out
 
     def _region(self, name: str) -> dict[str, Any]:
         regions = self.regions
@@ -219,8 +233,14 @@ class Result:
     @property
     def probes(self) -> dict[str, tuple[float, float]]:
         """Every probe's value at the reference load: name -> (a, b), the displacement (u1, u2)
-        or the crack opening (jump of u1, u2) at the probe (length units)."""
-        return {k: (float(v[0]), float(v[1])) for k, v in (self.scalars.get("probes") or {}).items()}
+        or the crack opening (normal, sliding jump) at the probe (length units); the scalars
+        ``probe:<name>:1|2``."""
+        sc = self.scalars
+        return {
+            k[len("probe:") : -2]: (float(sc[k]), float(sc[k[:-1] + "2"]))
+            for k in sc
+            if k.startswith("probe:") and k.endswith(":1")
+        }
 
     def probe(self, name: str) -> tuple[float, float]:
         """The value (a, b) of the probe ``name`` at the reference load (see :attr:`probes`)."""

@@ -272,6 +272,48 @@ fn section_rules(section: &str, name: &str, s: &Section) -> Result<()> {
                 ));
             }
         }
+        "hole" if s["shape"].s() == "circle" && s["radius"].f() == 0.0 => {
+            return Err(Error::invalid(
+                &format!("{name}.radius"),
+                "a radius in [1e-30, 1e30] for shape 'circle'",
+                0.0,
+            ));
+        }
+        "notch" if s["width"].f() == 0.0 || s["depth"].f() == 0.0 => {
+            let key = if s["width"].f() == 0.0 {
+                "width"
+            } else {
+                "depth"
+            };
+            return Err(Error::invalid(
+                &format!("{name}.{key}"),
+                "a length in [1e-30, 1e30]",
+                0.0,
+            ));
+        }
+        "region_load"
+            if s["region"].s() == "point" && (s["normal"].f() != 0.0 || s["shear"].f() != 0.0) =>
+        {
+            let key = if s["normal"].f() != 0.0 {
+                "normal"
+            } else {
+                "shear"
+            };
+            return Err(Error::invalid(
+                &format!("{name}.{key}"),
+                "0 on a 'point' region (a point carries a force: load.force; a traction needs an \
+                 'edge' or 'edge_part' region)",
+                s[key].f(),
+            ));
+        }
+        "region_load" if s["region"].s() != "point" && s["force"].pair() != [0.0, 0.0] => {
+            return Err(Error::invalid(
+                &format!("{name}.force"),
+                "[0, 0] on an edge region (an edge carries a traction: normal, shear; a force \
+                 needs a 'point' region)",
+                format!("{:?}", s["force"].pair()),
+            ));
+        }
         "support" | "region_load" if s["region"].s() == "edge_part" => {
             let (a, b) = (s["from"].f(), s["to"].f());
             if !(a < b) {
