@@ -274,7 +274,7 @@ fn build() -> Vec<KeySpec> {
     };
     let pos = |v: &Val| positive(v.f());
     let fin = |v: &Val| finite(v.f());
-    vec![
+    let mut v = vec![
         k("plate", "width", Float, Val::Float(11.0), POS,
           "plate width W along x1 (length); the plate is [0, W] x [0, L]", pos),
         k("plate", "height", Float, Val::Float(21.0), POS,
@@ -444,58 +444,162 @@ fn build() -> Vec<KeySpec> {
           "slot width (length; required)", |v| nonneg(v.f())),
         k("notch", "depth", Float, Val::Float(0.0), "a length in [1e-30, 1e30] (0: unset)",
           "slot depth from the edge (length; required); its end is flat", |v| nonneg(v.f())),
-        k("support", "region", Str, Val::Str("edge".into()), &choice(&REGIONS),
-          "'edge' (side), 'edge_part' (side, from, to), 'point' (the nearest node) or 'box'",
-          |v| REGIONS.contains(&v.s())),
-        k("support", "side", Str, Val::Str("bottom".into()),
-          &choice(&["left", "right", "bottom", "top"]), "the side of an edge region",
+    ];
+    v.extend(region_specs("support", &REGIONS, "bottom"));
+    v.extend(vec![
+        k(
+            "support",
+            "fix",
+            Str,
+            Val::Str("both".into()),
+            &choice(&["u1", "u2", "both"]),
+            "the prescribed components",
+            |v| matches!(v.s(), "u1" | "u2" | "both"),
+        ),
+        k(
+            "support",
+            "u1",
+            Float,
+            Val::Float(0.0),
+            FINITE,
+            "prescribed u1 at the reference load (length)",
+            fin,
+        ),
+        k(
+            "support",
+            "u2",
+            Float,
+            Val::Float(0.0),
+            FINITE,
+            "prescribed u2 at the reference load (length)",
+            fin,
+        ),
+    ]);
+    v.extend(region_specs(
+        "region_load",
+        &["edge", "edge_part", "point"],
+        "top",
+    ));
+    v.extend(vec![
+        k(
+            "region_load",
+            "normal",
+            Float,
+            Val::Float(0.0),
+            FINITE,
+            "traction along the outward normal at the reference load (stress; tension positive)",
+            fin,
+        ),
+        k(
+            "region_load",
+            "shear",
+            Float,
+            Val::Float(0.0),
+            FINITE,
+            "shear traction at the reference load (stress): along +x1 on the bottom and top \
+           sides, along +x2 on the left and right sides",
+            fin,
+        ),
+        k(
+            "region_load",
+            "force",
+            Pair,
+            Val::Pair([0.0, 0.0]),
+            "two finite numbers, |x| <= 1e30",
+            "point force [f1, f2] at the reference load (force, over the thickness)",
+            |v| v.pair().iter().all(|&x| finite(x)),
+        ),
+        k(
+            "probe",
+            "name",
+            Str,
+            Val::Str(String::new()),
+            "a string (empty: probe[k])",
+            "the response's name in results",
+            |_| true,
+        ),
+        k(
+            "probe",
+            "kind",
+            Str,
+            Val::Str("displacement".into()),
+            &choice(&PROBES),
+            "'displacement' (u at the point) or 'opening' (the jump of u across a crack at the \
+           crack point nearest the point)",
+            |v| PROBES.contains(&v.s()),
+        ),
+        k(
+            "probe",
+            "point",
+            Pair,
+            Val::Pair([0.0, 0.0]),
+            "two finite numbers, |x| <= 1e30",
+            "the probed point (length)",
+            |v| v.pair().iter().all(|&x| finite(x)),
+        ),
+        k(
+            "probe",
+            "crack",
+            Int,
+            Val::Int(0),
+            "an integer >= 0 (a crack index)",
+            "the crack of an 'opening' probe (0: the primary crack)",
+            |v| v.i() >= 0,
+        ),
+    ]);
+    v
+}
+
+/// The keys that place a support's or a load's region (`section` "support" or "region_load"),
+/// the same in both: the region kind (`kinds`; "box" for supports only), the side and the part
+/// of an edge, the point, the box.
+fn region_specs(section: &'static str, kinds: &[&str], side: &str) -> Vec<KeySpec> {
+    let k = |key, kind, default, valid: &str, doc, ok: fn(&Val) -> bool| KeySpec {
+        section,
+        key,
+        kind,
+        default,
+        valid: valid.to_string(),
+        doc,
+        ok,
+    };
+    let sides = ["left", "right", "bottom", "top"];
+    let fin = |v: &Val| finite(v.f());
+    let mut v =
+        vec![
+        k("region", Kind::Str, Val::Str("edge".into()), &choice(kinds),
+          "'edge' (side), 'edge_part' (side, from, to), 'point' (the nearest node: a support \
+           there, or a point force) or 'box' (supports: every node in it)",
+          if kinds.contains(&"box") {
+              |v: &Val| REGIONS.contains(&v.s())
+          } else {
+              |v: &Val| matches!(v.s(), "edge" | "edge_part" | "point")
+          }),
+        k("side", Kind::Str, Val::Str(side.into()), &choice(&sides), "the side of an edge region",
           |v| matches!(v.s(), "left" | "right" | "bottom" | "top")),
-        k("support", "from", Float, Val::Float(0.0), FINITE,
+        k("from", Kind::Float, Val::Float(0.0), FINITE,
           "start of an edge part along its side (x1 on bottom/top, x2 on left/right)", fin),
-        k("support", "to", Float, Val::Float(0.0), FINITE, "end of an edge part", fin),
-        k("support", "point", Pair, Val::Pair([0.0, 0.0]), "two finite numbers, |x| <= 1e30",
+        k("to", Kind::Float, Val::Float(0.0), FINITE, "end of an edge part", fin),
+        k("point", Kind::Pair, Val::Pair([0.0, 0.0]), "two finite numbers, |x| <= 1e30",
           "the point of a point region", |v| v.pair().iter().all(|&x| finite(x))),
-        k("support", "box", FloatList, Val::FloatList(Vec::new()),
-          "a box [x0, y0, x1, y1] with x0 < x1, y0 < y1", "the box of a box region",
-          |v| v.floats().is_empty() || (v.floats().len() == 4 && v.floats().iter().all(|&x| finite(x))
-              && v.floats()[0] < v.floats()[2] && v.floats()[1] < v.floats()[3])),
-        k("support", "fix", Str, Val::Str("both".into()), &choice(&["u1", "u2", "both"]),
-          "the prescribed components", |v| matches!(v.s(), "u1" | "u2" | "both")),
-        k("support", "u1", Float, Val::Float(0.0), FINITE,
-          "prescribed u1 at the reference load (length)", fin),
-        k("support", "u2", Float, Val::Float(0.0), FINITE,
-          "prescribed u2 at the reference load (length)", fin),
-        k("region_load", "region", Str, Val::Str("edge".into()),
-          &choice(&["edge", "edge_part", "point"]),
-          "'edge' (side), 'edge_part' (side, from, to) or 'point' (a force at the nearest node)",
-          |v| matches!(v.s(), "edge" | "edge_part" | "point")),
-        k("region_load", "side", Str, Val::Str("top".into()),
-          &choice(&["left", "right", "bottom", "top"]), "the side of an edge region",
-          |v| matches!(v.s(), "left" | "right" | "bottom" | "top")),
-        k("region_load", "from", Float, Val::Float(0.0), FINITE,
-          "start of an edge part along its side (x1 on bottom/top, x2 on left/right)", fin),
-        k("region_load", "to", Float, Val::Float(0.0), FINITE, "end of an edge part", fin),
-        k("region_load", "point", Pair, Val::Pair([0.0, 0.0]), "two finite numbers, |x| <= 1e30",
-          "the point of a point force", |v| v.pair().iter().all(|&x| finite(x))),
-        k("region_load", "normal", Float, Val::Float(0.0), FINITE,
-          "traction along the outward normal at the reference load (stress; tension positive)",
-          fin),
-        k("region_load", "shear", Float, Val::Float(0.0), FINITE,
-          "shear traction at the reference load (stress): along +x1 on the bottom and top \
-           sides, along +x2 on the left and right sides", fin),
-        k("region_load", "force", Pair, Val::Pair([0.0, 0.0]), "two finite numbers, |x| <= 1e30",
-          "point force [f1, f2] at the reference load (force, over the thickness)",
-          |v| v.pair().iter().all(|&x| finite(x))),
-        k("probe", "name", Str, Val::Str(String::new()), "a string (empty: probe[k])",
-          "the response's name in results", |_| true),
-        k("probe", "kind", Str, Val::Str("displacement".into()), &choice(&PROBES),
-          "'displacement' (u at the point) or 'opening' (the jump of u across a crack at the \
-           crack point nearest the point)", |v| PROBES.contains(&v.s())),
-        k("probe", "point", Pair, Val::Pair([0.0, 0.0]), "two finite numbers, |x| <= 1e30",
-          "the probed point (length)", |v| v.pair().iter().all(|&x| finite(x))),
-        k("probe", "crack", Int, Val::Int(0), "an integer >= 0 (a crack index)",
-          "the crack of an 'opening' probe (0: the primary crack)", |v| v.i() >= 0),
-    ]
+    ];
+    if kinds.contains(&"box") {
+        v.push(k(
+            "box",
+            Kind::FloatList,
+            Val::FloatList(Vec::new()),
+            "a box [x0, y0, x1, y1] with x0 < x1, y0 < y1",
+            "the box of a box region",
+            |v| {
+                v.floats().is_empty()
+                    || (v.floats().len() == 4
+                        && v.floats().iter().all(|&x| finite(x))
+                        && v.floats()[0] < v.floats()[2]
+                        && v.floats()[1] < v.floats()[3])
+            },
+        ));
+    }
+    v
 }
 
 /// The whole table (built once).
