@@ -11,7 +11,7 @@ then all renamed into place under the folder's lock, the JSON last):
   grid written through meshio (:meth:`Result.to_meshio`: FEM quads with displacement and stress;
   XFEM standard quads plus the enriched elements' cut cells on each side of the crack, with their
   own displacements, and the crack lines; PD and CCM-PD grid nodes as vertices with displacements,
-  damage, a PD-node flag and broken bonds per node; see :mod:`rustfrac._vtk`). Without meshio
+  damage, a PD-node flag and broken bonds per node; see ``rustfrac._vtk``). Without meshio
   (``pip install 'rustfrac[io]'``) an ASCII VTU of rustfrac's own (mesh nodes and elements only,
   :func:`write_vtu_quads`, :func:`write_vtu_points`), with a note logged to the ``rustfrac``
   logger;
@@ -341,7 +341,7 @@ class Result:
         the crack lines, cell data ``element_id``, ``kind``, ``enrichment``, ``crack``; PD and
         CCM-PD the grid nodes as vertices with ``displacement``, ``displacement_final``,
         ``damage``, ``is_pd`` and ``broken_bonds``. Vectors have 3 components (z = 0). Details:
-        :mod:`rustfrac._vtk`.
+        ``rustfrac._vtk``.
 
         Raises:
             ImportError: meshio is not installed (``pip install 'rustfrac[io]'``).
