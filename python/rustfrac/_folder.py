@@ -5,6 +5,9 @@ fsynced), then, holding an exclusive lock on the folder (``flock`` of the direct
 released by the kernel when a writer dies), renames them into place, its ``last`` file (the one
 that names the others: ``result.json``, ``summary.json``, ``sweep.json``) last, and removes the
 folder's own names that the new set lacks (a stale ``result.vtu``, a plot of an earlier run).
+An owned name may be a glob pattern (``result_series/state_*.vtu``: a numbered set of files in a
+subfolder); a staged name may lie in a subfolder (created when staged), which goes when a later
+set empties it.
 Readers (:func:`rustfrac.load`) take a shared lock, so they never see a half-renamed set; a second
 writer waits for the first and then replaces its set whole (last writer wins). A writer killed
 between two renames leaves a folder whose ``last`` file names checksums its neighbours no longer
@@ -146,7 +149,10 @@ class FolderWriter:
         renamed to ``name`` at the commit."""
         if name in self._staged:
             raise ValueError(f"{name} is staged twice in {self.path}")
-        p = _tmp_path(self.path / name)
+        target = self.path / name
+        if target.parent != self.path:  # a file of a subfolder (``result_series/state_0.vtu``)
+            target.parent.mkdir(parents=True, exist_ok=True)
+        p = _tmp_path(target)
         self._staged[name] = p
         return p
 
@@ -177,13 +183,15 @@ class FolderWriter:
             order = sorted(staged, key=lambda n: n == self.last)
             for name in order:
                 os.replace(staged[name], self.path / name)
-            for name in sorted(self.owned - set(staged) - set(self._hooks)):
+            for name in sorted(_expand(self.path, self.owned) - set(staged) - set(self._hooks)):
                 _remove_owned(self.path / name, self.inner)
+                _prune(self.path, self.path / name)
             _fsync_dir(self.path)
 
     def _abort(self) -> None:
         for p in self._staged.values():
             _unlink(p)
+            _prune(self.path, p)
 
 
 @contextmanager
@@ -240,13 +248,40 @@ def with_fallback(out: Path, write: Callable[[Path], T], what: str) -> T:
         raise OutputError(f"{e}; the {what} output was saved to {fb} instead", out, fb) from e
 
 
+def _is_glob(name: str) -> bool:
+    return any(c in name for c in "*?[")
+
+
+def _expand(d: Path, names: Iterable[str]) -> set[str]:
+    """``names`` with each glob pattern replaced by the matching files in ``d`` (relative)."""
+    out: set[str] = set()
+    for n in names:
+        if _is_glob(n):
+            out.update(p.relative_to(d).as_posix() for p in d.glob(n) if p.is_file())
+        else:
+            out.add(n)
+    return out
+
+
+def _prune(d: Path, p: Path) -> None:
+    """Removes the now empty subfolders of ``d`` between ``p`` and ``d`` (none of ``d``)."""
+    q = p.parent
+    while q != d and d in q.parents:
+        try:
+            q.rmdir()
+        except OSError:  # not empty (or gone)
+            return
+        q = q.parent
+
+
 def _remove_owned(p: Path, inner: tuple[str, ...]) -> None:
-    """Removes a name of the folder's kind: a file, or a subfolder's ``inner`` files, then the
-    subfolder if empty (nothing else of the user's is deleted)."""
+    """Removes a name of the folder's kind: a file, or a subfolder's ``inner`` files (names or
+    glob patterns), then the subfolder if empty (nothing else of the user's is deleted)."""
     if p.is_dir() and not p.is_symlink():
-        for n in inner:
+        for n in sorted(_expand(p, inner)):
             if (p / n).is_file():
                 _unlink(p / n)
+                _prune(p, p / n)
         try:
             p.rmdir()
         except OSError:
@@ -258,7 +293,7 @@ def _remove_owned(p: Path, inner: tuple[str, ...]) -> None:
 def _remove_stale_tmps(d: Path) -> None:
     """Removes temporaries of writers that died (pid gone, older than :data:`STALE_TMP_S`)."""
     now = time.time()
-    for p in d.glob(".*.tmp"):
+    for p in [*d.glob(".*.tmp"), *d.glob("*/.*.tmp")]:
         parts = p.name.rsplit(".", 3)
         if len(parts) != 4 or not parts[1].isdigit():
             continue

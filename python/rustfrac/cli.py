@@ -47,7 +47,7 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument("scene", type=Path, help="scene file (TOML)")
     r.add_argument("--out", type=Path, required=True, help="output directory")
     r.add_argument("--quiet", "-q", action="store_true", help="print nothing but errors")
-    r.add_argument("--no-vtu", action="store_true", help="skip the ParaView .vtu file")
+    r.add_argument("--no-vtu", action="store_true", help="skip the ParaView files (result.vtu, result.pvd)")
     r.add_argument(
         "--plot",
         action="store_true",
@@ -487,7 +487,7 @@ def _read_scene(path: Path) -> _Scene | None:
 
 
 def _cmd_run(args: argparse.Namespace) -> int:
-    from .result import JSON_NAME, OWNED_NAMES, Result
+    from .result import JSON_NAME, OWNED_NAMES, PVD_NAME, Result
     from .runner import run
 
     log = (lambda *a: None) if args.quiet else (lambda *a: print(*a, flush=True))
@@ -594,6 +594,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
         return 1
     log(
         f"saved   {out}/ (result.json, fields.npz{'' if args.no_vtu else ', result.vtu'}"
+        + (f", {PVD_NAME} + series" if (Path(out) / PVD_NAME).exists() else "")
         + "".join(", " + p for p in plots)
         + ")"
     )

@@ -7,10 +7,17 @@ then all renamed into place under the folder's lock, the JSON last):
   timings) -- plain JSON, floats written with full precision -- and the save id, the arrays'
   shapes and the SHA-256 of the other files;
 - ``fields.npz``: the arrays (mesh, displacement, stresses, ...) and the history;
-- ``result.vtu``: the deformed-state mesh for ParaView (ASCII VTK unstructured grid of quads with
-  displacement and stress as point data). PD and CCM-PD results (no Q4 mesh) write the grid nodes as
-  VTK_VERTEX cells instead, with the displacements before the first and after the last break, the
-  damage (0 at FEM nodes) and a PD-node flag as point data (:func:`write_vtu_points`).
+- ``result.vtu``: the result for ParaView (or meshio), a binary, zlib-compressed VTK unstructured
+  grid written through meshio (:meth:`Result.to_meshio`: FEM quads with displacement and stress;
+  XFEM standard quads plus the enriched elements' cut cells on each side of the crack, with their
+  own displacements, and the crack lines; PD and CCM-PD grid nodes as vertices with displacements,
+  damage, a PD-node flag and broken bonds per node; see ``rustfrac._vtk``). Without meshio
+  (``pip install 'rustfrac[io]'``) an ASCII VTU of rustfrac's own (mesh nodes and elements only,
+  :func:`write_vtu_quads`, :func:`write_vtu_points`), with a note logged to the ``rustfrac``
+  logger;
+- ``result.pvd`` + ``result_series/state_NNNN.vtu`` (with meshio): a ParaView time series, one
+  state per history row of an XFEM growth run (the deformed patch) or per damage snapshot of an
+  SLA run (``damage_at_steps``), timestep = the history row / the SLA step.
 
 :func:`load` reads the JSON and NPZ back to the same numbers, after checking them.
 """
@@ -31,8 +38,10 @@ from typing import IO, Any, Union
 
 import numpy as np
 
+from . import _vtk
 from ._folder import FolderWriter, locked, writing
 from ._folder import atomic_file as _atomic  # noqa: F401 (figures, fig7 and sweep use it)
+from ._log import logger
 from .errors import InvalidParameterError, InvalidResultError, ResultNotFoundError
 
 __all__ = ["Result", "load"]
@@ -41,13 +50,17 @@ PathLike = Union[str, Path]
 JSON_NAME = "result.json"
 NPZ_NAME = "fields.npz"
 VTU_NAME = "result.vtu"
+PVD_NAME = "result.pvd"
+#: the time series' states, referenced by result.pvd
+SERIES_DIR = "result_series"
+SERIES_PATTERN = f"{SERIES_DIR}/state_*.vtu"
 _HISTORY_PREFIX = "history__"
 #: 2: result.json holds save_id, the arrays' shapes and the checksums of the other files
 FORMAT_VERSION = 2
 #: PNGs ``rustfrac run --plot`` writes into a result folder
 PLOT_NAMES = ("s22.png", "u2.png", "damage.png", "tip_x50.png", "load_path.png")
 #: every name a result folder's writer owns: replaced together, removed when a new save lacks them
-OWNED_NAMES = (JSON_NAME, NPZ_NAME, VTU_NAME, *PLOT_NAMES)
+OWNED_NAMES = (JSON_NAME, NPZ_NAME, VTU_NAME, PVD_NAME, SERIES_PATTERN, *PLOT_NAMES)
 
 
 @dataclass
@@ -318,12 +331,47 @@ class Result:
             ) from e
         return pd.DataFrame({k: np.asarray(v) for k, v in self.history.items()})
 
+    # -- meshes -------------------------------------------------------------------------------
+
+    def to_meshio(self) -> Any:
+        """This result as a ``meshio.Mesh``, what ``result.vtu`` holds: FEM the Q4 mesh with point
+        data ``displacement`` and cell data ``stress`` (element means of the Gauss-point
+        stresses) and ``element_id``; XFEM the standard elements, the cut cells of the enriched
+        ones (points of their own on each side of the crack, with that side's displacement) and
+        the crack lines, cell data ``element_id``, ``kind``, ``enrichment``, ``crack``; PD and
+        CCM-PD the grid nodes as vertices with ``displacement``, ``displacement_final``,
+        ``damage``, ``is_pd`` and ``broken_bonds``. Vectors have 3 components (z = 0). Details:
+        ``rustfrac._vtk``.
+
+        Raises:
+            ImportError: meshio is not installed (``pip install 'rustfrac[io]'``).
+            PlotDataError: the result has neither a mesh nor a grid.
+        """
+        return _vtk.to_meshio(self)
+
+    def to_pyvista(self) -> Any:
+        """This result as a ``pyvista.UnstructuredGrid`` (from :meth:`to_meshio`).
+
+        Raises:
+            ImportError: pyvista (or meshio) is not installed (``pip install 'rustfrac[viz]'``).
+        """
+        try:
+            import pyvista as pv
+        except ImportError as e:
+            raise ImportError(
+                "Result.to_pyvista() needs pyvista, which is not installed: pip install "
+                "'rustfrac[viz]' (or pip install pyvista meshio; or use Result.to_meshio() / the "
+                "saved result.vtu)"
+            ) from e
+        return pv.from_meshio(self.to_meshio())
+
     # -- files --------------------------------------------------------------------------------
 
     def save(self, directory: PathLike, *, vtu: bool = True) -> Path:
-        """Writes result.json, fields.npz and (``vtu=True``) result.vtu into ``directory``
-        (created if needed) as one unit: a reader sees the previous set or the new one, never a
-        mix (see the README's "Result folders"). Returns the directory.
+        """Writes result.json, fields.npz and (``vtu=True``) result.vtu, and for growth and SLA
+        snapshot runs the ParaView time series result.pvd + result_series/ (with meshio), into
+        ``directory`` (created if needed) as one unit: a reader sees the previous set or the new
+        one, never a mix (see the README's "Result folders"). Returns the directory.
 
         Raises:
             OutputError: the folder cannot be written (it is a file, read-only, the disk is
@@ -360,15 +408,11 @@ class Result:
         files = {NPZ_NAME: w.stage(NPZ_NAME)}
         with open(files[NPZ_NAME], "wb") as f:
             np.savez_compressed(f, **arrays)
-        writer = None
-        if vtu and "coords" in self.fields and "elements" in self.fields:
-            writer = write_vtu
-        elif vtu and "node_xy" in self.fields:
-            writer = write_vtu_points
-        if writer is not None:
+        if vtu and _has_mesh(self):
             files[VTU_NAME] = w.stage(VTU_NAME)
-            with open(files[VTU_NAME], "w", encoding="utf-8") as f:
-                writer(f, self)
+            write_vtu(files[VTU_NAME], self)
+            if _vtk.meshio_or_none() is not None:
+                files.update(_stage_series(w, self))
         doc["files"] = {
             n: {"sha256": _sha256(p), "bytes": p.stat().st_size} for n, p in files.items()
         }
@@ -695,10 +739,49 @@ def _vtk_array(f: IO[str], name: str, a: np.ndarray, vtype: str = "Float64") -> 
     f.write("        </DataArray>\n")
 
 
-def write_vtu(f: IO[str], res: Result) -> None:
+def _has_mesh(res: Result) -> bool:
+    return ("coords" in res.fields and "elements" in res.fields) or "node_xy" in res.fields
+
+
+def write_vtu(path: Path, res: Result) -> None:
+    """Writes ``res`` as ``result.vtu`` to ``path``: :meth:`Result.to_meshio` as a
+    binary, zlib-compressed VTU when meshio is installed; otherwise rustfrac's ASCII writer
+    (:func:`write_vtu_quads` or :func:`write_vtu_points`: the mesh nodes and elements only),
+    logging a note."""
+    if _vtk.meshio_or_none() is not None:
+        _vtk.write_meshio_vtu(path, res.to_meshio())
+        return
+    logger.info(
+        "meshio is not installed: result.vtu is rustfrac's ASCII VTU (no XFEM cut cells or crack "
+        "lines, no time series); pip install 'rustfrac[io]' for the full output"
+    )
+    with open(path, "w", encoding="utf-8") as f:
+        (write_vtu_quads if "elements" in res.fields else write_vtu_points)(f, res)
+
+
+def _stage_series(w: FolderWriter, res: Result) -> dict[str, Path]:
+    """Stages the time series of ``res`` (result.pvd and one VTU per state); returns the staged
+    files by name (none when the result has no series)."""
+    states = _vtk.series(res)
+    if not states:
+        return {}
+    files: dict[str, Path] = {}
+    datasets: list[tuple[float, str]] = []
+    for k, (t, mesh) in enumerate(states):
+        name = f"{SERIES_DIR}/state_{k:04d}.vtu"
+        files[name] = w.stage(name)
+        _vtk.write_meshio_vtu(files[name], mesh)
+        datasets.append((t, name))
+    files[PVD_NAME] = w.stage(PVD_NAME)
+    with open(files[PVD_NAME], "w", encoding="utf-8") as f:
+        _vtk.write_pvd(f, datasets)
+    return files
+
+
+def write_vtu_quads(f: IO[str], res: Result) -> None:
     """Writes ``res`` as an ASCII VTK XML unstructured grid of quads (VTK cell type 9) with the
     point fields displacement (3 components, u3 = 0), stress [s11, s22, s12] and any other
-    array with one row per node."""
+    array with one row per node (the fallback of :func:`write_vtu` without meshio)."""
     xy = np.asarray(res.coords, dtype=float)
     n = len(xy)
     cells = np.asarray(res.elements, dtype=np.int64)
@@ -736,7 +819,8 @@ def write_vtu_points(f: IO[str], res: Result) -> None:
     """Writes a PD / CCM-PD result (fields ``node_xy``, ``u``, ``u_final``, ``pd_nodes``,
     ``damage``) as an ASCII VTK XML unstructured grid of VTK_VERTEX cells (type 1), one per grid
     node, with point data displacement (reference load, before any break), displacement_final
-    (after the last break; absent when the body separated), damage (0 at FEM nodes) and is_pd."""
+    (after the last break; absent when the body separated), damage (0 at FEM nodes), is_pd and
+    broken_bonds (the fallback of :func:`write_vtu` without meshio)."""
     xy = np.asarray(res.fields["node_xy"], dtype=float)
     n = len(xy)
     pts = np.column_stack([xy, np.zeros(n)])
@@ -749,14 +833,8 @@ def write_vtu_points(f: IO[str], res: Result) -> None:
         u = np.asarray(res.fields.get(key, ()), dtype=float)
         if len(u) == 2 * n:
             _vtk_array(f, name, np.column_stack([u.reshape(-1, 2), np.zeros(n)]))
-    pd_nodes = np.asarray(res.fields.get("pd_nodes", ()), dtype=np.int64)
-    damage = np.zeros(n)
-    if "damage" in res.fields and len(res.fields["damage"]) == len(pd_nodes):
-        damage[pd_nodes] = res.fields["damage"]
-    is_pd = np.zeros(n, dtype=np.int64)
-    is_pd[pd_nodes] = 1
-    _vtk_array(f, "damage", damage)
-    _vtk_array(f, "is_pd", is_pd, "Int64")
+    for name, a in _vtk.pd_point_fields(res).items():
+        _vtk_array(f, name, a, "Int64" if a.dtype.kind in "iu" else "Float64")
     f.write("      </PointData>\n")
     f.write("      <Points>\n")
     _vtk_array(f, "Points", pts)

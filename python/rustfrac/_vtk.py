@@ -1,0 +1,269 @@
+"""Results as meshio meshes and ParaView files (:meth:`Result.to_meshio`, ``result.vtu``,
+``result.pvd``); meshio is optional (``pip install 'rustfrac[io]'``).
+
+What a mesh holds (every vector has 3 components, z = 0, as ParaView expects):
+
+- FEM: the Q4 mesh as ``quad`` cells; point data ``displacement`` (u), ``nodal_stress``
+  [s11, s22, s12] and ``reaction``; cell data ``stress`` (the mean of the element's Gauss-point
+  stresses) and ``element_id``.
+- XFEM: the standard (non-enriched) elements as ``quad`` cells on the mesh nodes; every element
+  with an enriched node replaced by its cut cells (``cut_points`` / ``cut_offsets``: the element's
+  sub-polygons on each side of the crack), with points of their own appended after the mesh nodes
+  and the enriched displacement of their own side (``cut_disp``), so both crack faces exist and
+  the opening shows as a gap; cells of 3 and 4 vertices are ``triangle`` and ``quad`` cells,
+  larger ones ``polygon`` cells (one block per vertex count; VTU writes them as VTK_POLYGON and
+  reads them back). Then every crack polyline as ``line`` cells on points of its own, whose
+  displacement is zero (the line marks the crack in the reference configuration: Warp By Vector
+  leaves it where the crack was cut). Cell data: ``element_id`` (the parent element; -1 for crack
+  lines), ``kind`` (0 standard element, 1 cut cell, 2 crack line), ``enrichment`` (the largest
+  enrichment of the parent element's nodes: 0 none, 1 Heaviside, 2 tip; -1 for crack lines),
+  ``crack`` (the crack index of a line, -1 for elements) and, when the result has Gauss-point
+  stresses, ``stress`` (a cut cell takes its parent element's mean; crack lines 0).
+- PD / CCM-PD: the grid nodes as ``vertex`` cells; point data ``displacement`` (reference load,
+  before any break), ``displacement_final`` (after the last break; absent when the body
+  separated), ``damage`` (0 at FEM nodes), ``is_pd`` and ``broken_bonds`` (the number of broken
+  bonds at each node: their sum is twice the number of broken bonds).
+
+Time series (:func:`series`, ``result.pvd``): XFEM growth runs give one state per history row
+(the deformed patch ``snapshot_cells`` / ``snapshot_disp``: snapshot k belongs to row k + 1; row 0,
+the unloaded origin, is the first patch with zero displacement), timestep = the history row; SLA
+runs with damage snapshots (``damage_at_steps``) one state per snapshot (the grid nodes with the
+``damage`` and ``is_pd`` of that step), timestep = the SLA step.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from types import ModuleType
+from typing import IO, TYPE_CHECKING, Any
+from xml.sax.saxutils import quoteattr
+
+import numpy as np
+
+from .errors import PlotDataError
+
+if TYPE_CHECKING:
+    from .result import Result
+
+#: cell types of the cut cells by vertex count (others: "polygon")
+_FIXED = {3: "triangle", 4: "quad"}
+#: ``kind`` cell data
+STANDARD, CUT, CRACK = 0, 1, 2
+
+
+def meshio_or_none() -> ModuleType | None:
+    """The meshio module, or None when it is not installed."""
+    try:
+        import meshio
+    except ImportError:
+        return None
+    return meshio
+
+
+def require_meshio(what: str) -> ModuleType:
+    """The meshio module; without it an ImportError naming the package and the extra."""
+    meshio = meshio_or_none()
+    if meshio is None:
+        raise ImportError(
+            f"{what} needs meshio, which is not installed: pip install 'rustfrac[io]' "
+            "(or pip install meshio)"
+        )
+    return meshio
+
+
+def _vec3(a: np.ndarray) -> np.ndarray:
+    """(n, 2) or interleaved (2n,) -> (n, 3) with z = 0."""
+    a = np.asarray(a, dtype=float).reshape(-1, 2)
+    return np.column_stack([a, np.zeros(len(a))])
+
+
+def element_stress(res: Result) -> np.ndarray | None:
+    """The mean of every element's Gauss-point stresses (m, 3) [s11, s22, s12], or None when the
+    result has none (``gauss_stress`` holds the element's points one after the other)."""
+    gs, els = res.fields.get("gauss_stress"), res.fields.get("elements")
+    if gs is None or els is None or len(els) == 0 or len(gs) % len(els):
+        return None
+    return np.asarray(gs, dtype=float).reshape(len(els), -1, gs.shape[-1]).mean(axis=1)
+
+
+def pd_point_fields(res: Result) -> dict[str, np.ndarray]:
+    """PD / CCM-PD point data on the grid nodes: ``damage`` (0 at FEM nodes), ``is_pd`` and
+    ``broken_bonds`` (broken bonds per node, from ``broken`` and ``bond_nodes``)."""
+    f = res.fields
+    n = len(f["node_xy"])
+    pd_nodes = np.asarray(f.get("pd_nodes", ()), dtype=np.int64)
+    damage = np.zeros(n)
+    if "damage" in f and len(f["damage"]) == len(pd_nodes):
+        damage[pd_nodes] = f["damage"]
+    is_pd = np.zeros(n, dtype=np.int64)
+    is_pd[pd_nodes] = 1
+    out = {"damage": damage, "is_pd": is_pd}
+    if "broken" in f and "bond_nodes" in f:
+        ends = np.asarray(f["bond_nodes"], dtype=np.int64)[np.asarray(f["broken"], dtype=bool)]
+        out["broken_bonds"] = np.bincount(ends.ravel(), minlength=n).astype(np.int64)
+    return out
+
+
+def to_meshio(res: Result) -> Any:
+    """``res`` as a ``meshio.Mesh`` (see the module docstring for what each method holds)."""
+    meshio = require_meshio("Result.to_meshio()")
+    f = res.fields
+    if "coords" in f and "elements" in f:
+        points, cells, pdata, cdata = (
+            _xfem(res) if "cut_offsets" in f and "cut_points" in f else _fem(res)
+        )
+    elif "node_xy" in f:
+        points, cells, pdata, cdata = _pd(res)
+    else:
+        raise PlotDataError(
+            f"a {res.method} result without a mesh or grid (fields coords and elements, or "
+            "node_xy) has nothing to write as a mesh"
+        )
+    return meshio.Mesh(points, cells, point_data=pdata, cell_data=cdata)
+
+
+_Parts = tuple[np.ndarray, list[tuple[str, np.ndarray]], dict[str, Any], dict[str, Any]]
+
+
+def _fem(res: Result) -> _Parts:
+    f = res.fields
+    n, els = len(f["coords"]), np.asarray(f["elements"], dtype=np.int64)
+    pdata: dict[str, Any] = {}
+    if "u" in f and len(f["u"]) == 2 * n:
+        pdata["displacement"] = _vec3(f["u"])
+    if "nodal_stress" in f and len(f["nodal_stress"]) == n:
+        pdata["nodal_stress"] = np.asarray(f["nodal_stress"], dtype=float)
+    if "reactions" in f and len(f["reactions"]) == 2 * n:
+        pdata["reaction"] = _vec3(f["reactions"])
+    cdata: dict[str, Any] = {"element_id": [np.arange(len(els), dtype=np.int64)]}
+    stress = element_stress(res)
+    if stress is not None:
+        cdata["stress"] = [stress]
+    return _vec3(f["coords"]), [("quad", els)], pdata, cdata
+
+
+def _xfem(res: Result) -> _Parts:
+    f = res.fields
+    coords, els = np.asarray(f["coords"], dtype=float), np.asarray(f["elements"], dtype=np.int64)
+    n = len(coords)
+    cut_pts, cut_disp = np.asarray(f["cut_points"], dtype=float), f["cut_disp"]
+    off, parent = np.asarray(f["cut_offsets"], dtype=np.int64), f["cut_element"]
+    parent = np.asarray(parent, dtype=np.int64)
+    sizes = np.diff(off)
+    enr_node = np.asarray(f.get("enrichment", np.zeros(n)), dtype=np.int64)
+    enr_el = enr_node[els].max(axis=1) if len(els) else np.zeros(0, dtype=np.int64)
+    std = np.setdiff1d(np.arange(len(els)), parent)
+    stress = element_stress(res)
+    cracks = [c for c in res.crack_polylines if len(c) >= 2]
+
+    blocks: list[tuple[str, np.ndarray]] = []
+    ids: list[np.ndarray] = []
+    kinds: list[np.ndarray] = []
+    crack_id: list[np.ndarray] = []
+
+    def add(ctype: str, conn: np.ndarray, parent_ids: np.ndarray, kind: int, crack: int) -> None:
+        if len(conn):
+            blocks.append((ctype, conn))
+            ids.append(parent_ids)
+            kinds.append(np.full(len(conn), kind))
+            crack_id.append(np.full(len(conn), crack))
+
+    add("quad", els[std], std, STANDARD, -1)
+    for k in np.unique(sizes):
+        sel = np.flatnonzero(sizes == k)
+        conn = n + off[sel][:, None] + np.arange(k)[None, :]
+        add(_FIXED.get(int(k), "polygon"), conn, parent[sel], CUT, -1)
+    base = n + len(cut_pts)
+    for i, c in enumerate(cracks):
+        seg = base + np.column_stack([np.arange(len(c) - 1), np.arange(1, len(c))])
+        add("line", seg, np.full(len(seg), -1), CRACK, i)
+        base += len(c)
+
+    def per_block(a: np.ndarray) -> list[np.ndarray]:
+        return np.split(a, np.cumsum([len(b[1]) for b in blocks])[:-1])
+
+    id_all = np.concatenate(ids).astype(np.int64)
+    cdata: dict[str, Any] = {
+        "element_id": per_block(id_all),
+        "kind": per_block(np.concatenate(kinds).astype(np.int64)),
+        "enrichment": per_block(np.where(id_all >= 0, enr_el[np.maximum(id_all, 0)], -1)),
+        "crack": per_block(np.concatenate(crack_id).astype(np.int64)),
+    }
+    if stress is not None:
+        s = np.where((id_all >= 0)[:, None], stress[np.maximum(id_all, 0)], 0.0)
+        cdata["stress"] = per_block(s)
+    crack_pts = np.concatenate(cracks) if cracks else np.zeros((0, 2))
+    points = _vec3(np.concatenate([coords, cut_pts, crack_pts]))
+    u = np.asarray(f["u"], dtype=float).reshape(-1, 2)
+    disp = _vec3(np.concatenate([u, np.asarray(cut_disp, dtype=float), np.zeros_like(crack_pts)]))
+    return points, blocks, {"displacement": disp}, cdata
+
+
+def _pd(res: Result) -> _Parts:
+    f = res.fields
+    xy = np.asarray(f["node_xy"], dtype=float)
+    n = len(xy)
+    pdata: dict[str, Any] = {}
+    for key, name in (("u", "displacement"), ("u_final", "displacement_final")):
+        if key in f and len(f[key]) == 2 * n:
+            pdata[name] = _vec3(f[key])
+    pdata.update(pd_point_fields(res))
+    cells = [("vertex", np.arange(n, dtype=np.int64)[:, None])]
+    return _vec3(xy), cells, pdata, {}
+
+
+def series(res: Result) -> list[tuple[float, Any]]:
+    """The time series of ``res`` as (timestep, ``meshio.Mesh``) pairs: XFEM growth runs one per
+    history row, SLA runs one per damage snapshot (see the module docstring); empty otherwise."""
+    meshio = require_meshio("the ParaView time series")
+    f = res.fields
+    out: list[tuple[float, Any]] = []
+    off = np.asarray(f.get("snapshot_offsets", ()), dtype=np.int64)
+    if "snapshot_cells" in f and len(off) > 1:
+        cells, disp = np.asarray(f["snapshot_cells"]), np.asarray(f["snapshot_disp"])
+        rows = len(next(iter(res.history.values()))) if res.history else len(off) - 1
+        first = 1 if rows == len(off) else 0  # the unloaded origin has no snapshot of its own
+        patches = [
+            (cells[off[k] : off[k + 1]], disp[off[k] : off[k + 1]]) for k in range(len(off) - 1)
+        ]
+        if first:
+            patches.insert(0, (patches[0][0], np.zeros_like(patches[0][1])))
+        for row, (c, d) in enumerate(patches):
+            quads = np.arange(4 * len(c), dtype=np.int64).reshape(-1, 4)
+            m = meshio.Mesh(
+                _vec3(c.reshape(-1, 2)),
+                [("quad", quads)],
+                point_data={"displacement": _vec3(d.reshape(-1, 2))},
+            )
+            out.append((float(row), m))
+    steps = np.asarray(f.get("damage_at_steps", ()), dtype=np.int64)
+    if "node_xy" in f and len(steps):
+        xy = _vec3(f["node_xy"])
+        pd_nodes = np.asarray(f["pd_nodes"], dtype=np.int64)
+        is_pd = pd_point_fields(res)["is_pd"]
+        vertices = [("vertex", np.arange(len(xy), dtype=np.int64)[:, None])]
+        for step, dmg in zip(steps, np.asarray(f["damage_at"], dtype=float)):
+            damage = np.zeros(len(xy))
+            damage[pd_nodes] = dmg
+            pdata = {"damage": damage, "is_pd": is_pd}
+            out.append((float(step), meshio.Mesh(xy, vertices, point_data=pdata)))
+    return out
+
+
+def write_meshio_vtu(path: Path, mesh: Any) -> None:
+    """Writes ``mesh`` to ``path`` as a binary, zlib-compressed VTU (meshio opens the file by
+    name, whatever its suffix)."""
+    require_meshio("writing a VTU").write(
+        path, mesh, file_format="vtu", binary=True, compression="zlib"
+    )
+
+
+def write_pvd(f: IO[str], datasets: list[tuple[float, str]]) -> None:
+    """Writes a ParaView collection (``.pvd``) of (timestep, relative VTU path) pairs."""
+    f.write('<?xml version="1.0"?>\n')
+    f.write('<VTKFile type="Collection" version="0.1" byte_order="LittleEndian">\n')
+    f.write("  <Collection>\n")
+    for t, name in datasets:
+        f.write(f'    <DataSet timestep="{t:.17g}" group="" part="0" file={quoteattr(name)}/>\n')
+    f.write("  </Collection>\n")
+    f.write("</VTKFile>\n")
