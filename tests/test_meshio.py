@@ -276,3 +276,31 @@ def test_to_pyvista(fem: rf.Result) -> None:
     grid = fem.to_pyvista()
     assert grid.n_points == len(fem.coords) and grid.n_cells == len(fem.elements)
     np.testing.assert_array_equal(grid.point_data["displacement"][:, :2], fem.displacement)
+
+
+def test_xfem_cells_carry_the_enriched_stress(tmp_path: Path) -> None:
+    # traction grips: far from the crack s22 is the applied traction; the cut cells along the
+    # crack faces near the mouth carry the stress of their own side, which the traction-free
+    # faces make small (LEFM: s22 = 0 on the faces), with s12 of opposite signs on the two sides
+    res = rf.run(rf.scenes.edge_crack_plate("xfem", mesh=(44, 83), bc="traction"))
+    mesh = read_back(res, tmp_path)
+    t = res.sigma22
+    pts = np.asarray(mesh.points)[:, :2]
+    for (ctype, conn), kind, stress in zip(
+        [(b.type, b.data) for b in mesh.cells],
+        mesh.cell_data["kind"],
+        mesh.cell_data["stress"],
+    ):
+        c = pts[conn].mean(axis=1) if ctype != "polygon" else np.array(
+            [pts[row].mean(axis=0) for row in conn]
+        )
+        if kind[0] == _vtk.CUT:
+            faces = (c[:, 0] < 0.6) & (np.abs(c[:, 1] - 10.5) < 0.1)
+            assert faces.any()
+            assert np.all(np.abs(stress[faces, 1]) < 0.05 * t), stress[faces]
+            above = faces & (c[:, 1] > 10.5)
+            below = faces & (c[:, 1] < 10.5)
+            assert np.all(stress[above, 2] * stress[below, 2].mean() < 0)
+        elif kind[0] == _vtk.STANDARD:
+            far = np.abs(c[:, 1] - 3.0) < 0.3
+            assert np.allclose(stress[far, 1], t, rtol=0.02), stress[far, 1]

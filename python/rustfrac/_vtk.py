@@ -18,7 +18,8 @@ What a mesh holds (every vector has 3 components, z = 0, as ParaView expects):
   lines), ``kind`` (0 standard element, 1 cut cell, 2 crack line), ``enrichment`` (the largest
   enrichment of the parent element's nodes: 0 none, 1 Heaviside, 2 tip; -1 for crack lines),
   ``crack`` (the crack index of a line, -1 for elements) and, when the result has Gauss-point
-  stresses, ``stress`` (a cut cell takes its parent element's mean; crack lines 0).
+  stresses, ``stress`` (standard elements: the mean of their Gauss-point stresses; a cut cell:
+  the enriched stress of its own side at its centroid, ``cut_stress``; crack lines 0).
 - PD / CCM-PD: the grid nodes as ``vertex`` cells; point data ``displacement`` (reference load,
   before any break), ``displacement_final`` (after the last break; absent when the body
   separated), ``damage`` (0 at FEM nodes), ``is_pd`` and ``broken_bonds`` (the number of broken
@@ -191,6 +192,11 @@ def _xfem(res: Result) -> _Parts:
     }
     if stress is not None:
         s = np.where((id_all >= 0)[:, None], stress[np.maximum(id_all, 0)], 0.0)
+        if "cut_stress" in f and len(f["cut_stress"]) == len(sizes):
+            # a cut cell carries the enriched stress of its own side (at its centroid)
+            cut_rows = np.concatenate([np.flatnonzero(sizes == k) for k in np.unique(sizes)])
+            start = len(std)
+            s[start : start + len(cut_rows)] = np.asarray(f["cut_stress"], dtype=float)[cut_rows]
         cdata["stress"] = per_block(s)
     crack_pts = np.concatenate(cracks) if cracks else np.zeros((0, 2))
     points = _vec3(np.concatenate([coords, cut_pts, crack_pts]))

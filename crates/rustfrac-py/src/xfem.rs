@@ -7,8 +7,9 @@
 //! (int64), crack (k,2) final polyline, crack_initial, radii (r,5) [radius, K_I, K_II, J_from_K,
 //! J_domain], radii_factor (r,), tips (t,6) [x1, x2, K_I, K_II, J_from_K, J_domain], tip_crack
 //! (t,), cracks (P,2) with cracks_offsets (C+1,), cut_points / cut_disp (P,2) with cut_offsets
-//! (C+1,) and cut_element (C,) (the enriched elements as polygons on each side of the crack with
-//! their own displacements: files), tip_history_<x|y|K_I|K_II|kink_angle|grows>
+//! (C+1,), cut_element (C,) and cut_stress (C,3) (the enriched elements as polygons on each side
+//! of the crack with their own displacements and stresses: files), gauss_points / gauss_stress
+//! (4m,2)/(4m,3) (the enriched stresses at the 2 x 2 Gauss points), tip_history_<x|y|K_I|K_II|kink_angle|grows>
 //! (s,t), deformed_cells / deformed_disp (c,4,2), snapshot_cells / snapshot_disp (C,4,2) with
 //! snapshot_offsets (s+1,) (snapshot k belongs to history row k + 1). History (growth runs,
 //! origin first): load_factor, sigma22, cmod, u0, traction, a, K_I, K_II, kink_angle, tip_x,
@@ -89,6 +90,12 @@ fn mesh_fields(s: &Shaped<'_>, r: &XfemResult) -> PyResult<()> {
     s.fields.set_item("cut_offsets", index_i64(py, &offsets))?;
     s.fields
         .set_item("cut_element", index_i64(py, &r.cut.element))?;
+    s.fields
+        .set_item("cut_stress", arr2(py, r.cut.stress.clone()))?;
+    s.fields
+        .set_item("gauss_points", arr2(py, r.gauss_points.clone()))?;
+    s.fields
+        .set_item("gauss_stress", arr2(py, r.gauss_stress.clone()))?;
     s.fields
         .set_item("deformed_cells", quads(py, r.deformed.cells.clone()))?;
     s.fields

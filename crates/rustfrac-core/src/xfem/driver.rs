@@ -91,6 +91,10 @@ pub struct XfemResult {
     /// own displacements at the reference load (files: [`XfemModel::cut_cells`], 2 x 2 cells per
     /// element)
     pub cut: CutCells,
+    /// the enriched stresses at the 2 x 2 Gauss points of every element (initial crack,
+    /// reference load): points and [s11, s22, s12]
+    pub gauss_points: Vec<[f64; 2]>,
+    pub gauss_stress: Vec<[f64; 3]>,
     /// growth runs: the deformed patch around the growing tip at every critical state
     /// (displacements at the critical load, i.e. scaled by lambda), for Fig. 8b
     pub snapshots: Vec<DeformedPatch>,
@@ -263,6 +267,7 @@ fn initial_result(
     let main = tips[0].1;
     let h_tip = model.tip_element_size(0);
     let deformed = model.deformed_near_tip(&first.u, 0, 5.0 * h_tip, 4)?;
+    let (gauss_points, gauss_stress) = model.gauss_stresses(&first.u);
     let mut tip_nodes: Vec<usize> = model.tip_nodes.iter().flatten().copied().collect();
     tip_nodes.sort_unstable();
     tip_nodes.dedup();
@@ -301,6 +306,8 @@ fn initial_result(
         cracks: model.cracks.iter().map(|c| c.points.clone()).collect(),
         deformed,
         cut: model.cut_cells(&first.u, 2)?,
+        gauss_points,
+        gauss_stress,
         snapshots: Vec::new(),
         condition: first.condition,
         warnings: p

@@ -132,6 +132,10 @@ impl XfemModel {
                                 d
                             })
                             .collect();
+                        let xi = 2.0 * (c[0] - xy[0][0]) / (xy[1][0] - xy[0][0]) - 1.0;
+                        let eta = 2.0 * (c[1] - xy[0][1]) / (xy[3][1] - xy[0][1]) - 1.0;
+                        out.stress
+                            .push(self.stress_at(e, Some(en), xi, eta, u, &mut buf));
                         out.polygons.push(poly);
                         out.disp.push(disp);
                         out.element.push(e);
@@ -170,6 +174,52 @@ pub struct CutCells {
     pub polygons: Vec<Vec<[f64; 2]>>,
     pub disp: Vec<Vec<[f64; 2]>>,
     pub element: Vec<usize>,
+    /// the enriched stress [s11, s22, s12] at each polygon's vertex centroid
+    pub stress: Vec<[f64; 3]>,
+}
+
+impl XfemModel {
+    /// The stress [s11, s22, s12] of the enriched field at (xi, eta) of element `e` (eq. 3
+    /// differentiated: the gradients of every standard, Heaviside and branch function).
+    fn stress_at(
+        &self,
+        e: usize,
+        en: Option<&super::model::EnrElement>,
+        xi: f64,
+        eta: f64,
+        u: &[f64],
+        buf: &mut BasisBuf,
+    ) -> [f64; 3] {
+        self.basis(e, en, xi, eta, buf);
+        let dofs = self.element_dofs(e);
+        let mut eps = [0.0; 3];
+        for (f, g) in buf.grads.iter().enumerate() {
+            let (u1, u2) = (u[dofs[2 * f]], u[dofs[2 * f + 1]]);
+            eps[0] += g[0] * u1;
+            eps[1] += g[1] * u2;
+            eps[2] += g[1] * u1 + g[0] * u2;
+        }
+        crate::fe::q4::stress(&self.material.d_matrix(), &eps)
+    }
+
+    /// The enriched stresses at the 2 x 2 Gauss points of every element (points, stresses; the
+    /// layout of [`crate::fe::FemModel::gauss_stresses`]). In an element the crack crosses, a
+    /// point's stress is its own side's.
+    pub fn gauss_stresses(&self, u: &[f64]) -> (Vec<[f64; 2]>, Vec<[f64; 3]>) {
+        let rule = crate::fe::quadrature::subquad_rule(1, 2);
+        let mut buf = BasisBuf::default();
+        let n = self.mesh.n_elements();
+        let (mut pts, mut sig) = (Vec::with_capacity(4 * n), Vec::with_capacity(4 * n));
+        for e in 0..n {
+            let en = self.enriched(e);
+            let xy = self.mesh.element_coords(e);
+            for q in &rule {
+                pts.push(geometry(&xy, q.xi, q.eta).0);
+                sig.push(self.stress_at(e, en, q.xi, q.eta, u, &mut buf));
+            }
+        }
+        (pts, sig)
+    }
 }
 
 /// Deformed-mesh data for a magnified plot near a tip (Fig. 8b): reference corners of small cells
