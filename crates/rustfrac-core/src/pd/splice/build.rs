@@ -19,12 +19,17 @@ impl SpliceModel {
     /// The model of a PD or CCM-PD problem (its rules checked first, [`validate::problem`]),
     /// pre-cracked by the problem's edge crack ([`Problem::pd_precrack`]).
     pub fn new(p: &Problem) -> Result<Self> {
-        Self::with_precrack(p, p.pd_precrack())
+        Self::build(p, p.pd_precrack(), p.pd_mouth_vertex())
     }
 
     /// [`SpliceModel::new`] with another pre-crack: any polyline (plate coordinates, mouth first;
     /// validated here: inside the plate, passing between grid nodes), e.g. a closed loop.
     pub fn with_precrack(p: &Problem, precrack: Vec<[f64; 2]>) -> Result<Self> {
+        Self::build(p, precrack, 0)
+    }
+
+    /// The model with `precrack`, its CMOD read at vertex `mouth` of the polyline.
+    fn build(p: &Problem, precrack: Vec<[f64; 2]>, mouth: usize) -> Result<Self> {
         validate::problem(p)?;
         let Some(pm) = p.pd() else {
             return Err(Error::invalid(
@@ -54,7 +59,7 @@ impl SpliceModel {
         let (rows_of, cols_of, pattern) = blocks(&grid, &elements, &bonds, &is_pd)?;
         let layers = if all_pd { pm.m } else { 1 };
         let lo = loading(p, layers, &grid)?;
-        let cmod_nodes = precrack::mouth_nodes(&crack, &grid);
+        let cmod_nodes = precrack::mouth_nodes(&crack, mouth, &grid);
         let (node_bond_ptr, node_bonds) = incidence(grid.n_nodes(), &bonds);
         Ok(Self {
             node_bond_ptr,
