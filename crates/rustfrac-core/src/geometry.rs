@@ -336,6 +336,9 @@ mod tests {
         assert!(!segment_meets_polygon([0.0, 0.0], [0.5, 3.0], &sq));
         assert!(point_in_polygon([1.5, 1.5], &sq) && !point_in_polygon([2.5, 1.5], &sq));
         assert_eq!(grid_node_on_segment([0.0, 0.5], [3.0, 0.5], 4, 4), None);
-        assert_eq!(grid_node_on_segment([0.0, 0.5], [3.0, 2.0], 4, 4), Some((1, 1)));
+        assert_eq!(
+            grid_node_on_segment([0.0, 0.5], [3.0, 2.0], 4, 4),
+            Some((1, 1))
+        );
     }
 }

@@ -29,10 +29,7 @@ pub fn problem(p: &Problem) -> Result<()> {
         if matches!(p.method, Method::Fem(_)) && c.side != Side::Left {
             return Err(Error::invalid(
                 &format!("{}.side", crack_name(k)),
-                &format!(
-                    "'left' (method '{}' starts seams there)",
-                    p.method.name()
-                ),
+                &format!("'left' (method '{}' starts seams there)", p.method.name()),
                 format!("'{}'", side_name(c.side)),
             ));
         }
@@ -351,11 +348,7 @@ pub fn reference_load(p: &Problem) -> Result<()> {
 /// along x2), else its angle.
 fn precrack_between_nodes(c: &CrackSpec, d: &Domain, counts: [usize; 2]) -> Result<()> {
     let h = d.width / counts[0] as f64;
-    let line: Vec<[f64; 2]> = c
-        .polyline(d)
-        .iter()
-        .map(|q| [q[0] / h, q[1] / h])
-        .collect();
+    let line: Vec<[f64; 2]> = c.polyline(d).iter().map(|q| [q[0] / h, q[1] / h]).collect();
     for s in line.windows(2) {
         let Some((i, j)) = crate::geometry::grid_node_on_segment(s[0], s[1], counts[0], counts[1])
         else {

@@ -93,36 +93,47 @@ pub(super) fn broken_bonds(crack: &[[f64; 2]], grid: &Grid, bonds: &[Bond]) -> V
 }
 
 /// (node below, node above, unit normal) at the crack mouth (vertex `at` of the polyline: the
-/// first point of an edge crack, the centre of a centre crack): the nearest grid node on each
-/// side of the segment starting there, for the CMOD; None without a pre-crack.
+/// first point of an edge crack, the centre of a centre crack), [`nodes_across`] the segment
+/// starting there, for the CMOD; None without a pre-crack.
 pub(super) fn mouth_nodes(
     crack: &[[f64; 2]],
     at: usize,
     grid: &Grid,
 ) -> Option<(usize, usize, [f64; 2])> {
-    let (nx, ny) = (grid.nx, grid.ny);
     if crack.len() >= at + 2 {
-        let (a, b) = (crack[at], crack[at + 1]);
-        let l = ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2)).sqrt();
-        let nrm = [-(b[1] - a[1]) / l, (b[0] - a[0]) / l];
-        let mut best = [(f64::INFINITY, usize::MAX); 2];
-        let (ic, jc) = (a[0].round() as i64, a[1].round() as i64);
-        for j in (jc - 2).max(0)..=(jc + 2).min(ny as i64) {
-            for i in (ic - 2).max(0)..=(ic + 2).min(nx as i64) {
-                let p = [i as f64, j as f64];
-                let side = (p[0] - a[0]) * nrm[0] + (p[1] - a[1]) * nrm[1];
-                let d = (p[0] - a[0]).powi(2) + (p[1] - a[1]).powi(2);
-                let k = usize::from(side > 0.0);
-                if d < best[k].0 {
-                    best[k] = (d, grid.node(i as usize, j as usize));
-                }
+        nodes_across(crack[at], crack[at + 1], crack[at], grid)
+    } else {
+        None
+    }
+}
+
+/// (node below, node above, unit normal n) across the crack segment a-b at its point `x` (grid
+/// units): the grid node nearest x on each side of the segment's line (within 2 cells), n the
+/// left normal of a -> b ("above" is its side).
+pub(super) fn nodes_across(
+    a: [f64; 2],
+    b: [f64; 2],
+    x: [f64; 2],
+    grid: &Grid,
+) -> Option<(usize, usize, [f64; 2])> {
+    let (nx, ny) = (grid.nx, grid.ny);
+    let l = ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2)).sqrt();
+    let nrm = [-(b[1] - a[1]) / l, (b[0] - a[0]) / l];
+    let mut best = [(f64::INFINITY, usize::MAX); 2];
+    let (ic, jc) = (x[0].round() as i64, x[1].round() as i64);
+    for j in (jc - 2).max(0)..=(jc + 2).min(ny as i64) {
+        for i in (ic - 2).max(0)..=(ic + 2).min(nx as i64) {
+            let p = [i as f64, j as f64];
+            let side = (p[0] - a[0]) * nrm[0] + (p[1] - a[1]) * nrm[1];
+            let d = (p[0] - x[0]).powi(2) + (p[1] - x[1]).powi(2);
+            let k = usize::from(side > 0.0);
+            if d < best[k].0 {
+                best[k] = (d, grid.node(i as usize, j as usize));
             }
         }
-        if best[0].1 != usize::MAX && best[1].1 != usize::MAX {
-            Some((best[0].1, best[1].1, nrm))
-        } else {
-            None
-        }
+    }
+    if best[0].1 != usize::MAX && best[1].1 != usize::MAX {
+        Some((best[0].1, best[1].1, nrm))
     } else {
         None
     }
