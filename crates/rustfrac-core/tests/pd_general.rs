@@ -317,7 +317,7 @@ fn pd_hole_under_tension_follows_kirsch() {
     let (mh, uh, rh) = solve(true);
     let (_, u0, r0) = solve(false);
     let removed = mh.material.iter().filter(|&&m| !m).count();
-    assert!(removed > 0 && mh.bonds.len() > 0);
+    assert!(removed > 0 && !mh.bonds.is_empty());
     // no bond through the hole
     for b in &mh.bonds {
         let (p, q) = (mh.grid.xy(b.i as usize), mh.grid.xy(b.j as usize));

@@ -94,6 +94,7 @@ fn local_size(mesh: &Mesh, p: [f64; 2]) -> f64 {
     cell(&mesh.xs, p[0]).max(cell(&mesh.ys, p[1]))
 }
 
+#[allow(clippy::type_complexity)]
 fn nodes_of(
     mesh: &Mesh,
     active: &[bool],
