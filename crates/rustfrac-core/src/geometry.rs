@@ -113,15 +113,25 @@ pub fn segment_meets_circle(a: [f64; 2], b: [f64; 2], c: [f64; 2], r: f64) -> bo
 }
 
 /// Does the segment a-b pass through the interior of the simple polygon `v`: an end or its
-/// midpoint inside, or a proper crossing (ends strictly on both sides) with an edge? A segment
-/// along an edge or touching a vertex from outside does not (a segment from vertex to vertex
-/// through a non-convex polygon's interior is caught by its midpoint only).
+/// midpoint strictly inside (farther than 1e-12 of the polygon's size from its edges), or a
+/// proper crossing (ends strictly on both sides) with an edge? A segment along an edge or
+/// touching a vertex from outside does not (a segment from vertex to vertex through a
+/// non-convex polygon's interior is caught by its midpoint only).
 pub fn segment_meets_polygon(a: [f64; 2], b: [f64; 2], v: &[[f64; 2]]) -> bool {
+    let n = v.len();
+    let size = v
+        .iter()
+        .flat_map(|p| p.iter())
+        .fold(0.0f64, |s, &x| s.max(x.abs()))
+        .max(f64::MIN_POSITIVE);
+    let strictly_inside = |p: [f64; 2]| {
+        point_in_polygon(p, v)
+            && (0..n).all(|i| point_segment_distance(p, v[i], v[(i + 1) % n]) > 1e-12 * size)
+    };
     let mid = [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
-    if point_in_polygon(a, v) || point_in_polygon(b, v) || point_in_polygon(mid, v) {
+    if strictly_inside(a) || strictly_inside(b) || strictly_inside(mid) {
         return true;
     }
-    let n = v.len();
     (0..n).any(|i| {
         let (c, d) = (v[i], v[(i + 1) % n]);
         orient(a, b, c) * orient(a, b, d) < 0.0 && orient(c, d, a) * orient(c, d, b) < 0.0
@@ -332,6 +342,7 @@ mod tests {
         assert!(segment_meets_polygon([0.0, 1.5], [3.0, 1.5], &sq));
         assert!(segment_meets_polygon([0.0, 0.0], [3.0, 3.0], &sq)); // vertex to vertex
         assert!(!segment_meets_polygon([0.0, 1.0], [3.0, 1.0], &sq)); // along an edge
+        assert!(!segment_meets_polygon([0.0, 2.0], [3.0, 2.0], &sq)); // along the other one
         assert!(!segment_meets_polygon([0.0, 2.0], [1.0, 3.0], &sq)); // touches a vertex
         assert!(!segment_meets_polygon([0.0, 0.0], [0.5, 3.0], &sq));
         assert!(point_in_polygon([1.5, 1.5], &sq) && !point_in_polygon([2.5, 1.5], &sq));
