@@ -92,6 +92,78 @@ pub fn bond_crosses(p: [f64; 2], q: [f64; 2], a: [f64; 2], b: [f64; 2]) -> bool 
     (o3 <= t2 && o4 >= -t2) || (o3 >= -t2 && o4 <= t2)
 }
 
+/// Is `p` inside the closed polygon `v` (even-odd rule; a point on an edge may go either way)?
+pub fn point_in_polygon(p: [f64; 2], v: &[[f64; 2]]) -> bool {
+    let n = v.len();
+    let mut inside = false;
+    for i in 0..n {
+        let (a, b) = (v[i], v[(i + 1) % n]);
+        if (a[1] > p[1]) != (b[1] > p[1])
+            && p[0] < a[0] + (p[1] - a[1]) * (b[0] - a[0]) / (b[1] - a[1])
+        {
+            inside = !inside;
+        }
+    }
+    inside
+}
+
+/// Does the segment a-b pass through the open disc of centre `c` and radius `r` (its distance to
+/// the centre below r; a tangent segment does not)?
+pub fn segment_meets_circle(a: [f64; 2], b: [f64; 2], c: [f64; 2], r: f64) -> bool {
+    point_segment_distance(c, a, b) < r
+}
+
+/// Does the segment a-b pass through the interior of the simple polygon `v`: an end or its
+/// midpoint strictly inside (farther than 1e-12 of the polygon's size from its edges), or a
+/// proper crossing (ends strictly on both sides) with an edge? A segment along an edge or
+/// touching a vertex from outside does not (a segment from vertex to vertex through a
+/// non-convex polygon's interior is caught by its midpoint only).
+pub fn segment_meets_polygon(a: [f64; 2], b: [f64; 2], v: &[[f64; 2]]) -> bool {
+    let n = v.len();
+    let size = v
+        .iter()
+        .flat_map(|p| p.iter())
+        .fold(0.0f64, |s, &x| s.max(x.abs()))
+        .max(f64::MIN_POSITIVE);
+    let strictly_inside = |p: [f64; 2]| {
+        point_in_polygon(p, v)
+            && (0..n).all(|i| point_segment_distance(p, v[i], v[(i + 1) % n]) > 1e-12 * size)
+    };
+    let mid = [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
+    if strictly_inside(a) || strictly_inside(b) || strictly_inside(mid) {
+        return true;
+    }
+    (0..n).any(|i| {
+        let (c, d) = (v[i], v[(i + 1) % n]);
+        orient(a, b, c) * orient(a, b, d) < 0.0 && orient(c, d, a) * orient(c, d, b) < 0.0
+    })
+}
+
+/// The first grid node (i, j) of the grid 0..=nx x 0..=ny (grid units: node (i, j) at (i, j))
+/// within 1e-9 of the segment a-b (None: the segment passes between the nodes).
+pub fn grid_node_on_segment(
+    a: [f64; 2],
+    b: [f64; 2],
+    nx: usize,
+    ny: usize,
+) -> Option<(usize, usize)> {
+    let (i0, i1) = (a[0].min(b[0]).floor() as i64, a[0].max(b[0]).ceil() as i64);
+    let (j0, j1) = (a[1].min(b[1]).floor() as i64, a[1].max(b[1]).ceil() as i64);
+    let l2 = (b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2);
+    for j in j0.max(0)..=j1.min(ny as i64) {
+        for i in i0.max(0)..=i1.min(nx as i64) {
+            let p = [i as f64, j as f64];
+            let t = (((p[0] - a[0]) * (b[0] - a[0]) + (p[1] - a[1]) * (b[1] - a[1])) / l2)
+                .clamp(0.0, 1.0);
+            let c = [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
+            if ((p[0] - c[0]).powi(2) + (p[1] - c[1]).powi(2)).sqrt() < 1e-9 {
+                return Some((i as usize, j as usize));
+            }
+        }
+    }
+    None
+}
+
 /// The first pair of edges (i, j) of a closed polygon that touch or cross other than at a shared
 /// vertex of neighbouring edges (None: the polygon is simple). O(n^2).
 pub fn self_intersection(v: &[[f64; 2]]) -> Option<(usize, usize)> {
@@ -403,5 +475,28 @@ mod tests {
         assert_eq!(t.len(), 4);
         let at: f64 = t.iter().map(|t| polygon_area(t)).sum();
         assert!((at - 3.0).abs() < 1e-15 && t.iter().all(|t| polygon_area(t) > 0.0));
+    }
+
+    #[test]
+    fn segments_through_holes_and_grid_nodes() {
+        let c = [1.0, 1.0];
+        assert!(segment_meets_circle([0.0, 1.2], [2.0, 1.2], c, 0.5));
+        // tangent: not through the disc
+        assert!(!segment_meets_circle([0.0, 1.5], [2.0, 1.5], c, 0.5));
+        // the segment ends before the disc
+        assert!(!segment_meets_circle([0.0, 1.0], [0.4, 1.0], c, 0.5));
+        let sq = [[1.0, 1.0], [2.0, 1.0], [2.0, 2.0], [1.0, 2.0]];
+        assert!(segment_meets_polygon([0.0, 1.5], [3.0, 1.5], &sq));
+        assert!(segment_meets_polygon([0.0, 0.0], [3.0, 3.0], &sq)); // vertex to vertex
+        assert!(!segment_meets_polygon([0.0, 1.0], [3.0, 1.0], &sq)); // along an edge
+        assert!(!segment_meets_polygon([0.0, 2.0], [3.0, 2.0], &sq)); // along the other one
+        assert!(!segment_meets_polygon([0.0, 2.0], [1.0, 3.0], &sq)); // touches a vertex
+        assert!(!segment_meets_polygon([0.0, 0.0], [0.5, 3.0], &sq));
+        assert!(point_in_polygon([1.5, 1.5], &sq) && !point_in_polygon([2.5, 1.5], &sq));
+        assert_eq!(grid_node_on_segment([0.0, 0.5], [3.0, 0.5], 4, 4), None);
+        assert_eq!(
+            grid_node_on_segment([0.0, 0.5], [3.0, 2.0], 4, 4),
+            Some((1, 1))
+        );
     }
 }

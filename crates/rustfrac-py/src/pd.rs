@@ -135,6 +135,9 @@ fn meta(s: &Shaped<'_>, r: &CcmPdResult, p: &Problem, wall: f64) -> PyResult<()>
         m.set_item("bc_description", d)?;
     }
     s.anchor(p, r.anchor_node)?;
+    // the general scene's responses of the pre-cracked model before any break (the history's
+    // sigma22 and u0 follow every break)
+    s.responses(p, &r.responses)?;
     if m.get_item("anchor_node")?.is_some_and(|a| a.is_none()) {
         m.set_item("anchor_xy", py.None())?;
     } else {

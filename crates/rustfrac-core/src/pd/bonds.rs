@@ -68,6 +68,17 @@ impl Grid {
 /// stored once: a PD-PD bond once with i < j, a PD-FEM bond once with i the PD node. Cell binning on
 /// the grid (one node per bin) with the fixed family stencil: O(N). Parallel over source rows.
 pub fn find_bonds(grid: &Grid, m: usize, is_pd: &[bool]) -> Result<Vec<Bond>> {
+    find_bonds_where(grid, m, is_pd, &|_, _| true)
+}
+
+/// [`find_bonds`] keeping only the bonds (a, b) with `exists(a, b)` (holes: no bond through a
+/// hole or to a removed node, `pd::splice::holes`).
+pub fn find_bonds_where(
+    grid: &Grid,
+    m: usize,
+    is_pd: &[bool],
+    exists: &(dyn Fn(usize, usize) -> bool + Sync),
+) -> Result<Vec<Bond>> {
     if is_pd.len() != grid.n_nodes() {
         return Err(Error::SizeMismatch {
             what: "PD node mask".into(),
@@ -101,7 +112,7 @@ pub fn find_bonds(grid: &Grid, m: usize, is_pd: &[bool]) -> Result<Vec<Bond>> {
                         (true, false) => true,
                         _ => false,
                     };
-                    if keep {
+                    if keep && exists(a, b) {
                         out.push(Bond {
                             i: a as u32,
                             j: b as u32,

@@ -15,7 +15,7 @@ pub mod partial_volume;
 pub mod sla;
 pub mod splice;
 
-pub use bonds::{damage, find_bonds, Bond, Grid, BYTES_PER_BOND};
+pub use bonds::{damage, find_bonds, find_bonds_where, Bond, Grid, BYTES_PER_BOND};
 pub use constants::{check_material, gamma, PdConstants};
 pub use partial_volume::{cell_fraction, family_stencil, rect_disc_area, StencilEntry};
 

@@ -472,13 +472,30 @@ impl Problem {
         }
     }
 
-    /// The PD pre-crack: the polyline (mouth first) of the first edge crack, empty for none.
+    /// The PD pre-crack: the polyline of the first crack, empty for none: (mouth, tip) of an
+    /// edge crack, (tip, centre, tip) of a centre crack (its middle vertex is where the CMOD is
+    /// read, [`Problem::pd_mouth_vertex`]).
     pub fn pd_precrack(&self) -> Vec<[f64; 2]> {
-        self.cracks
-            .iter()
-            .find(|c| c.kind == CrackKind::Edge)
-            .map(|c| c.polyline(&self.domain))
-            .unwrap_or_default()
+        let Some(c) = self.cracks.first() else {
+            return Vec::new();
+        };
+        let line = c.polyline(&self.domain);
+        match c.kind {
+            CrackKind::Center => {
+                let mid = [c.x, c.y];
+                vec![line[0], mid, line[1]]
+            }
+            _ => line,
+        }
+    }
+
+    /// The vertex of [`Problem::pd_precrack`] where the crack-mouth opening is read: 0 (the
+    /// mouth) for edge cracks, 1 (the centre) for centre cracks.
+    pub fn pd_mouth_vertex(&self) -> usize {
+        match self.cracks.first() {
+            Some(c) if c.kind == CrackKind::Center => 1,
+            _ => 0,
+        }
     }
 
     /// The PD options of "pd" and "ccm_pd" (panics for another method: a programming error).

@@ -6,6 +6,7 @@
 //! so that a refusal made while building a model names the entry to change.
 
 use crate::fe::mesh::Side;
+use crate::geometry;
 
 /// A hole's shape; its level set ([`Shape::level_set`]) is negative inside.
 #[derive(Debug, Clone, PartialEq)]
@@ -38,24 +39,32 @@ impl Shape {
                 }
             }
             Shape::Polygon(v) => {
-                let n = v.len();
-                let mut d = f64::INFINITY;
-                let mut inside = false;
-                for i in 0..n {
-                    let (a, b) = (v[i], v[(i + 1) % n]);
-                    d = d.min(crate::geometry::point_segment_distance(p, a, b));
-                    if (a[1] > p[1]) != (b[1] > p[1])
-                        && p[0] < a[0] + (p[1] - a[1]) * (b[0] - a[0]) / (b[1] - a[1])
-                    {
-                        inside = !inside;
-                    }
-                }
-                if inside {
+                let d = (0..v.len())
+                    .map(|i| geometry::point_segment_distance(p, v[i], v[(i + 1) % v.len()]))
+                    .fold(f64::INFINITY, f64::min);
+                if geometry::point_in_polygon(p, v) {
                     -d
                 } else {
                     d
                 }
             }
+        }
+    }
+
+    /// Does the segment a-b pass through the shape's interior (a PD bond through a hole does not
+    /// exist)? Circles: its distance to the centre below the radius; rectangles and polygons:
+    /// [`geometry::segment_meets_polygon`].
+    pub fn cuts_segment(&self, a: [f64; 2], b: [f64; 2]) -> bool {
+        match self {
+            Shape::Circle { center, radius } => {
+                geometry::segment_meets_circle(a, b, *center, *radius)
+            }
+            Shape::Rect { min, max } => geometry::segment_meets_polygon(
+                a,
+                b,
+                &[*min, [max[0], min[1]], *max, [min[0], max[1]]],
+            ),
+            Shape::Polygon(v) => geometry::segment_meets_polygon(a, b, v),
         }
     }
 

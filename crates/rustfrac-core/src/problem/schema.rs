@@ -37,7 +37,7 @@ pub fn crack_kinds(method: &str) -> &'static [&'static str] {
     match method {
         "fem" => &["none", "seam"],
         "xfem" => &["edge", "center"],
-        _ => &["none", "edge"],
+        _ => &["none", "edge", "center"],
     }
 }
 /// The crack kind of a scene without a `[crack]` section: the paper's crack, as a seam for FEM.

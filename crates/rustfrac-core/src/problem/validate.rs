@@ -26,26 +26,24 @@ pub fn problem(p: &Problem) -> Result<()> {
     let d = &p.domain;
     for (k, c) in p.cracks.iter().enumerate() {
         crack_geometry(c, d, &crack_name(k))?;
-        if !matches!(p.method, Method::Xfem(_)) && c.side != Side::Left {
+        if matches!(p.method, Method::Fem(_)) && c.side != Side::Left {
             return Err(Error::invalid(
                 &format!("{}.side", crack_name(k)),
-                &format!(
-                    "'left' (method '{}' starts edge cracks there)",
-                    p.method.name()
-                ),
+                &format!("'left' (method '{}' starts seams there)", p.method.name()),
                 format!("'{}'", side_name(c.side)),
             ));
         }
     }
     cracks_apart(p)?;
     super::general::check(p)?;
-    if !matches!(p.method, Method::Xfem(_)) {
+    if matches!(p.method, Method::Fem(_)) {
         if let Some(c) = p.cracks.first() {
             if c.angle != 0.0 {
                 return Err(Error::invalid(
                     "crack.angle",
                     &format!(
-                        "0 for method '{}' (cracks along x1; inclined cracks need method 'xfem')",
+                        "0 for method '{}' (seams along x1; inclined cracks need method 'xfem', \
+                         'pd' or 'ccm_pd')",
                         p.method.name()
                     ),
                     c.angle,
@@ -345,6 +343,42 @@ pub fn reference_load(p: &Problem) -> Result<()> {
     Ok(())
 }
 
+/// A PD pre-crack passes between the grid nodes (a node on it has no bonds to cut on one side):
+/// the culprit is the crack's offset across itself (`crack.y` for cracks along x1, `crack.x`
+/// along x2), else its angle.
+fn precrack_between_nodes(c: &CrackSpec, d: &Domain, counts: [usize; 2]) -> Result<()> {
+    let h = d.width / counts[0] as f64;
+    let line: Vec<[f64; 2]> = c.polyline(d).iter().map(|q| [q[0] / h, q[1] / h]).collect();
+    for s in line.windows(2) {
+        let Some((i, j)) = crate::geometry::grid_node_on_segment(s[0], s[1], counts[0], counts[1])
+        else {
+            continue;
+        };
+        let along_x1 = (s[1][1] - s[0][1]).abs() <= 1e-12 * (s[1][0] - s[0][0]).abs();
+        let along_x2 = (s[1][0] - s[0][0]).abs() <= 1e-12 * (s[1][1] - s[0][1]).abs();
+        let (key, v) = if along_x1 {
+            ("crack.y", c.y)
+        } else if along_x2 {
+            ("crack.x", c.x)
+        } else {
+            ("crack.angle", c.angle)
+        };
+        return Err(Error::invalid(
+            key,
+            &format!(
+                "a pre-crack passing between the PD grid nodes (dx = {h:.6}), as the paper's \
+                 x2 = 10.5 with dx = 1/15"
+            ),
+            format!(
+                "{v} (the crack passes through the node at ({:.6}, {:.6}))",
+                i as f64 * h,
+                j as f64 * h
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// The crack lies inside the plate (tips strictly inside, edge cracks pointing inwards).
 fn crack_geometry(c: &CrackSpec, d: &Domain, pre: &str) -> Result<()> {
     let (w, h) = (d.width, d.height);
@@ -555,32 +589,32 @@ fn peridynamics(p: &Problem, pd: &PdMethod) -> Result<()> {
         }
     }
     if let (Some(c), Some(r)) = (p.cracks.first(), pd.regions.first()) {
-        let around = |r: &[f64; 4]| r[0] <= c.a0 && c.a0 <= r[2] && r[1] <= c.y && c.y <= r[3];
-        if !pd.regions.iter().any(around) {
-            return Err(Error::invalid(
-                "pd.center",
-                &format!(
-                    "a PD rectangle [{:.6}, {:.6}] x [{:.6}, {:.6}] around the crack tip",
-                    r[0], r[2], r[1], r[3]
-                ),
-                format!("the tip at ({}, {})", c.a0, c.y),
-            ));
+        // the tips grow in PD; the rest of the crack may cross the FEM part, where the elements
+        // it cuts are removed (`pd::splice::precrack`)
+        let line = c.polyline(d);
+        let tips: Vec<[f64; 2]> = match c.kind {
+            CrackKind::Center => line.clone(),
+            _ => vec![line[line.len() - 1]],
+        };
+        let inside = |r: &[f64; 4], q: [f64; 2]| {
+            r[0] <= q[0] && q[0] <= r[2] && r[1] <= q[1] && q[1] <= r[3]
+        };
+        for tip in tips {
+            if !pd.regions.iter().any(|r| inside(r, tip)) {
+                return Err(Error::invalid(
+                    "pd.center",
+                    &format!(
+                        "a PD rectangle [{:.6}, {:.6}] x [{:.6}, {:.6}] around the crack tip \
+                         (move the rectangle, or the tip: crack.a0, crack.y, crack.angle)",
+                        r[0], r[2], r[1], r[3]
+                    ),
+                    format!("the tip at ({:.6}, {:.6})", tip[0], tip[1]),
+                ));
+            }
         }
     }
     if let Some(c) = p.cracks.first() {
-        // a pre-crack along a row of grid nodes has no bonds to cut on one side
-        let rows = c.y / pd.dx;
-        if (rows - rows.round()).abs() <= 1e-9 * rows.max(1.0) {
-            return Err(Error::invalid(
-                "crack.y",
-                &format!(
-                    "a pre-crack line between two rows of PD nodes (dx = {:.6}), as the \
-                     paper's x2 = 10.5 with dx = 1/15",
-                    pd.dx
-                ),
-                format!("{} (node row {})", c.y, rows.round()),
-            ));
-        }
+        precrack_between_nodes(c, d, counts)?;
     }
     Ok(())
 }

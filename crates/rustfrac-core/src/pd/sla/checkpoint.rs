@@ -66,7 +66,7 @@ impl Fnv {
 
 /// Fingerprint of everything that determines an SLA's sequence of floating-point operations: the
 /// model (method, plate, grid, horizon, material, G0, PD rectangles, pre-crack polyline, the load
-/// that acts) and the solver options (fast, refactor_every, tie_tol), plus the built model's
+/// that acts; holes and supports and loads on regions, as their full description) and the solver options (fast, refactor_every, tie_tol), plus the built model's
 /// counts. The step limit, stop length, damage snapshots and checkpoint options may change
 /// between the runs.
 pub fn fingerprint(p: &Problem, precrack: &[[f64; 2]], n_dofs: usize, n_bonds: usize) -> u64 {
@@ -105,6 +105,14 @@ pub fn fingerprint(p: &Problem, precrack: &[[f64; 2]], n_dofs: usize, n_bonds: u
     h.f64(sla.tie_tol);
     h.u64(n_dofs as u64);
     h.u64(n_bonds as u64);
+    // general scenes: the holes and the supports and loads on regions (nothing is hashed for
+    // the paper's plate, so its fingerprints stay)
+    if !d.holes.is_empty() {
+        h.str(&format!("{:?}", d.holes));
+    }
+    if let crate::problem::Boundary::Regions { supports, loads } = &p.boundary {
+        h.str(&format!("{supports:?}{loads:?}"));
+    }
     h.finish()
 }
 

@@ -17,7 +17,6 @@ use super::memory::{keep_large_blocks_mmapped, peak_memory_bytes};
 use super::oracle::Oracle;
 use super::result::{CcmPdResult, SlaStatus, SlaStep};
 use crate::error::{Error, Result};
-use crate::fe::loading::Grip;
 use crate::la::CscMatrix;
 use crate::pd::splice::{SpliceModel, Spring, StaticSolution};
 use crate::pd::{damage, BYTES_PER_BOND, DENSE_LIMIT};
@@ -65,6 +64,7 @@ fn run_from(
     let u0_full = engine.full_u()?;
     let sol0 = model.postprocess(&k0, u0_full, 0.0);
     drop(k0);
+    let responses = model.scene_responses(&sol0.u, &sol0.reactions)?;
     let fp = checkpoint::fingerprint(
         &model.problem,
         &model.precrack,
@@ -98,7 +98,9 @@ fn run_from(
         setup_seconds,
         sla_seconds,
     };
-    Ok(results(model, st, sol0, u_final, info))
+    let mut r = results(model, st, sol0, u_final, info);
+    r.responses = responses;
+    Ok(r)
 }
 
 /// The solver: the fast one when asked for and its dense condensed system fits
@@ -250,7 +252,7 @@ impl RunState {
             };
             // under displacement grips a cut load path leaves both parts held by their own grip:
             // the system stays regular but carries no load any more
-            if load.grip != Grip::Traction && st.sigma22.abs() <= 1e-9 * sigma0.abs() {
+            if model.response.displacement_driven && st.sigma22.abs() <= 1e-9 * sigma0.abs() {
                 self.status = SlaStatus::Separated;
                 break;
             }
@@ -261,6 +263,11 @@ impl RunState {
                 self.status = SlaStatus::NoBondInTension;
                 break;
             };
+            // the load displacement at the reference load (before the break changes u)
+            let u0_ref = model
+                .response
+                .load_displacement(engine.u())
+                .unwrap_or(load.u0);
             let first = sel[0];
             let (detached, sep) =
                 advance(model, engine, &mut self.broken, &mut self.grounding, &sel)?;
@@ -273,7 +280,7 @@ impl RunState {
                 lambda: lmin,
                 sigma22: lmin * st.sigma22,
                 cmod: lmin * st.cmod,
-                u0: lmin * load.u0,
+                u0: lmin * u0_ref,
                 bonds: sel,
                 nodes: [bf.i as usize, bf.j as usize],
                 detached,
@@ -469,7 +476,7 @@ fn results(
     let nn = model.grid.n_nodes();
     CcmPdResult {
         method: model.problem.method.name().into(),
-        grip: model.problem.boundary.plate_load().grip.name().into(),
+        grip: model.problem.boundary.name().into(),
         solver: info.solver,
         u: sol0.u,
         u_final,
@@ -488,6 +495,7 @@ fn results(
         sigma22: sol0.sigma22,
         cmod: sol0.cmod,
         out_of_balance: sol0.out_of_balance,
+        responses: Default::default(),
         anchor_node: model.anchor,
         anchor_xy: model.grid.xy(model.anchor),
         history: st.history,

@@ -112,6 +112,9 @@ pub struct CcmPdResult {
     /// the node carrying u1 = 0 (grip "free") and its coordinates
     pub anchor_node: usize,
     pub anchor_xy: [f64; 2],
+    /// supports, loads and probes of a general scene at the reference load, pre-cracked, before
+    /// any SLA break (empty for the grips); `scaled(lambda)` gives them at a step's load
+    pub responses: crate::fe::regions::SceneResponses,
     /// one row per step (the origin is [`CcmPdResult::origin`])
     pub history: Vec<SlaStep>,
     /// the pre-crack's length (the history's origin)

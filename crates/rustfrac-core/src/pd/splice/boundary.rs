@@ -3,13 +3,17 @@
 //! the pure PD model the displacement conditions act on volumetric boundary layers of m node rows
 //! (thickness m dx = delta) at the top and bottom, the usual choice that gives edge nodes a full
 //! family of prescribed neighbours. The u1 anchor of the "free" grip is the bottom-right corner
-//! node (reported).
+//! node (reported). Supports and loads on regions: `regions.rs`. Nodes removed by holes
+//! (`holes.rs`) are fixed to zero (both dofs) in either case.
 
+use super::regions::region_loading;
+use super::response::Response;
 use crate::error::Result;
-use crate::fe::loading::{plate_conditions, tributary_lengths, PlateEdges};
+use crate::fe::loading::{plate_conditions, tributary_lengths, Grip, PlateEdges};
+use crate::fe::regions::RegionConditions;
 use crate::fe::Dirichlet;
 use crate::pd::Grid;
-use crate::problem::Problem;
+use crate::problem::{Boundary, Problem};
 
 /// The loading of a model: the loaded node rows, the displacement conditions, the external forces
 /// (traction grip), the anchor node and the constrained dofs with their reference values.
@@ -20,16 +24,51 @@ pub(super) struct Loading {
     pub(super) anchor: usize,
     pub(super) mask: Vec<bool>,
     pub(super) prescribed: Vec<f64>,
+    /// supports and loads on regions (None: the grips)
+    pub(super) regions: Option<RegionConditions>,
+    /// the history's load responses
+    pub(super) response: Response,
 }
 
 /// The loading of `p` on `grid` ([`crate::fe::loading::plate_conditions`] on [`edges`] of
 /// `layers` node rows: 1 for the coupled model, m for pure PD).
-pub(super) fn loading(p: &Problem, layers: usize, grid: &Grid) -> Result<Loading> {
+pub(super) fn loading(
+    p: &Problem,
+    layers: usize,
+    grid: &Grid,
+    material: &[bool],
+) -> Result<Loading> {
     let ndof = 2 * grid.n_nodes();
-    let edges = edges(layers, grid);
-    let load = p.boundary.plate_load();
-    let (bc, f, anchor) = plate_conditions(&edges, &load, ndof, p.material.elastic.thickness)?;
-    let (mask, prescribed) = bc.to_mask(ndof)?;
+    let thickness = p.material.elastic.thickness;
+    let (edges, bc, f, anchor, regions, response) = match &p.boundary {
+        Boundary::Grips(_) => {
+            let edges = edges(layers, grid);
+            let load = p.boundary.plate_load();
+            let (bc, f, anchor) = plate_conditions(&edges, &load, ndof, thickness)?;
+            let driven = load.grip != Grip::Traction;
+            let response = Response::grips(&edges, p.domain.width, thickness, driven);
+            (edges, bc, f, anchor, None, response)
+        }
+        Boundary::Regions { supports, loads } => {
+            let rc = region_loading(
+                grid, &p.domain, material, supports, loads, layers, thickness,
+            )?;
+            let response = Response::regions(&rc, supports.len(), thickness);
+            let edges = PlateEdges {
+                top: Vec::new(),
+                bottom: Vec::new(),
+                top_len: Vec::new(),
+                bottom_len: Vec::new(),
+            };
+            (edges, rc.bc.clone(), rc.f.clone(), 0, Some(rc), response)
+        }
+    };
+    let (mut mask, prescribed) = bc.to_mask(ndof)?;
+    // removed nodes take part in no equation
+    for (n, _) in material.iter().enumerate().filter(|(_, &m)| !m) {
+        mask[2 * n] = true;
+        mask[2 * n + 1] = true;
+    }
     Ok(Loading {
         edges,
         bc,
@@ -37,6 +76,8 @@ pub(super) fn loading(p: &Problem, layers: usize, grid: &Grid) -> Result<Loading
         anchor,
         mask,
         prescribed,
+        regions,
+        response,
     })
 }
 

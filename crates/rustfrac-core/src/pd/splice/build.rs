@@ -4,6 +4,7 @@
 //! node -> bonds incidence. The problem's rules are checked first ([`validate::problem`]).
 
 use super::boundary::loading;
+use super::holes;
 use super::precrack;
 use super::SpliceModel;
 use crate::error::{Error, Result};
@@ -11,7 +12,10 @@ use crate::fe::q4::element_stiffness;
 use crate::fe::quadrature::subquad_rule;
 use crate::la::Pattern;
 use crate::memory;
-use crate::pd::{family_stencil, find_bonds, Bond, Grid, PdConstants, BYTES_PER_BOND, DENSE_LIMIT};
+use crate::pd::{
+    family_stencil, find_bonds, find_bonds_where, Bond, Grid, PdConstants, BYTES_PER_BOND,
+    DENSE_LIMIT,
+};
 use crate::problem::{validate, Method, PdMethod, Problem};
 use crate::warning::{Warning, WarningKind};
 
@@ -19,12 +23,17 @@ impl SpliceModel {
     /// The model of a PD or CCM-PD problem (its rules checked first, [`validate::problem`]),
     /// pre-cracked by the problem's edge crack ([`Problem::pd_precrack`]).
     pub fn new(p: &Problem) -> Result<Self> {
-        Self::with_precrack(p, p.pd_precrack())
+        Self::build(p, p.pd_precrack(), p.pd_mouth_vertex())
     }
 
     /// [`SpliceModel::new`] with another pre-crack: any polyline (plate coordinates, mouth first;
     /// validated here: inside the plate, passing between grid nodes), e.g. a closed loop.
     pub fn with_precrack(p: &Problem, precrack: Vec<[f64; 2]>) -> Result<Self> {
+        Self::build(p, precrack, 0)
+    }
+
+    /// The model with `precrack`, its CMOD read at vertex `mouth` of the polyline.
+    fn build(p: &Problem, precrack: Vec<[f64; 2]>, mouth: usize) -> Result<Self> {
         validate::problem(p)?;
         let Some(pm) = p.pd() else {
             return Err(Error::invalid(
@@ -35,7 +44,8 @@ impl SpliceModel {
         };
         let all_pd = matches!(p.method, Method::Pd(_));
         let (grid, pd) = grid_and_constants(p, pm)?;
-        let (is_pd, pd_nodes, warnings) = node_classes(pm, &grid)?;
+        let material = holes::material_nodes(&p.domain, &grid);
+        let (is_pd, pd_nodes, warnings) = node_classes(pm, &grid, &material)?;
         memory::check(
             &format!(
                 "the {} model ({} grid nodes, {} PD nodes, m = {})",
@@ -48,13 +58,18 @@ impl SpliceModel {
         )?;
         let crack = precrack::in_grid_units(&precrack, &p.domain, &grid)?;
         let ke = element_matrix(p, &grid);
-        let (elements, n_removed) = hybrid_elements(&grid, &is_pd, &crack);
-        let bonds = find_bonds(&grid, pm.m, &is_pd)?;
+        let (elements, n_removed) = hybrid_elements(&grid, &is_pd, &material, &crack);
+        let bonds = if p.domain.holes.is_empty() {
+            find_bonds(&grid, pm.m, &is_pd)?
+        } else {
+            let exists = |a, b| holes::bond_exists(&p.domain, &grid, &material, a, b);
+            find_bonds_where(&grid, pm.m, &is_pd, &exists)?
+        };
         let precrack_broken = precrack::broken_bonds(&crack, &grid, &bonds);
         let (rows_of, cols_of, pattern) = blocks(&grid, &elements, &bonds, &is_pd)?;
         let layers = if all_pd { pm.m } else { 1 };
-        let lo = loading(p, layers, &grid)?;
-        let cmod_nodes = precrack::mouth_nodes(&crack, &grid);
+        let lo = loading(p, layers, &grid, &material)?;
+        let cmod_nodes = precrack::mouth_nodes(&crack, mouth, &grid);
         let (node_bond_ptr, node_bonds) = incidence(grid.n_nodes(), &bonds);
         Ok(Self {
             node_bond_ptr,
@@ -81,6 +96,9 @@ impl SpliceModel {
             anchor: lo.anchor,
             mask: lo.mask,
             prescribed: lo.prescribed,
+            material,
+            regions: lo.regions,
+            response: lo.response,
             cmod_nodes,
         })
     }
@@ -124,16 +142,20 @@ fn grid_and_constants(p: &Problem, pm: &PdMethod) -> Result<(Grid, PdConstants)>
 }
 
 /// Node classes: every node PD (pure PD model, the plate at least two horizons wide and high), or
-/// the nodes inside the PD rectangles. Returns the PD flags, the PD node ids (ascending) and the
-/// discretisation warnings.
-fn node_classes(pm: &PdMethod, grid: &Grid) -> Result<(Vec<bool>, Vec<usize>, Vec<Warning>)> {
+/// the nodes inside the PD rectangles. Returns the PD flags, the PD node ids (ascending; the
+/// material ones, `holes.rs`) and the discretisation warnings.
+fn node_classes(
+    pm: &PdMethod,
+    grid: &Grid,
+    material: &[bool],
+) -> Result<(Vec<bool>, Vec<usize>, Vec<Warning>)> {
     let nn = grid.n_nodes();
     // pure PD has no rectangle, CCM-PD at least one (validated)
     let mut is_pd = vec![pm.regions.is_empty(); nn];
     for &r in &pm.regions {
         mark_pd_region(r, grid, &mut is_pd);
     }
-    let pd_nodes: Vec<usize> = (0..nn).filter(|&n| is_pd[n]).collect();
+    let pd_nodes: Vec<usize> = (0..nn).filter(|&n| is_pd[n] && material[n]).collect();
     if pd_nodes.is_empty() {
         return Err(Error::invalid(
             "pd.size",
@@ -187,8 +209,14 @@ fn element_matrix(p: &Problem, grid: &Grid) -> Vec<f64> {
 }
 
 /// The FEM elements: every Q4 element with at least one FEM node (hybrid elements included) whose
-/// interior the pre-crack does not cut. Returns (elements, number removed by the pre-crack).
-fn hybrid_elements(grid: &Grid, is_pd: &[bool], crack: &[[f64; 2]]) -> (Vec<[usize; 4]>, usize) {
+/// interior the pre-crack does not cut, all four nodes material (holes reach only the PD part of a
+/// CCM-PD model, `problem::general`). Returns (elements, number removed by the pre-crack).
+fn hybrid_elements(
+    grid: &Grid,
+    is_pd: &[bool],
+    material: &[bool],
+    crack: &[[f64; 2]],
+) -> (Vec<[usize; 4]>, usize) {
     let (nx, ny) = (grid.nx, grid.ny);
     let mut elements = Vec::new();
     let mut n_removed = 0;
@@ -196,7 +224,7 @@ fn hybrid_elements(grid: &Grid, is_pd: &[bool], crack: &[[f64; 2]]) -> (Vec<[usi
         for i in 0..nx {
             let n0 = grid.node(i, j);
             let e = [n0, n0 + 1, n0 + nx + 2, n0 + nx + 1];
-            if e.iter().all(|&n| is_pd[n]) {
+            if e.iter().all(|&n| is_pd[n]) || !e.iter().all(|&n| material[n]) {
                 continue;
             }
             if precrack::cuts_cell(crack, i, j) {

@@ -18,14 +18,20 @@
 
 mod boundary;
 mod build;
+mod holes;
 mod precrack;
+mod regions;
+mod response;
 mod springs;
+
+pub use response::Response;
 
 pub use crate::geometry::bond_crosses;
 pub(crate) use springs::Spring;
 
 use crate::error::Result;
 use crate::fe::loading::PlateEdges;
+use crate::fe::regions::RegionConditions;
 use crate::fe::Dirichlet;
 use crate::la::Lu;
 use crate::la::{CscMatrix, Pattern, Reduction};
@@ -67,6 +73,13 @@ pub struct SpliceModel {
     pub mask: Vec<bool>,
     /// prescribed values (reference load) at constrained dofs, zero elsewhere
     pub prescribed: Vec<f64>,
+    /// material nodes (holes: the centre rule, `holes.rs`; removed nodes have both dofs fixed
+    /// to zero and no bond)
+    pub material: Vec<bool>,
+    /// supports and loads on regions (their layer node sets; None: the grips)
+    pub regions: Option<RegionConditions>,
+    /// the history's load responses (sigma22 or the primary region's; u0)
+    pub response: Response,
     /// (node below, node above, unit normal) at the crack mouth, for the CMOD
     pub cmod_nodes: Option<(usize, usize, [f64; 2])>,
     /// bonds of each node (CSR over nodes: `node_bonds[node_bond_ptr[n]..node_bond_ptr[n + 1]]`)
@@ -148,10 +161,10 @@ impl SpliceModel {
             })
     }
 
-    /// sigma22 from the full displacement vector: (sum over top nodes of (K u)_2) / (W h).
+    /// sigma22 from K u: (sum over top nodes of (K u)_2) / (W h) under the grips, the primary
+    /// region's response for regions ([`Response`]).
     pub(crate) fn sigma22_from(&self, ku: &[f64]) -> f64 {
-        let fy: f64 = self.edges.top.iter().map(|&n| ku[2 * n + 1]).sum();
-        fy / (self.problem.domain.width * self.problem.material.elastic.thickness)
+        self.response.value(ku)
     }
 
     /// Crack-mouth opening (u_above - u_below) . n, zero without a pre-crack.

@@ -14,7 +14,7 @@
 //! and the crack-mouth nodes of the CMOD.
 
 use crate::error::{check_finite, Error, Result};
-use crate::geometry::{bond_crosses, clipped_length};
+use crate::geometry::{bond_crosses, clipped_length, grid_node_on_segment};
 use crate::pd::{Bond, Grid};
 use crate::problem::Domain;
 
@@ -56,23 +56,16 @@ pub(super) fn in_grid_units(
                 format!("{a:?}"),
             ));
         }
-        // no grid node on the segment
-        let (i0, i1) = (a[0].min(b[0]).floor() as i64, a[0].max(b[0]).ceil() as i64);
-        let (j0, j1) = (a[1].min(b[1]).floor() as i64, a[1].max(b[1]).ceil() as i64);
-        for j in j0.max(0)..=j1.min(ny as i64) {
-            for i in i0.max(0)..=i1.min(nx as i64) {
-                let p = [i as f64, j as f64];
-                let t = (((p[0] - a[0]) * (b[0] - a[0]) + (p[1] - a[1]) * (b[1] - a[1])) / (l * l))
-                    .clamp(0.0, 1.0);
-                let c = [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
-                if ((p[0] - c[0]).powi(2) + (p[1] - c[1]).powi(2)).sqrt() < 1e-9 {
-                    return Err(Error::invalid(
-                        "precrack",
-                        "a polyline passing between grid nodes (as the paper's x2 = 10.5)",
-                        format!("it passes through node ({}, {})", p[0] * dx, p[1] * dx),
-                    ));
-                }
-            }
+        if let Some((i, j)) = grid_node_on_segment(a, b, nx, ny) {
+            return Err(Error::invalid(
+                "precrack",
+                "a polyline passing between grid nodes (as the paper's x2 = 10.5)",
+                format!(
+                    "it passes through node ({}, {})",
+                    i as f64 * dx,
+                    j as f64 * dx
+                ),
+            ));
         }
     }
     Ok(crack)
@@ -99,32 +92,48 @@ pub(super) fn broken_bonds(crack: &[[f64; 2]], grid: &Grid, bonds: &[Bond]) -> V
         .collect()
 }
 
-/// (node below, node above, unit normal) at the crack mouth (the first point of the polyline): the
-/// nearest grid node on each side of the first segment, for the CMOD; None without a pre-crack.
-pub(super) fn mouth_nodes(crack: &[[f64; 2]], grid: &Grid) -> Option<(usize, usize, [f64; 2])> {
+/// (node below, node above, unit normal) at the crack mouth (vertex `at` of the polyline: the
+/// first point of an edge crack, the centre of a centre crack), [`nodes_across`] the segment
+/// starting there, for the CMOD; None without a pre-crack.
+pub(super) fn mouth_nodes(
+    crack: &[[f64; 2]],
+    at: usize,
+    grid: &Grid,
+) -> Option<(usize, usize, [f64; 2])> {
+    if crack.len() >= at + 2 {
+        nodes_across(crack[at], crack[at + 1], crack[at], grid)
+    } else {
+        None
+    }
+}
+
+/// (node below, node above, unit normal n) across the crack segment a-b at its point `x` (grid
+/// units): the grid node nearest x on each side of the segment's line (within 2 cells), n the
+/// left normal of a -> b ("above" is its side).
+pub(super) fn nodes_across(
+    a: [f64; 2],
+    b: [f64; 2],
+    x: [f64; 2],
+    grid: &Grid,
+) -> Option<(usize, usize, [f64; 2])> {
     let (nx, ny) = (grid.nx, grid.ny);
-    if crack.len() >= 2 {
-        let (a, b) = (crack[0], crack[1]);
-        let l = ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2)).sqrt();
-        let nrm = [-(b[1] - a[1]) / l, (b[0] - a[0]) / l];
-        let mut best = [(f64::INFINITY, usize::MAX); 2];
-        let (ic, jc) = (a[0].round() as i64, a[1].round() as i64);
-        for j in (jc - 2).max(0)..=(jc + 2).min(ny as i64) {
-            for i in (ic - 2).max(0)..=(ic + 2).min(nx as i64) {
-                let p = [i as f64, j as f64];
-                let side = (p[0] - a[0]) * nrm[0] + (p[1] - a[1]) * nrm[1];
-                let d = (p[0] - a[0]).powi(2) + (p[1] - a[1]).powi(2);
-                let k = usize::from(side > 0.0);
-                if d < best[k].0 {
-                    best[k] = (d, grid.node(i as usize, j as usize));
-                }
+    let l = ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2)).sqrt();
+    let nrm = [-(b[1] - a[1]) / l, (b[0] - a[0]) / l];
+    let mut best = [(f64::INFINITY, usize::MAX); 2];
+    let (ic, jc) = (x[0].round() as i64, x[1].round() as i64);
+    for j in (jc - 2).max(0)..=(jc + 2).min(ny as i64) {
+        for i in (ic - 2).max(0)..=(ic + 2).min(nx as i64) {
+            let p = [i as f64, j as f64];
+            let side = (p[0] - a[0]) * nrm[0] + (p[1] - a[1]) * nrm[1];
+            let d = (p[0] - x[0]).powi(2) + (p[1] - x[1]).powi(2);
+            let k = usize::from(side > 0.0);
+            if d < best[k].0 {
+                best[k] = (d, grid.node(i as usize, j as usize));
             }
         }
-        if best[0].1 != usize::MAX && best[1].1 != usize::MAX {
-            Some((best[0].1, best[1].1, nrm))
-        } else {
-            None
-        }
+    }
+    if best[0].1 != usize::MAX && best[1].1 != usize::MAX {
+        Some((best[0].1, best[1].1, nrm))
     } else {
         None
     }

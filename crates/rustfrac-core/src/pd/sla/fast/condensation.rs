@@ -51,7 +51,8 @@ struct Functionals {
     sig_coef: Vec<f64>,
     cmod_const: f64,
     cmod_coef: Vec<f64>,
-    is_top_y: Vec<bool>,
+    /// the response's coefficient on each row of K u ([`crate::pd::splice::Response`])
+    resp_coef: Vec<f64>,
     wh: f64,
 }
 
@@ -106,7 +107,7 @@ impl<'a> Fast<'a> {
             springs: springs.to_vec(),
             n_fact: 0,
             u_full: model.prescribed.clone(),
-            is_top_y: fun.is_top_y,
+            resp_coef: fun.resp_coef,
             wh: fun.wh,
             sig_bonds: Vec::new(),
             k0: CscMatrix {
@@ -285,6 +286,12 @@ fn coupling_sets(model: &SpliceModel, k: &CscMatrix, dc: &DofClasses) -> Couplin
             }
         }
     }
+    // the load displacement of region scenes is read from u
+    for &(d, _) in model.response.displacement.iter().flatten() {
+        if cls[d] == CLS_F {
+            ring_flag[d] = true;
+        }
+    }
     let ring: Vec<usize> = (0..n).filter(|&d| ring_flag[d]).collect();
     let mut ring_pos = vec![usize::MAX; n];
     for (r, &d) in ring.iter().enumerate() {
@@ -296,16 +303,14 @@ fn coupling_sets(model: &SpliceModel, k: &CscMatrix, dc: &DofClasses) -> Couplin
 /// The sigma22 and CMOD functionals before the Z correction ([`Functionals`]).
 fn functionals(model: &SpliceModel, k: &CscMatrix, dc: &DofClasses, y0: &[f64]) -> Functionals {
     let (n, cls, idx, np) = (model.n_dofs(), &dc.cls, &dc.idx, dc.p_dofs.len());
-    let wh = model.problem.domain.width * model.problem.material.elastic.thickness;
-    let mut is_top_y = vec![false; n];
-    for &t in &model.edges.top {
-        is_top_y[2 * t + 1] = true;
-    }
+    let wh = model.response.divisor;
+    let resp_coef = model.response.dense_rows(n);
     let mut q = vec![0.0; n];
     for (c, qc) in q.iter_mut().enumerate() {
         for kk in k.col_ptr[c]..k.col_ptr[c + 1] {
-            if is_top_y[k.row_idx[kk]] {
-                *qc += k.val[kk] / wh;
+            let r = resp_coef[k.row_idx[kk]];
+            if r != 0.0 {
+                *qc += k.val[kk] * r / wh;
             }
         }
     }
@@ -342,7 +347,7 @@ fn functionals(model: &SpliceModel, k: &CscMatrix, dc: &DofClasses, y0: &[f64]) 
         sig_coef,
         cmod_const,
         cmod_coef,
-        is_top_y,
+        resp_coef,
         wh,
     }
 }

@@ -69,7 +69,8 @@ pub(super) struct Fast<'a> {
     u_full: Vec<f64>,
     /// the matrix at the start (its FEM rows never change)
     k0: CscMatrix,
-    is_top_y: Vec<bool>,
+    /// the response's coefficient on each row of K u (sigma22: 1 on the top edge's x2 rows)
+    resp_coef: Vec<f64>,
     wh: f64,
     /// updates that changed rows of top-edge y dofs: sigma22 loses c (b . u) for each
     sig_bonds: Vec<(f64, [usize; 4], [f64; 4])>,

@@ -57,8 +57,9 @@ impl Fast<'_> {
         let mut c_top = 0.0;
         for t in 0..4 {
             let d = dofs[t];
-            if self.is_top_y[d] && model.is_pd[d / 2] && (t < 2 || model.is_pd[j]) {
-                c_top += alpha * bv[t] / self.wh;
+            let r = self.resp_coef[d];
+            if r != 0.0 && model.is_pd[d / 2] && (t < 2 || model.is_pd[j]) {
+                c_top += alpha * bv[t] * r / self.wh;
             }
         }
         if c_top != 0.0 {
@@ -121,8 +122,9 @@ impl Fast<'_> {
             if self.cls[d] == CLS_P && sp.p[t] != 0.0 {
                 a.push((self.idx[d], -ks * sp.p[t]));
                 bt.push((self.idx[d], sp.p[t]));
-                if self.is_top_y[d] {
-                    c_top -= ks * sp.p[t] / self.wh;
+                let r = self.resp_coef[d];
+                if r != 0.0 {
+                    c_top -= ks * sp.p[t] * r / self.wh;
                 }
             }
         }

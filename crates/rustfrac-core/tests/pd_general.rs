@@ -1,0 +1,483 @@
+//! General scenes for PD and CCM-PD (issue 12): pre-cracks at any angle and position, holes,
+//! supports and loads on regions, probes; against brute force, Kirsch's hole, the shear of a
+//! block, and pure PD against CCM-PD. Run in release (`cargo test --release --test pd_general`).
+
+mod common;
+
+use common::{go_on, pd_plate};
+use rustfrac_core::fe::mesh::Side;
+use rustfrac_core::pd::cell_fraction;
+use rustfrac_core::pd::sla::run;
+use rustfrac_core::pd::splice::SpliceModel;
+use rustfrac_core::problem::{CrackKind, CrackSpec, Problem, SlaParams};
+
+/// Does the bond p-q cross the crack segment a-b: its ends strictly on both sides of the crack's
+/// line, the crack's ends on the closed other side (a crack end on the bond counts: the tip, and
+/// the mouth on the plate's edge).
+fn crosses(p: [f64; 2], q: [f64; 2], a: [f64; 2], b: [f64; 2]) -> bool {
+    let o = |a: [f64; 2], b: [f64; 2], c: [f64; 2]| {
+        (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+    };
+    o(a, b, p) * o(a, b, q) < 0.0 && o(p, q, a) * o(p, q, b) <= 0.0
+}
+
+/// A pure PD 4 x 4 plate (dx = 0.2, m = 3) with one crack.
+fn pd_with_crack(c: CrackSpec) -> Problem {
+    let mut p = pd_plate("pd", 4.0, 4.0, 0.2, 3);
+    p.cracks = vec![c];
+    p.pd_mut().sla = SlaParams {
+        max_steps: 1,
+        ..SlaParams::default()
+    };
+    p
+}
+
+fn edge(side: Side, x: f64, y: f64, a0: f64, angle: f64) -> CrackSpec {
+    CrackSpec {
+        kind: CrackKind::Edge,
+        a0,
+        y,
+        angle,
+        x,
+        side,
+    }
+}
+
+/// The pre-crack breaks exactly the bonds (node pairs whose cells overlap the horizon) that
+/// cross it, found by brute force over all node pairs; the SLA's first broken bond lies at one of
+/// `tips` (none given: a crack along the grips' pull, which does not open).
+fn check_precrack(p: &Problem, tips: &[[f64; 2]]) {
+    let model = SpliceModel::new(p).unwrap();
+    let line = p.pd_precrack();
+    let g = model.grid;
+    let m = model.pd.m as f64;
+    let mut expected = 0;
+    let nn = g.n_nodes();
+    for a in 0..nn {
+        for b in a + 1..nn {
+            let (pa, pb) = (g.xy(a), g.xy(b));
+            let (di, dj) = ((pb[0] - pa[0]) / g.dx, (pb[1] - pa[1]) / g.dx);
+            if cell_fraction(di, dj, m) <= 0.0 {
+                continue;
+            }
+            if line.windows(2).any(|s| crosses(pa, pb, s[0], s[1])) {
+                expected += 1;
+            }
+        }
+    }
+    let broken = model.precrack_broken.iter().filter(|&&x| x).count();
+    println!("pre-crack {line:?}: {broken} bonds broken (brute force {expected})");
+    assert!(broken > 0);
+    assert_eq!(broken, expected);
+    // the same bonds, one by one
+    for (b, bond) in model.bonds.iter().enumerate() {
+        let (pa, pb) = (g.xy(bond.i as usize), g.xy(bond.j as usize));
+        let x = line.windows(2).any(|s| crosses(pa, pb, s[0], s[1]));
+        assert_eq!(model.precrack_broken[b], x, "bond {pa:?}-{pb:?}");
+    }
+    if tips.is_empty() {
+        return;
+    }
+    let r = run(p, &go_on).unwrap();
+    let first = &r.history[0];
+    let (a, b) = (g.xy(first.nodes[0]), g.xy(first.nodes[1]));
+    let mid = [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
+    let d = tips
+        .iter()
+        .map(|t| (mid[0] - t[0]).hypot(mid[1] - t[1]))
+        .fold(f64::INFINITY, f64::min);
+    println!(
+        "first broken bond {a:?}-{b:?}: {d:.3} from the nearest tip (delta = {})",
+        m * g.dx
+    );
+    assert!(d <= m * g.dx, "first bond {d} from the tip");
+}
+
+#[test]
+fn inclined_edge_precrack_breaks_the_crossing_bonds() {
+    let c = edge(Side::Left, 0.0, 2.1, 1.5, 30.0);
+    let p = pd_with_crack(c);
+    let tip = p.crack_polylines()[0][1];
+    check_precrack(&p, &[tip]);
+}
+
+#[test]
+fn edge_precracks_from_every_side_and_centre_cracks() {
+    let p = pd_with_crack(edge(Side::Right, 0.0, 1.9, 1.2, -20.0));
+    let tip = p.crack_polylines()[0][1];
+    check_precrack(&p, &[tip]);
+    // along the grips' pull: the bonds only
+    for c in [
+        edge(Side::Bottom, 2.1, 0.0, 1.3, 15.0),
+        edge(Side::Top, 1.9, 0.0, 1.0, 0.0),
+    ] {
+        check_precrack(&pd_with_crack(c), &[]);
+    }
+    let c = CrackSpec {
+        kind: CrackKind::Center,
+        a0: 0.8,
+        y: 2.05,
+        angle: 25.0,
+        x: 1.95,
+        side: Side::Left,
+    };
+    let p = pd_with_crack(c);
+    let line = p.crack_polylines()[0].clone();
+    check_precrack(&p, &line);
+    // the CMOD is read at the centre: opening > 0 under the grips' tension
+    let model = SpliceModel::new(&p).unwrap();
+    let s = model.solve(&model.precrack_broken).unwrap();
+    assert!(s.cmod > 0.0, "centre opening {}", s.cmod);
+}
+
+// ---- supports and loads on regions, holes ----
+
+use rustfrac_core::fe::material::Plane;
+use rustfrac_core::fem_driver;
+use rustfrac_core::problem::{
+    Boundary, Domain, Hole, LoadKind, Probe, ProbeKind, Region, RegionLoad, Shape, Support,
+};
+
+/// Measured: see the tests' output.
+const TOL_SHEAR: f64 = 0.1;
+
+fn support(k: usize, region: Region, u1: Option<f64>, u2: Option<f64>) -> Support {
+    Support {
+        name: format!("support[{k}]"),
+        region,
+        u1,
+        u2,
+    }
+}
+
+fn load(k: usize, region: Region, kind: LoadKind) -> RegionLoad {
+    RegionLoad {
+        name: format!("load[{k}]"),
+        region,
+        kind,
+    }
+}
+
+/// A plate without crack under supports and loads on regions, solved by `method`.
+fn region_plate(
+    method: &str,
+    w: f64,
+    h: f64,
+    dx: f64,
+    supports: Vec<Support>,
+    loads: Vec<RegionLoad>,
+) -> Problem {
+    let mut p = pd_plate(method, w, h, dx, 3);
+    p.cracks = Vec::new();
+    p.boundary = Boundary::Regions { supports, loads };
+    p
+}
+
+/// The block under a shear traction on its top edge, its bottom edge fixed.
+fn shear_block(method: &str) -> Problem {
+    let mut p = region_plate(
+        method,
+        2.0,
+        1.0,
+        0.05,
+        vec![support(0, Region::Edge(Side::Bottom), Some(0.0), Some(0.0))],
+        vec![load(
+            0,
+            Region::Edge(Side::Top),
+            LoadKind::Traction {
+                normal: 0.0,
+                shear: 1.0,
+            },
+        )],
+    );
+    if method == "ccm_pd" {
+        p.pd_mut().regions = vec![[0.5, 0.25, 1.5, 0.75]];
+    }
+    p.probes = [[1.0, 0.3], [1.0, 0.7]]
+        .iter()
+        .enumerate()
+        .map(|(k, &q)| Probe {
+            name: format!("p{k}"),
+            kind: ProbeKind::Displacement(q),
+        })
+        .collect();
+    p
+}
+
+/// The shear of the bulk: u1 at (1, 0.7) minus u1 at (1, 0.3) (probes).
+fn bulk_shear(probes: &[(String, [f64; 2])]) -> f64 {
+    probes[1].1[0] - probes[0].1[0]
+}
+
+/// The bulk shear ([`bulk_shear`]) of the shear block, the model's applied force and the
+/// bottom's reaction along x1, and the mean top displacement u1.
+fn shear_pd(method: &str) -> (f64, f64, f64, f64) {
+    let p = shear_block(method);
+    let model = SpliceModel::new(&p).unwrap();
+    let s = model.solve(&model.precrack_broken).unwrap();
+    let r = model.scene_responses(&s.u, &s.reactions).unwrap();
+    let fx: f64 = (0..model.grid.n_nodes()).map(|n| model.f[2 * n]).sum();
+    (
+        bulk_shear(&r.probes),
+        fx,
+        r.regions[0].1.force[0],
+        r.regions[1].1.displacement[0],
+    )
+}
+
+#[test]
+fn shear_traction_on_a_pd_block_balances_and_matches_fem() {
+    let t = Problem::paper("pd").material.elastic.thickness;
+    let applied = 1.0 * 2.0 * t;
+    let (u_pd, fx, reaction, top_pd) = shear_pd("pd");
+    // the body forces of the layer add up to the traction's resultant
+    assert!((fx - applied).abs() <= 1e-12 * applied, "{fx} vs {applied}");
+    // PD is in balance: the bottom layer's reaction is the applied force
+    assert!((reaction + applied).abs() <= 1e-9 * applied, "{reaction}");
+    // FEM of the same block (nu = 1/4, plane strain)
+    let mut q = Problem::paper("fem");
+    q.domain = Domain::rect(2.0, 1.0);
+    q.cracks = Vec::new();
+    q.boundary = shear_block("pd").boundary;
+    q.material = shear_block("pd").material;
+    q.probes = shear_block("pd").probes;
+    assert_eq!(q.material.elastic.plane, Plane::Strain);
+    q.fem_mut().grid.nx = 80;
+    q.fem_mut().grid.ny = 40;
+    let fem = fem_driver::run(&q).unwrap();
+    let u_fem = bulk_shear(&fem.responses.probes);
+    let top_fem = fem.responses.regions[1].1.displacement[0];
+    let e = (u_pd - u_fem).abs() / u_fem.abs();
+    println!(
+        "shear block: bulk shear PD {u_pd:.6e}, FEM {u_fem:.6e} ({:.2} %); mean top u1 PD \
+         {top_pd:.6e}, FEM {top_fem:.6e} ({:.2} %: the layers of m rows are stiff)",
+        100.0 * e,
+        100.0 * (top_pd - top_fem).abs() / top_fem
+    );
+    assert!(e < TOL_SHEAR, "PD vs FEM {e}");
+}
+
+#[test]
+fn ccm_pd_regions_match_pure_pd() {
+    let (u_pd, _, _, _) = shear_pd("pd");
+    let (u_cc, fx, reaction, _) = shear_pd("ccm_pd");
+    let t = Problem::paper("pd").material.elastic.thickness;
+    assert!((fx - 2.0 * t).abs() <= 1e-12 * 2.0 * t);
+    let e = (u_cc - u_pd).abs() / u_pd.abs();
+    let imbalance = (reaction + fx).abs() / fx;
+    println!(
+        "shear block: bulk shear CCM-PD {u_cc:.6e}, pure PD {u_pd:.6e} ({:.2} %); CCM-PD \
+         imbalance {:.3e}",
+        100.0 * e,
+        imbalance
+    );
+    assert!(e < TOL_SHEAR, "CCM-PD vs PD {e}");
+    assert!(imbalance < 0.01, "{imbalance}");
+}
+
+/// Kirsch (1898): displacements (u_r, u_theta) about the centre of a circular hole of radius a in
+/// an infinite plate under the remote stress S along x1 (plane strain, kappa = 3 - 4 nu).
+fn kirsch(s: f64, g: f64, nu: f64, a: f64, r: f64, t: f64) -> [f64; 2] {
+    let k = 3.0 - 4.0 * nu;
+    let c = s / (8.0 * g * r);
+    let ur = c
+        * (r * r * (k - 1.0)
+            + 2.0 * a * a
+            + 2.0 * (r * r + a * a * (k + 1.0) - a.powi(4) / (r * r)) * (2.0 * t).cos());
+    let ut = -c * 2.0 * (r * r + a * a * (k - 1.0) + a.powi(4) / (r * r)) * (2.0 * t).sin();
+    [ur * t.cos() - ut * t.sin(), ur * t.sin() + ut * t.cos()]
+}
+
+#[test]
+fn pd_hole_under_tension_follows_kirsch() {
+    let (w, a, dx) = (6.0, 0.5, 0.05);
+    let c = [0.5 * w, 0.5 * w];
+    let du = 0.003;
+    let sup = vec![
+        support(0, Region::Edge(Side::Left), Some(-du), None),
+        support(1, Region::Edge(Side::Right), Some(du), None),
+        support(2, Region::Point([c[0], 0.0]), None, Some(0.0)),
+    ];
+    let solve = |hole: bool| {
+        let mut p = region_plate("pd", w, w, dx, sup.clone(), Vec::new());
+        if hole {
+            p.domain.holes = vec![Hole {
+                name: "hole[0]".into(),
+                shape: Shape::Circle {
+                    center: c,
+                    radius: a,
+                },
+            }];
+        }
+        let model = SpliceModel::new(&p).unwrap();
+        let s = model.solve(&model.precrack_broken).unwrap();
+        let r = model.scene_responses(&s.u, &s.reactions).unwrap();
+        (model, s.u, r)
+    };
+    let (mh, uh, rh) = solve(true);
+    let (_, u0, r0) = solve(false);
+    let removed = mh.material.iter().filter(|&&m| !m).count();
+    assert!(removed > 0 && !mh.bonds.is_empty());
+    // no bond through the hole
+    for b in &mh.bonds {
+        let (p, q) = (mh.grid.xy(b.i as usize), mh.grid.xy(b.j as usize));
+        let d = rustfrac_core::geometry::point_segment_distance(c, p, q);
+        assert!(d >= a, "bond {p:?}-{q:?} through the hole");
+    }
+    let e = Problem::paper("pd").material.elastic;
+    let g = e.e / (2.0 * (1.0 + e.nu));
+    let t = e.thickness;
+    // the remote stress: the right support's force over H t
+    let s = rh.regions[1].1.force[0] / (w * t);
+    let s0 = r0.regions[1].1.force[0] / (w * t);
+    println!("mean stress with hole {s:.4e}, without {s0:.4e}");
+    let node = |x: [f64; 2]| {
+        let (i, j) = ((x[0] / dx).round() as usize, (x[1] / dx).round() as usize);
+        mh.grid.node(i, j)
+    };
+    // displacement differences across the hole (the centre's rigid motion drops out)
+    let mut worst: f64 = 0.0;
+    for (r, th) in [
+        (3.0 * a, 0.0),
+        (3.0 * a, 90f64.to_radians()),
+        (4.0 * a, 45f64.to_radians()),
+    ] {
+        let p = [c[0] + r * th.cos(), c[1] + r * th.sin()];
+        let q = [c[0] - r * th.cos(), c[1] - r * th.sin()];
+        let (np, nq) = (node(p), node(q));
+        let d_pd = [uh[2 * np] - uh[2 * nq], uh[2 * np + 1] - uh[2 * nq + 1]];
+        let k = kirsch(s, g, e.nu, a, r, th);
+        let d_k = [2.0 * k[0], 2.0 * k[1]];
+        let d_plain = [u0[2 * np] - u0[2 * nq], u0[2 * np + 1] - u0[2 * nq + 1]];
+        let scale = d_k[0].hypot(d_k[1]);
+        let err = (d_pd[0] - d_k[0]).hypot(d_pd[1] - d_k[1]) / scale;
+        println!(
+            "r = {r}, theta = {:.0}: PD {d_pd:?}, Kirsch {d_k:?} ({:.2} %), no hole \
+             {d_plain:?}",
+            th.to_degrees(),
+            100.0 * err
+        );
+        worst = worst.max(err);
+    }
+    assert!(worst < 0.06, "worst {worst}");
+    // far from the hole (at the plate's quarter points near the loaded edges) the hole changes
+    // little; next to it, the strain e11 at the hole's top is about 3 times the remote one
+    let strain = |u: &[f64], y: f64| {
+        let (nl, nr) = (node([c[0] - dx, y]), node([c[0] + dx, y]));
+        (u[2 * nr] - u[2 * nl]) / (2.0 * dx)
+    };
+    let top = c[1] + a + 0.5 * dx;
+    let (e_top, e_far) = (strain(&uh, top.ceil_to(dx)), strain(&u0, c[1]));
+    let kt = e_top / e_far;
+    println!("strain concentration at the hole's top: {kt:.3} (Kirsch 3 for the stress)");
+    assert!(kt > 1.8 && kt < 3.5, "{kt}");
+    let far = node([0.75 * w, 0.25 * w]);
+    let df = (uh[2 * far] - u0[2 * far]).abs() / u0[2 * far].abs();
+    println!(
+        "far point: u1 with and without the hole differ by {:.2} %",
+        100.0 * df
+    );
+    assert!(df < 0.05);
+}
+
+trait CeilTo {
+    fn ceil_to(self, dx: f64) -> f64;
+}
+impl CeilTo for f64 {
+    /// the next grid coordinate at or above self
+    fn ceil_to(self, dx: f64) -> f64 {
+        (self / dx).ceil() * dx
+    }
+}
+
+#[test]
+fn bad_pd_scenes_are_refused_by_name() {
+    // a hole reaching the FEM part of a CCM-PD model
+    let mut p = shear_block("ccm_pd");
+    p.domain.holes = vec![Hole {
+        name: "hole[0]".into(),
+        shape: Shape::Circle {
+            center: [0.5, 0.5],
+            radius: 0.1,
+        },
+    }];
+    let e = SpliceModel::new(&p).err().expect("refused");
+    assert_eq!(e.param(), Some("hole[0]"), "{e}");
+    assert!(e.to_string().contains("fictitious"), "{e}");
+    // inside the PD rectangle it is a PD hole
+    p.domain.holes[0].shape = Shape::Circle {
+        center: [1.0, 0.5],
+        radius: 0.1,
+    };
+    let m = SpliceModel::new(&p).unwrap();
+    assert!(m.material.iter().any(|&x| !x));
+    // a crack tip outside the PD rectangle
+    let mut p = shear_block("ccm_pd");
+    p.cracks = vec![edge(Side::Left, 0.0, 0.525, 0.3, 0.0)];
+    let e = SpliceModel::new(&p).err().expect("refused");
+    assert_eq!(e.param(), Some("pd.center"), "{e}");
+    assert!(e.to_string().contains("crack.a0"), "{e}");
+    // a crack through a grid node names its offset
+    let mut p = shear_block("pd");
+    p.cracks = vec![edge(Side::Left, 0.0, 0.5, 0.3, 0.0)];
+    let e = SpliceModel::new(&p).err().expect("refused");
+    assert_eq!(e.param(), Some("crack.y"), "{e}");
+}
+
+#[test]
+fn sla_on_region_scenes_fast_equals_oracle() {
+    // a pure PD strip with an edge pre-crack, its bottom layer fixed, its top pulled by a
+    // traction: the history's sigma22 is the load's mean stress, u0 the top's mean u2
+    for method in ["pd", "ccm_pd"] {
+        let mut hist = Vec::new();
+        for fast in [true, false] {
+            let mut p = region_plate(
+                method,
+                1.2,
+                2.2,
+                0.1,
+                vec![support(0, Region::Edge(Side::Bottom), Some(0.0), Some(0.0))],
+                vec![load(
+                    0,
+                    Region::Edge(Side::Top),
+                    LoadKind::Traction {
+                        normal: 1.0,
+                        shear: 0.0,
+                    },
+                )],
+            );
+            p.cracks = vec![edge(Side::Left, 0.0, 1.15, 0.45, 10.0)];
+            if method == "ccm_pd" {
+                p.pd_mut().regions = vec![[0.0, 0.6, 1.2, 1.6]];
+            }
+            p.pd_mut().sla = SlaParams {
+                max_steps: 40,
+                fast,
+                ..SlaParams::default()
+            };
+            let r = run(&p, &go_on).unwrap();
+            assert_eq!(r.grip, "regions");
+            let t = p.material.elastic.thickness;
+            for s in &r.history {
+                // the traction's mean stress is the applied one, lambda times 1
+                assert!((s.sigma22 - s.lambda).abs() <= 1e-9 * s.lambda, "{s:?}");
+                assert!(s.u0 > 0.0 && s.u0.is_finite());
+            }
+            let top = &r.responses.regions[1].1;
+            assert!((top.force[1] - 1.2 * t).abs() < 1e-9 * t);
+            hist.push(r.history);
+        }
+        let (a, b) = (&hist[0], &hist[1]);
+        assert_eq!(a.len(), b.len());
+        for (x, y) in a.iter().zip(b) {
+            assert_eq!(x.bonds, y.bonds, "{method}: step {}", x.step);
+            assert!((x.lambda - y.lambda).abs() <= 1e-8 * y.lambda);
+            assert!((x.u0 - y.u0).abs() <= 1e-8 * y.u0.abs(), "{x:?} {y:?}");
+        }
+        println!(
+            "{method}: {} steps, fast = oracle; last u0 {:.4e}",
+            a.len(),
+            a[a.len() - 1].u0
+        );
+    }
+}
