@@ -284,12 +284,19 @@ def test_core_errors_name_scene_keys(kw: dict[str, Any], param: str) -> None:
     assert e.value.param == param and param in str(e.value)
 
 
-@pytest.mark.parametrize("method", ["fem", "pd"])
-def test_inclined_crack_refused_outside_xfem(method: str) -> None:
+def test_inclined_crack_refused_by_fem() -> None:
+    # the FEM seam runs along a grid line from the left edge (PD takes any angle and centre
+    # cracks since the general scenes: tests/test_pd.py)
     with pytest.raises(rf.InvalidParameterError, match=r"crack\.angle"):
-        rf.scenes.edge_crack_plate(method=method, crack_angle=10.0)
+        rf.scenes.edge_crack_plate(method="fem", crack_angle=10.0)
     with pytest.raises(rf.InvalidParameterError, match=r"crack\.kind"):
-        rf.scenes.edge_crack_plate(method=method, crack="center")
+        rf.scenes.edge_crack_plate(method="fem", crack="center")
+
+
+def test_pd_takes_inclined_and_centre_cracks() -> None:
+    s = rf.scenes.edge_crack_plate(method="pd", crack_angle=10.0)
+    assert s.crack.angle == 10.0
+    assert rf.scenes.edge_crack_plate(method="pd", crack="center").crack.kind == "center"
 
 
 def test_native_errors() -> None:

@@ -33,7 +33,7 @@ from typing import Any, Callable, ClassVar
 
 from ._log import logger
 from .errors import InvalidTypeError, UnknownParameterError
-from .scene import METHODS, Scene
+from .scene import _CONST, METHODS, PdOptions, Scene
 from .scenes import edge_crack_plate
 
 __all__ = [
@@ -85,6 +85,7 @@ def _finish(d: dict[str, Any], overrides: Mapping[str, Any]) -> Scene:
     # the method's own sections only (a PD scene has no [mesh]): the core refuses the others
     if d["method"] not in ("fem", "xfem"):
         d.pop("mesh", None)
+        _pd_layout(d)
     if d["method"] != "xfem":
         d.pop("xfem", None)
     scene = Scene.from_dict(d)
@@ -92,6 +93,54 @@ def _finish(d: dict[str, Any], overrides: Mapping[str, Any]) -> Scene:
         scene = scene.replace(**overrides)
     logger.debug("specimen %s", scene.describe())
     return scene
+
+
+#: the half-size of a CCM-PD specimen's PD rectangle around the crack tip, in horizons
+_PD_REGION_HORIZONS = 6.0
+
+
+def _pd_layout(d: dict[str, Any]) -> None:
+    """A specimen for "pd" / "ccm_pd": Poisson's ratio the core's bond-based value (PD_NU, the
+    literature's value cannot be represented) in plane strain (the PD methods' only plane), the
+    crack moved by half a grid spacing when it
+    would run along a node row (the core refuses a pre-crack through nodes), and for CCM-PD
+    a PD rectangle of ``_PD_REGION_HORIZONS`` horizons around the crack tip unless the
+    specimen sets one."""
+    pd = d.setdefault("pd", {})
+    dx = pd.get("dx", PdOptions().dx)
+    m = pd.get("m", PdOptions().m)
+    mat = d.setdefault("material", {})
+    if mat.get("nu", _CONST["PD_NU"]) != _CONST["PD_NU"]:
+        logger.info(
+            "specimen: bond-based PD fixes nu = %s (the specimen's nu = %s is replaced)",
+            _CONST["PD_NU"],
+            mat["nu"],
+        )
+    mat["nu"] = _CONST["PD_NU"]
+    if mat.get("plane", "strain") != "strain":
+        logger.info("specimen: the PD methods are plane strain (the specimen's plane stress is replaced)")
+    mat["plane"] = "strain"
+    crack = d.get("crack")
+    if isinstance(crack, dict) and crack.get("kind", "edge") != "none":
+        key = "y" if crack.get("side", "left") in ("left", "right") else "x"
+        v = crack.get(key)
+        if v is not None and abs(v / dx - round(v / dx)) < 1e-9:
+            crack[key] = v + 0.5 * dx
+    if d["method"] == "ccm_pd" and "center" not in pd and isinstance(crack, dict):
+        scene = Scene.from_dict(_as_xfem(d))
+        tip = scene.crack_polylines()[0][-1]
+        half = _PD_REGION_HORIZONS * m * dx
+        box = [
+            (max(0.0, t - half), min(size, t + half))
+            for t, size in zip(tip, (scene.plate.width, scene.plate.height))
+        ]
+        pd["center"] = [0.5 * (lo + hi) for lo, hi in box]
+        pd["size"] = [hi - lo for lo, hi in box]
+
+
+def _as_xfem(d: dict[str, Any]) -> dict[str, Any]:
+    """The specimen's scene as XFEM (to read its crack's polyline from the core)."""
+    return {**{k: v for k, v in d.items() if k != "pd"}, "method": "xfem"}
 
 
 class _Layout:
