@@ -274,16 +274,25 @@ pub(crate) fn polygon_area(poly: &[[f64; 2]]) -> f64 {
 /// positive; Sutherland-Hodgman against one half-plane; the crossing points are interpolated along
 /// the edges). Empty when nothing lies there.
 pub(crate) fn clip_left(poly: &[[f64; 2]], a: [f64; 2], b: [f64; 2]) -> Vec<[f64; 2]> {
+    clip_half_plane(poly, a, b, false)
+}
+
+/// Sutherland-Hodgman against the half-plane left of a -> b: strictly (`closed` false) or with
+/// the points on the line (`closed` true).
+fn clip_half_plane(poly: &[[f64; 2]], a: [f64; 2], b: [f64; 2], closed: bool) -> Vec<[f64; 2]> {
     let d = sub(b, a);
-    let f = |x: [f64; 2]| cross(d, sub(x, a));
+    let inside = |x: [f64; 2]| {
+        let v = cross(d, sub(x, a));
+        (v > 0.0 || (closed && v == 0.0), v)
+    };
     let mut out: Vec<[f64; 2]> = Vec::with_capacity(poly.len() + 2);
     for k in 0..poly.len() {
         let (p, q) = (poly[k], poly[(k + 1) % poly.len()]);
-        let (fp, fq) = (f(p), f(q));
-        if fp > 0.0 {
+        let ((ip, fp), (iq, fq)) = (inside(p), inside(q));
+        if ip {
             out.push(p);
         }
-        if (fp > 0.0) != (fq > 0.0) && fp != fq {
+        if ip != iq && fp != fq {
             let t = fp / (fp - fq);
             out.push([p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])]);
         }
@@ -307,21 +316,7 @@ pub(crate) fn clip_box(poly: &[[f64; 2]], lo: [f64; 2], hi: [f64; 2]) -> Vec<[f6
 
 /// [`clip_left`] keeping points on the line too (cross >= 0).
 fn clip_keep_closed(poly: &[[f64; 2]], a: [f64; 2], b: [f64; 2]) -> Vec<[f64; 2]> {
-    let d = sub(b, a);
-    let f = |x: [f64; 2]| cross(d, sub(x, a));
-    let mut out: Vec<[f64; 2]> = Vec::with_capacity(poly.len() + 2);
-    for k in 0..poly.len() {
-        let (p, q) = (poly[k], poly[(k + 1) % poly.len()]);
-        let (fp, fq) = (f(p), f(q));
-        if fp >= 0.0 {
-            out.push(p);
-        }
-        if (fp >= 0.0) != (fq >= 0.0) && fp != fq {
-            let t = fp / (fp - fq);
-            out.push([p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])]);
-        }
-    }
-    out
+    clip_half_plane(poly, a, b, true)
 }
 
 /// The convex pieces of `pieces \ hole` for a convex, counter-clockwise `hole`: for each edge
