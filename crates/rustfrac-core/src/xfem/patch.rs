@@ -83,6 +83,7 @@ impl XfemModel {
             return Err(Error::invalid("cells per element", "1..=16", m));
         }
         let mut out = CutCells::default();
+        let d = self.material.d_matrix();
         let mut buf = BasisBuf::default();
         let segments: Vec<[[f64; 2]; 2]> = self
             .cracks
@@ -134,8 +135,14 @@ impl XfemModel {
                             .collect();
                         let xi = 2.0 * (c[0] - xy[0][0]) / (xy[1][0] - xy[0][0]) - 1.0;
                         let eta = 2.0 * (c[1] - xy[0][1]) / (xy[3][1] - xy[0][1]) - 1.0;
-                        out.stress
-                            .push(self.stress_at(e, Some(en), xi, eta, u, &mut buf));
+                        out.stress.push(self.stress_at(
+                            (e, Some(en), &dofs),
+                            xi,
+                            eta,
+                            u,
+                            &d,
+                            &mut buf,
+                        ));
                         out.polygons.push(poly);
                         out.disp.push(disp);
                         out.element.push(e);
@@ -181,17 +188,18 @@ pub struct CutCells {
 impl XfemModel {
     /// The stress [s11, s22, s12] of the enriched field at (xi, eta) of element `e` (eq. 3
     /// differentiated: the gradients of every standard, Heaviside and branch function).
+    /// `dofs` are the element's ([`XfemModel::element_dofs`]), `d` the material matrix: both
+    /// computed once per element (or model) by the callers.
     fn stress_at(
         &self,
-        e: usize,
-        en: Option<&super::model::EnrElement>,
+        (e, en, dofs): (usize, Option<&super::model::EnrElement>, &[usize]),
         xi: f64,
         eta: f64,
         u: &[f64],
+        d: &[[f64; 3]; 3],
         buf: &mut BasisBuf,
     ) -> [f64; 3] {
         self.basis(e, en, xi, eta, buf);
-        let dofs = self.element_dofs(e);
         let mut eps = [0.0; 3];
         for (f, g) in buf.grads.iter().enumerate() {
             let (u1, u2) = (u[dofs[2 * f]], u[dofs[2 * f + 1]]);
@@ -199,7 +207,7 @@ impl XfemModel {
             eps[1] += g[1] * u2;
             eps[2] += g[1] * u1 + g[0] * u2;
         }
-        crate::fe::q4::stress(&self.material.d_matrix(), &eps)
+        crate::fe::q4::stress(d, &eps)
     }
 
     /// The enriched stresses at the 2 x 2 Gauss points of every element (points, stresses; the
@@ -210,12 +218,14 @@ impl XfemModel {
         let mut buf = BasisBuf::default();
         let n = self.mesh.n_elements();
         let (mut pts, mut sig) = (Vec::with_capacity(4 * n), Vec::with_capacity(4 * n));
+        let d = self.material.d_matrix();
         for e in 0..n {
             let en = self.enriched(e);
             let xy = self.mesh.element_coords(e);
+            let dofs = self.element_dofs(e);
             for q in &rule {
                 pts.push(geometry(&xy, q.xi, q.eta).0);
-                sig.push(self.stress_at(e, en, q.xi, q.eta, u, &mut buf));
+                sig.push(self.stress_at((e, en, &dofs), q.xi, q.eta, u, &d, &mut buf));
             }
         }
         (pts, sig)
