@@ -172,6 +172,23 @@ def test_ccm_pd_edge_shear_balances_its_load() -> None:
     assert e.value.param == "hole[0]"
 
 
+def test_sla_history_carries_the_probes(tmp_path: Path) -> None:
+    """PD and CCM-PD SLA histories record every probe at each step's load (row 0: unloaded):
+    before any break the state is the reference one, so row 1 is its load factor times the
+    reference probe (the scalar, from a full solve); the load path takes the columns."""
+    s = specimens.edge_shear("ccm_pd", pd__sla_steps=3).replace(
+        probes=[{"name": "corner", "point": [7.0, 16.0]}]
+    )
+    res = rf.run(s)
+    ph = res.probe_history("corner")
+    assert ph.shape == (4, 2) and np.all(ph[0] == 0.0)
+    lam = res.history["load_factor"][1]
+    assert ph[1] == pytest.approx(lam * np.asarray(res.probe("corner")), rel=1e-9)
+    assert ph[1, 0] > 0, "the top corner moves with the shear"
+    fig = rf.plotting.plot_load_path(res, x="probe:corner:1", y="sigma22")
+    fig.savefig(tmp_path / "lp.png")
+
+
 # ----------------------------------------------------------------------------------------------
 # specimens against the literature
 

@@ -267,14 +267,15 @@ class Result:
         return probes[name]
 
     def probe_history(self, name: str) -> np.ndarray:
-        """Growth runs (XFEM): the probe ``name`` at every history row, shape (s, 2) (columns
-        ``probe:<name>:1`` and ``probe:<name>:2`` of :attr:`history`)."""
+        """Growth runs (XFEM) and SLA runs (PD, CCM-PD; row 0 the unloaded origin): the probe
+        ``name`` at every history row, shape (s, 2) (columns ``probe:<name>:1`` and
+        ``probe:<name>:2`` of :attr:`history`)."""
         cols = [f"probe:{name}:{k}" for k in (1, 2)]
         if not all(c in self.history for c in cols):
             have = sorted({c.split(":")[1] for c in self.history if c.startswith("probe:")})
             raise InvalidParameterError(
                 f"invalid name: the history has no probe {name!r}; probes in the history: "
-                f"{', '.join(have) or 'none (growth runs have a history)'}",
+                f"{', '.join(have) or 'none (growth and SLA runs have a history)'}",
                 "name",
             )
         return np.column_stack([np.asarray(self.history[c], dtype=float) for c in cols])

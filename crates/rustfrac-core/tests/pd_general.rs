@@ -481,3 +481,89 @@ fn sla_on_region_scenes_fast_equals_oracle() {
         );
     }
 }
+
+#[test]
+fn sla_histories_carry_the_probes() {
+    // probes in the PD part, in the FEM part (CCM-PD: the fast solver reads them from its ring)
+    // and the opening at the crack mouth. References: the oracle's full solve at every step, the
+    // reference solution before any break (step 1 = lambda_1 times it), and the CMOD (the
+    // opening probe at the mouth reads the same node pair)
+    for method in ["pd", "ccm_pd"] {
+        let mut runs = Vec::new();
+        for fast in [true, false] {
+            let mut p = region_plate(
+                method,
+                1.2,
+                2.2,
+                0.1,
+                vec![support(0, Region::Edge(Side::Bottom), Some(0.0), Some(0.0))],
+                vec![load(
+                    0,
+                    Region::Edge(Side::Top),
+                    LoadKind::Traction {
+                        normal: 1.0,
+                        shear: 0.0,
+                    },
+                )],
+            );
+            p.cracks = vec![edge(Side::Left, 0.0, 1.15, 0.45, 10.0)];
+            if method == "ccm_pd" {
+                p.pd_mut().regions = vec![[0.0, 0.6, 1.2, 1.6]];
+            }
+            p.probes = vec![
+                Probe {
+                    name: "fem_corner".into(),
+                    kind: ProbeKind::Displacement([1.1, 2.1]),
+                },
+                Probe {
+                    name: "near_tip".into(),
+                    kind: ProbeKind::Displacement([0.6, 1.3]),
+                },
+                Probe {
+                    name: "mouth".into(),
+                    kind: ProbeKind::Opening {
+                        point: [0.0, 1.15],
+                        crack: 0,
+                    },
+                },
+            ];
+            p.pd_mut().sla = SlaParams {
+                max_steps: 30,
+                fast,
+                ..SlaParams::default()
+            };
+            let r = run(&p, &go_on).unwrap();
+            assert_eq!(r.history.len(), 30, "{method}");
+            let s1 = &r.history[0];
+            for (k, (name, v)) in r.responses.probes.iter().enumerate() {
+                for c in 0..2 {
+                    let want = s1.lambda * v[c];
+                    let tol = 1e-9 * (want.abs() + s1.lambda * v[0].hypot(v[1]));
+                    assert!(
+                        (s1.probes[k][c] - want).abs() <= tol,
+                        "{method} fast={fast} {name}[{c}]: {} vs {want}",
+                        s1.probes[k][c]
+                    );
+                }
+            }
+            for s in &r.history {
+                assert_eq!(s.probes.len(), 3);
+                let cm = s.probes[2][0];
+                assert!((cm - s.cmod).abs() <= 1e-9 * s.cmod.abs(), "{s:?}");
+                assert!(s.probes[0][1] > 0.0, "the far corner moves up: {s:?}");
+            }
+            runs.push(r.history);
+        }
+        let (a, b) = (&runs[0], &runs[1]);
+        let mut worst = 0.0f64;
+        for (x, y) in a.iter().zip(b) {
+            assert_eq!(x.bonds, y.bonds, "{method}: step {}", x.step);
+            for (p, q) in x.probes.iter().zip(&y.probes) {
+                let scale = q[0].hypot(q[1]).max(1e-300);
+                worst = worst.max((p[0] - q[0]).hypot(p[1] - q[1]) / scale);
+            }
+        }
+        assert!(worst <= 1e-8, "{method}: fast vs oracle probes {worst:.2e}");
+        println!("{method}: probes along 30 steps, fast = oracle to {worst:.2e}");
+    }
+}

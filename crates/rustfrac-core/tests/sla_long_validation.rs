@@ -6,7 +6,7 @@ mod common;
 use common::{coarse, go_on};
 use rustfrac_core::pd::sla::checkpoint;
 use rustfrac_core::pd::sla::{auto_refactor_every, run, CcmPdResult};
-use rustfrac_core::problem::Problem;
+use rustfrac_core::problem::{Probe, ProbeKind, Problem};
 use rustfrac_core::Error;
 use rustfrac_core::WarningKind;
 use std::path::PathBuf;
@@ -142,6 +142,20 @@ fn checkpoint_and_resume_are_bit_for_bit() {
         let mut base = coarse(fast, total);
         base.pd_mut().sla.refactor_every = 25;
         base.pd_mut().sla.damage_at_steps = vec![n / 2, n + 1, total];
+        // probes ride in the history (and in the checkpoint, version 2)
+        base.probes = vec![
+            Probe {
+                name: "mouth".into(),
+                kind: ProbeKind::Opening {
+                    point: [0.0, 10.5],
+                    crack: 0,
+                },
+            },
+            Probe {
+                name: "corner".into(),
+                kind: ProbeKind::Displacement([11.0, 21.0]),
+            },
+        ];
         let straight = run(&base, &go_on).unwrap();
         assert_eq!(straight.history.len(), total);
         let path = dir.join(format!("run-{fast}.ckpt"));
@@ -380,5 +394,58 @@ fn hostile_checkpoints_are_refused() {
         .filter(|f| f.contains(".tmp-"))
         .collect();
     assert!(left.is_empty(), "{left:?}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A version 1 checkpoint (before the probes were recorded) still resumes a scene without
+/// probes, bit for bit; a scene with probes refuses it by name. The version 1 file is made here
+/// from a version 2 one by dropping each step's probe count (the documented layout).
+#[test]
+fn version_one_checkpoints_still_resume() {
+    let dir = tmpdir("ckpt-v1");
+    let path = dir.join("v2.ckpt");
+    let mut p = coarse(true, 6);
+    p.pd_mut().sla.checkpoint_every = 6;
+    p.pd_mut().sla.checkpoint_path = Some(path.clone());
+    run(&p, &go_on).unwrap();
+    let b = std::fs::read(&path).unwrap();
+    let word = |k: usize| u64::from_le_bytes(b[k..k + 8].try_into().unwrap());
+    let mut v1 = b[..8].to_vec();
+    v1.extend_from_slice(&1u32.to_le_bytes());
+    v1.extend_from_slice(&b[12..28]);
+    let mut pos = 28;
+    for _ in 0..word(20) {
+        let start = pos;
+        pos += 8 * 8; // step, 5 values, 2 nodes
+        for _ in 0..2 {
+            pos += 8 * (1 + word(pos) as usize); // bonds, then detached nodes
+        }
+        v1.extend_from_slice(&b[start..pos]);
+        assert_eq!(word(pos), 0, "no probes");
+        pos += 8;
+    }
+    assert_eq!(pos, b.len() - 8);
+    v1.extend_from_slice(&fnv(&v1).to_le_bytes());
+    let old = dir.join("v1.ckpt");
+    std::fs::write(&old, &v1).unwrap();
+    let straight = run(&coarse(true, 10), &go_on).unwrap();
+    let mut q = coarse(true, 10);
+    q.pd_mut().sla.resume_from = Some(old.clone());
+    let resumed = run(&q, &go_on).unwrap();
+    assert_eq!(resumed.resumed_steps, 6);
+    same(&straight, &resumed);
+    q.probes = vec![Probe {
+        name: "corner".into(),
+        kind: ProbeKind::Displacement([11.0, 21.0]),
+    }];
+    match run(&q, &go_on) {
+        Err(Error::InvalidInput {
+            param, expected, ..
+        }) => {
+            assert_eq!(param, "pd.resume_from");
+            assert!(expected.contains("probes"), "{expected}");
+        }
+        other => panic!("{:?}", other.map(|r| r.status)),
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -4,7 +4,7 @@
 //! History: one row per SLA step, recorded at the load that breaks the step's bond(s), after the
 //! unloaded origin as row 0 (so sigma22 against cmod starts from (0, 0)): step, load_factor,
 //! sigma22, cmod, u0, crack_length, bond (the critical bond), n_broken, node_i, node_j,
-//! n_detached. Fields: node_xy, u, u_final (empty when the body separated), pd_nodes,
+//! n_detached, and per probe of the scene probe:<name>:1|2 (at the step's load). Fields: node_xy, u, u_final (empty when the body separated), pd_nodes,
 //! pd_node_xy, damage, broken, bond_nodes, detached_nodes (d,2) (step, node; step 0 = by the
 //! pre-crack), damage_at_steps, damage_at (k,p).
 
@@ -77,6 +77,16 @@ fn history(s: &Shaped<'_>, r: &CcmPdResult) -> PyResult<()> {
     s.history.set_item("node_j", PyArray1::from_vec(py, nj))?;
     s.history
         .set_item("n_detached", idx(|x| x.detached.len() as i64))?;
+    // the probes at every step's load (the origin: unloaded, zero)
+    for (k, (name, _)) in r.responses.probes.iter().enumerate() {
+        for c in 0..2 {
+            let v = h
+                .iter()
+                .map(|x| x.probes.get(k).map_or(0.0, |p| p[c]))
+                .collect();
+            s.column(&format!("probe:{name}:{}", c + 1), v)?;
+        }
+    }
     Ok(())
 }
 

@@ -11,7 +11,8 @@
 //! Format (little endian, no external serialiser): magic `RFSLACK\0`, version (u32), model
 //! fingerprint (u64), step count (u64), then per step: step, lambda, sigma22, cmod, u0,
 //! crack_length, node_i, node_j (u64 / f64 bits), the broken bonds and the detached nodes (each a
-//! u64 count and u64 values); finally an FNV-1a checksum (u64) of everything before it.
+//! u64 count and u64 values), the probes (a u64 count and two f64 each; version 2); finally an
+//! FNV-1a checksum (u64) of everything before it.
 //!
 //! Writing: the file goes to a temporary name beside it, created exclusively under a random name
 //! (never following a planted symlink), synced, then renamed into place, so a reader never sees a
@@ -29,8 +30,12 @@ use std::io::{Read, Write};
 use std::path::Path;
 
 const MAGIC: &[u8; 8] = b"RFSLACK\0";
-/// Format version of the checkpoint files.
-pub const VERSION: u32 = 1;
+/// Format version of the checkpoint files written (version 1, without the probes, is still
+/// read for scenes without probes).
+pub const VERSION: u32 = 2;
+/// Version of the fingerprint's field sequence (unchanged by format versions that only add
+/// recorded values, so older checkpoints of the same model keep resuming).
+const FINGERPRINT_SCHEME: u64 = 1;
 
 /// FNV-1a, 64 bit: the checksum and the model fingerprint (stable across platforms and runs).
 #[derive(Debug, Clone, Copy)]
@@ -74,7 +79,7 @@ pub fn fingerprint(p: &Problem, precrack: &[[f64; 2]], n_dofs: usize, n_bonds: u
     let (d, mat, sla) = (&p.domain, &p.material.elastic, &pd.sla);
     let load = p.boundary.plate_load();
     let mut h = Fnv::default();
-    h.u64(VERSION as u64);
+    h.u64(FINGERPRINT_SCHEME);
     h.str(p.method.name());
     for v in [d.width, d.height, pd.dx, p.material.g0, mat.e, mat.nu] {
         h.f64(v);
@@ -143,6 +148,10 @@ pub(crate) fn write(path: &Path, fingerprint: u64, steps: &[SlaStep]) -> Result<
             for &b in list {
                 put(&mut buf, b as u64);
             }
+        }
+        put(&mut buf, s.probes.len() as u64);
+        for v in s.probes.iter().flatten() {
+            put(&mut buf, v.to_bits());
         }
     }
     let mut h = Fnv::default();
@@ -263,18 +272,23 @@ impl Reader<'_> {
     }
 }
 
-/// The largest checkpoint of a model with `n_bonds` bonds and `n_nodes` nodes: the header, at
-/// most [`crate::problem::schema::MAX_STEPS`] steps of 11 words, every bond once and every node
-/// grounded at most twice (one word each).
-fn size_limit(n_bonds: usize, n_nodes: usize) -> u64 {
-    let words = 11 * crate::problem::schema::MAX_STEPS as u64 + n_bonds as u64 + 2 * n_nodes as u64;
+/// The largest checkpoint of a model with `n_bonds` bonds, `n_nodes` nodes and `n_probes`
+/// probes: the header, at most [`crate::problem::schema::MAX_STEPS`] steps of 12 words and two
+/// per probe, every bond once and every node grounded at most twice (one word each).
+fn size_limit(n_bonds: usize, n_nodes: usize, n_probes: usize) -> u64 {
+    let per_step = 12 + 2 * n_probes as u64;
+    let words =
+        per_step * crate::problem::schema::MAX_STEPS as u64 + n_bonds as u64 + 2 * n_nodes as u64;
     36 + 8 * words
 }
 
 /// The bytes of the checkpoint at `path`: a regular file (a FIFO, device or directory is refused
 /// before it is opened) of at most [`size_limit`] bytes (read with that bound, so a file that
 /// grows while it is read cannot exhaust memory).
-fn read_bounded(path: &Path, n_bonds: usize, n_nodes: usize) -> Result<Vec<u8>> {
+fn read_bounded(
+    path: &Path,
+    (n_bonds, n_nodes, n_probes): (usize, usize, usize),
+) -> Result<Vec<u8>> {
     let meta = std::fs::metadata(path).map_err(|e| io_err(path, "reading the checkpoint", e))?;
     if !meta.is_file() {
         return Err(Error::invalid(
@@ -283,7 +297,7 @@ fn read_bounded(path: &Path, n_bonds: usize, n_nodes: usize) -> Result<Vec<u8>> 
             format!("{} (not a regular file)", path.display()),
         ));
     }
-    let limit = size_limit(n_bonds, n_nodes);
+    let limit = size_limit(n_bonds, n_nodes, n_probes);
     let too_big = |len: u64| {
         Error::invalid(
             "pd.resume_from",
@@ -305,15 +319,15 @@ fn read_bounded(path: &Path, n_bonds: usize, n_nodes: usize) -> Result<Vec<u8>> 
     Ok(b)
 }
 
-/// Reads and validates a checkpoint written by [`write()`] for the model with this `fingerprint`.
+/// Reads and validates a checkpoint written by [`write()`] for the model with this `fingerprint`
+/// (`n_bonds` bonds, `n_nodes` nodes, `n_probes` probes).
 pub(crate) fn read(
     path: &Path,
     fingerprint: u64,
-    n_bonds: usize,
-    n_nodes: usize,
+    (n_bonds, n_nodes, n_probes): (usize, usize, usize),
 ) -> Result<Vec<SlaStep>> {
     let bad = |what: &str, got: String| Error::invalid("pd.resume_from", what, got);
-    let b = read_bounded(path, n_bonds, n_nodes)?;
+    let b = read_bounded(path, (n_bonds, n_nodes, n_probes))?;
     if b.len() < 36 || &b[..8] != MAGIC {
         return Err(bad(
             "a rustfrac SLA checkpoint file",
@@ -321,10 +335,19 @@ pub(crate) fn read(
         ));
     }
     let version = u32::from_le_bytes(b[8..12].try_into().expect("4 bytes"));
-    if version != VERSION {
+    if !(1..=VERSION).contains(&version) {
         return Err(bad(
-            &format!("a checkpoint of format version {VERSION}"),
+            &format!("a checkpoint of format version 1..={VERSION}"),
             format!("version {version}"),
+        ));
+    }
+    if version == 1 && n_probes > 0 {
+        return Err(bad(
+            &format!(
+                "a checkpoint recording the scene's {n_probes} probes (format version 2; a \
+                 version 1 file resumes only a scene without [[probe]])"
+            ),
+            "version 1".into(),
         ));
     }
     let (body, tail) = b.split_at(b.len() - 8);
@@ -388,6 +411,24 @@ pub(crate) fn read(
         let detached = (0..nd)
             .map(|_| r.index(n_nodes, "node"))
             .collect::<Result<Vec<_>>>()?;
+        let np = if version == 1 { 0 } else { r.u64()? };
+        if np != n_probes as u64 {
+            return Err(bad(
+                &format!("a checkpoint of a scene with {n_probes} probes"),
+                format!("step {step} records {np}"),
+            ));
+        }
+        let mut probes = Vec::with_capacity(n_probes);
+        for _ in 0..n_probes {
+            let pv = [f64::from_bits(r.u64()?), f64::from_bits(r.u64()?)];
+            if !pv.iter().all(|x| x.is_finite()) {
+                return Err(bad(
+                    "finite recorded probes",
+                    format!("step {step}: {pv:?}"),
+                ));
+            }
+            probes.push(pv);
+        }
         steps.push(SlaStep {
             step,
             lambda: v[0],
@@ -398,6 +439,7 @@ pub(crate) fn read(
             bonds,
             nodes,
             detached,
+            probes,
         });
     }
     if r.pos != body.len() {

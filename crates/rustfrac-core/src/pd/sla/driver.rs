@@ -18,7 +18,7 @@ use super::oracle::Oracle;
 use super::result::{CcmPdResult, SlaStatus, SlaStep};
 use crate::error::{Error, Result};
 use crate::la::CscMatrix;
-use crate::pd::splice::{SpliceModel, Spring, StaticSolution};
+use crate::pd::splice::{ProbeFunctional, SpliceModel, Spring, StaticSolution};
 use crate::pd::{damage, BYTES_PER_BOND, DENSE_LIMIT};
 use crate::problem::{validate, Problem, SlaParams};
 use crate::warning::{Warning, WarningKind};
@@ -57,8 +57,10 @@ fn run_from(
     let mut st = RunState::new(model);
     let springs0 = st.ground_precrack(model);
     let k0 = model.assemble_with(&st.broken, &springs0);
+    st.probes = model.probe_functionals()?;
+    let probe_dofs: Vec<usize> = st.probes.iter().flat_map(|p| p.dofs()).collect();
     let (mut engine, solver, refactor_interval) =
-        engine_for(model, sla, &k0, &st.broken, &springs0)?;
+        engine_for(model, sla, &k0, (&st.broken, &springs0), &probe_dofs)?;
     timing("engine ready", t0);
     // reference solution before breaking (u from the engine, reactions from the full matrix)
     let u0_full = engine.full_u()?;
@@ -110,8 +112,8 @@ fn engine_for<'a>(
     model: &'a SpliceModel,
     sla: &SlaParams,
     k0: &CscMatrix,
-    broken: &[bool],
-    springs0: &[Spring],
+    (broken, springs0): (&[bool], &[Spring]),
+    probe_dofs: &[usize],
 ) -> Result<(Box<dyn Engine + 'a>, String, usize)> {
     let n_pd_free = (0..model.n_dofs())
         .filter(|&d| !model.mask[d] && model.is_pd[d / 2])
@@ -122,7 +124,13 @@ fn engine_for<'a>(
         solver.push_str(
             "fast (FEM condensed by Cholesky, dense PD system + Sherman-Morrison-Woodbury)",
         );
-        let f = Fast::new(model, k0, broken, springs0, sla.refactor_every)?;
+        let f = Fast::new(
+            model,
+            k0,
+            (broken, springs0),
+            probe_dofs,
+            sla.refactor_every,
+        )?;
         refactor_interval = f.refactor_every;
         Box::new(f)
     } else {
@@ -147,6 +155,8 @@ struct RunState {
     history: Vec<SlaStep>,
     damage_at: Vec<(usize, Vec<f64>)>,
     status: SlaStatus,
+    /// the scene's probes, recorded at every step
+    probes: Vec<ProbeFunctional>,
 }
 
 impl RunState {
@@ -158,6 +168,7 @@ impl RunState {
             history: Vec::new(),
             damage_at: Vec::new(),
             status: SlaStatus::Completed,
+            probes: Vec::new(),
         }
     }
 
@@ -192,7 +203,8 @@ impl RunState {
         path: &Path,
         fp: u64,
     ) -> Result<()> {
-        let steps = checkpoint::read(path, fp, model.bonds.len(), model.grid.n_nodes())?;
+        let sizes = (model.bonds.len(), model.grid.n_nodes(), self.probes.len());
+        let steps = checkpoint::read(path, fp, sizes)?;
         for st in steps.into_iter().take(sla.max_steps) {
             if st.bonds.iter().any(|&b| self.broken[b]) {
                 return Err(Error::invalid(
@@ -285,6 +297,7 @@ impl RunState {
                 nodes: [bf.i as usize, bf.j as usize],
                 detached,
                 crack_length: cl,
+                probes: st_probes(&self.probes, engine.u(), lmin),
             });
             self.record_damage(sla, model, step);
             let every = sla.checkpoint_every;
@@ -522,4 +535,13 @@ fn results(
         sla_seconds: info.sla_seconds,
         peak_memory_bytes: peak_memory_bytes(),
     }
+}
+
+/// The probes at the step's load lambda (the engine's u is at the reference load; it holds every
+/// probe dof, [`Fast`] keeps them in its ring).
+fn st_probes(probes: &[ProbeFunctional], u: &[f64], lambda: f64) -> Vec<[f64; 2]> {
+    probes
+        .iter()
+        .map(|p| p.value(u).map(|v| lambda * v))
+        .collect()
 }

@@ -25,6 +25,9 @@ pub struct SlaStep {
     pub detached: Vec<usize>,
     /// crack length after the step
     pub crack_length: f64,
+    /// the scene's probes at lambda (order of the scene's `[[probe]]`; empty without probes):
+    /// a displacement (u1, u2) or a crack opening (normal, sliding)
+    pub probes: Vec<[f64; 2]>,
 }
 
 impl SlaStep {
@@ -41,6 +44,7 @@ impl SlaStep {
             nodes: [usize::MAX; 2],
             detached: Vec::new(),
             crack_length: a0,
+            probes: Vec::new(),
         }
     }
 }

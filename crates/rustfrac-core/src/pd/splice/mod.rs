@@ -24,7 +24,7 @@ mod regions;
 mod response;
 mod springs;
 
-pub use response::Response;
+pub use response::{ProbeFunctional, Response};
 
 pub use crate::geometry::bond_crosses;
 pub(crate) use springs::Spring;

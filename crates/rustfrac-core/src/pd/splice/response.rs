@@ -99,6 +99,28 @@ impl Response {
     }
 }
 
+/// A probe as two linear functionals of u: component c is sum w u_dof over `comps[c]` (the
+/// displacement (u1, u2) of a node, or the (normal, sliding) jump across the pre-crack).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ProbeFunctional {
+    pub name: String,
+    pub comps: [Vec<(usize, f64)>; 2],
+}
+
+impl ProbeFunctional {
+    /// Its value for the displacements u.
+    pub fn value(&self, u: &[f64]) -> [f64; 2] {
+        self.comps
+            .each_ref()
+            .map(|c| c.iter().map(|&(d, w)| w * u[d]).sum())
+    }
+
+    /// Every dof it reads.
+    pub fn dofs(&self) -> impl Iterator<Item = usize> + '_ {
+        self.comps.iter().flatten().map(|&(d, _)| d)
+    }
+}
+
 impl SpliceModel {
     /// The responses of the scene's regions and probes for the solution (u, reactions) at the
     /// reference load (empty for the grips).
@@ -107,10 +129,19 @@ impl SpliceModel {
             Some(rc) => rc.responses(u, reactions, self.problem.material.elastic.thickness),
             None => SceneResponses::default(),
         };
+        for pf in self.probe_functionals()? {
+            r.probes.push((pf.name.clone(), pf.value(u)));
+        }
+        Ok(r)
+    }
+
+    /// The scene's probes as functionals of u (the SLA history records them at every step).
+    pub fn probe_functionals(&self) -> Result<Vec<ProbeFunctional>> {
         let g = &self.grid;
+        let mut out = Vec::with_capacity(self.problem.probes.len());
         for (k, pr) in self.problem.probes.iter().enumerate() {
             let q = pr.point();
-            let v = match pr.kind {
+            let comps = match pr.kind {
                 ProbeKind::Displacement(_) => {
                     let n = (0..g.n_nodes())
                         .filter(|&n| self.material[n])
@@ -122,7 +153,7 @@ impl SpliceModel {
                             d(a).total_cmp(&d(b))
                         })
                         .unwrap_or(0);
-                    [u[2 * n], u[2 * n + 1]]
+                    [vec![(2 * n, 1.0)], vec![(2 * n + 1, 1.0)]]
                 }
                 ProbeKind::Opening { .. } => {
                     let c: Vec<[f64; 2]> = self
@@ -158,12 +189,26 @@ impl SpliceModel {
                             format!("{q:?}"),
                         ));
                     };
-                    let du = [u[2 * hi] - u[2 * lo], u[2 * hi + 1] - u[2 * lo + 1]];
-                    [du[0] * n[0] + du[1] * n[1], du[0] * n[1] - du[1] * n[0]]
+                    // du = u_hi - u_lo; normal du . n, sliding du . (n2, -n1)
+                    let jump = |w: [f64; 2]| -> Vec<(usize, f64)> {
+                        [
+                            (2 * hi, w[0]),
+                            (2 * hi + 1, w[1]),
+                            (2 * lo, -w[0]),
+                            (2 * lo + 1, -w[1]),
+                        ]
+                        .into_iter()
+                        .filter(|&(_, v)| v != 0.0)
+                        .collect()
+                    };
+                    [jump([n[0], n[1]]), jump([n[1], -n[0]])]
                 }
             };
-            r.probes.push((pr.name.clone(), v));
+            out.push(ProbeFunctional {
+                name: pr.name.clone(),
+                comps,
+            });
         }
-        Ok(r)
+        Ok(out)
     }
 }

@@ -62,8 +62,8 @@ impl<'a> Fast<'a> {
     pub(in crate::pd::sla) fn new(
         model: &'a SpliceModel,
         k: &CscMatrix,
-        broken: &[bool],
-        springs: &[Spring],
+        (broken, springs): (&[bool], &[Spring]),
+        probe_dofs: &[usize],
         refactor_every: usize,
     ) -> Result<Self> {
         let dc = dof_classes(model);
@@ -71,7 +71,7 @@ impl<'a> Fast<'a> {
         let t0 = Instant::now();
         let k = k.clone();
         let (f_red, chol, y0) = fem_block(model, &k, &dc, t0)?;
-        let cp = coupling_sets(model, &k, &dc);
+        let cp = coupling_sets(model, &k, &dc, probe_dofs);
         let mut fun = functionals(model, &k, &dc, &y0);
         let z_ring = z_ring(&k, &dc, chol.as_ref(), &f_red, &cp, &mut fun)?;
         let mut me = Self {
@@ -260,8 +260,14 @@ fn fem_block(
     Ok((f_red, chol, y0))
 }
 
-/// The coupling sets of the condensation, from the pattern of `k` ([`Coupling`]).
-fn coupling_sets(model: &SpliceModel, k: &CscMatrix, dc: &DofClasses) -> Coupling {
+/// The coupling sets of the condensation, from the pattern of `k` ([`Coupling`]); the ring also
+/// holds the load displacement's and the probes' (`probe_dofs`) FEM dofs.
+fn coupling_sets(
+    model: &SpliceModel,
+    k: &CscMatrix,
+    dc: &DofClasses,
+    probe_dofs: &[usize],
+) -> Coupling {
     let (n, cls, idx, np) = (model.n_dofs(), &dc.cls, &dc.idx, dc.p_dofs.len());
     let mut pc = Vec::new();
     let mut pc_pos = vec![usize::MAX; np];
@@ -287,7 +293,13 @@ fn coupling_sets(model: &SpliceModel, k: &CscMatrix, dc: &DofClasses) -> Couplin
         }
     }
     // the load displacement of region scenes is read from u
-    for &(d, _) in model.response.displacement.iter().flatten() {
+    let load_dofs = model
+        .response
+        .displacement
+        .iter()
+        .flatten()
+        .map(|&(d, _)| d);
+    for d in load_dofs.chain(probe_dofs.iter().copied()) {
         if cls[d] == CLS_F {
             ring_flag[d] = true;
         }
