@@ -14,12 +14,11 @@ and run along x1, so for those methods a specimen whose crack starts from the bo
 its length along x2 (``(x, y) -> (y, L - x)``), the cracked face is the left edge, the loaded face
 the right one. The responses (reactions, probes, K_I) are the same; their vectors turn with it.
 
-What runs today: supports, loads on regions and probes run with "fem" and "xfem"; the PD methods
-refuse them (``sent`` with its grips runs with every method). Holes and notches are refused by
-the core for every method until the fictitious-domain integration lands
-(``plate_with_hole``, ``bittencourt_beam``). A refused specimen raises the core's
-:class:`~rustfrac.errors.InvalidParameterError` (its ``param`` names the scene key, e.g.
-``support[0]`` or ``hole[0]``, and its message the methods that support it) when it is built.
+Every method reads supports, loads on regions, probes, holes and notches (a fictitious domain
+for FEM and XFEM, removed cells and bonds for PD; CCM-PD needs its holes inside a PD rectangle;
+the README's general scenes section says what each method reads, and what it still refuses). A refused scene raises
+the core's :class:`~rustfrac.errors.InvalidParameterError` (its ``param`` names the scene key,
+e.g. ``support[0]`` or ``hole[0]``, and its message the valid range) when it is run.
 
 :data:`SPECIMENS` lists every specimen; each is also shipped as an example scene
 (``rf.examples.path(SPECIMENS[name].example)``).
@@ -321,10 +320,6 @@ def plate_with_hole(
     ``a`` = 2.5 from the left edge at mid-height, a hole of radius ``hole_radius`` = 1.5 centred
     at ``hole_center`` = (6, 10) ahead of the tip; E = 1000, nu = 0.3, plane strain; consistent
     units.
-
-    Holes are refused by the core for every method until the fictitious-domain integration
-    lands: building this scene raises :class:`~rustfrac.errors.InvalidParameterError`
-    (``param`` "hole[0]") until then.
     """
     d: dict[str, Any] = {
         "method": method,
@@ -375,10 +370,6 @@ def bittencourt_beam(
 
     Geometry as recalled from the paper's figure (the holes' heights and their abscissa are the
     commonly quoted values; check them against the source before a quantitative comparison).
-
-    Holes are refused by the core for every method until the fictitious-domain integration
-    lands: building this scene raises :class:`~rustfrac.errors.InvalidParameterError`
-    (``param`` "hole[0]") until then.
     """
     length, depth, end = 20.0, 8.0, 1.0
     lay = _Layout(length, depth, _turned(method))
