@@ -165,6 +165,7 @@ pub fn run(p: &Problem) -> Result<FemPlateResult> {
                     .and_then(|c| condition_warning("solve", c)),
             )
             .chain(warning)
+            .chain(model.fictitious.iter().flat_map(|f| f.warnings.clone()))
             .collect(),
     })
 }

@@ -35,7 +35,8 @@
 //!   both faces ties the faces together, so a slot narrower than about two elements is glued
 //!   (measured, `tests/hole_validation.rs`: an XFEM crack from the tip of a half-element slot
 //!   gives K_I 14.78 instead of 27.12); draw the crack through such a slot from the plate's
-//!   edge instead (its Heaviside enrichment separates the faces), or refine.
+//!   edge instead (its Heaviside enrichment separates the faces), or refine. Such holes are
+//!   reported: a [`Warning`] names each one fewer than [`MIN_ELEMENTS_ACROSS`] elements across.
 //! * Tractions on the plate's edges are not clipped by a notch: the forces on removed nodes are
 //!   dropped ([`FictitiousDomain::constrain`]), the edge segments a notch cuts keep their full
 //!   tributary length.
@@ -46,6 +47,7 @@ use crate::fe::mesh::Mesh;
 use crate::fe::quadrature::{triangle_rule, QPoint};
 use crate::geometry::{clip_box, polygon_area, subtract_convex, triangulate};
 use crate::problem::{Domain, Hole, Shape};
+use crate::warning::{Warning, WarningKind};
 
 /// Nodes whose support holds less material than this fraction are removed (module
 /// documentation). Measured (`tests/hole_validation.rs`, `small_fraction_rule_bounds_the_condition`):
@@ -104,6 +106,57 @@ pub struct FictitiousDomain {
     /// nodes removed (sorted): no material, or less than the threshold, in their support
     pub removed_nodes: Vec<usize>,
     removed: Vec<bool>,
+    /// holes and notches narrower than [`MIN_ELEMENTS_ACROSS`] elements ([`narrow_holes`]):
+    /// their faces are tied, so the result is stiffer than the scene's
+    pub warnings: Vec<Warning>,
+}
+
+/// The fewest elements across a hole or notch (its bounding box, within the plate, against the
+/// largest element it overlaps along that direction) before its faces are tied: below it a node
+/// inside the hole, or an element spanning it, couples material on both faces (measured,
+/// `tests/hole_validation.rs`: a half-element slot gives K_I 14.78 instead of 27.12).
+pub const MIN_ELEMENTS_ACROSS: f64 = 2.0;
+
+/// A warning for each hole or notch fewer than [`MIN_ELEMENTS_ACROSS`] elements across (its
+/// bounding box clipped to the plate, along x1 and along x2, against the largest element size
+/// of the grid columns / rows it overlaps), naming it and the refinement that resolves it.
+fn narrow_holes(mesh: &Mesh, domain: &Domain) -> Vec<Warning> {
+    let largest = |lines: &[f64], lo: f64, hi: f64| {
+        lines
+            .windows(2)
+            .filter(|w| w[1] > lo && w[0] < hi)
+            .map(|w| w[1] - w[0])
+            .fold(0.0f64, f64::max)
+    };
+    let mut out = Vec::new();
+    for h in &domain.holes {
+        let b = h.shape.bounding_box();
+        let (x0, x1) = (b[0].max(mesh.xs[0]), b[2].min(mesh.xs[mesh.xs.len() - 1]));
+        let (y0, y1) = (b[1].max(mesh.ys[0]), b[3].min(mesh.ys[mesh.ys.len() - 1]));
+        let across = [
+            ("x1", x1 - x0, largest(&mesh.xs, x0, x1)),
+            ("x2", y1 - y0, largest(&mesh.ys, y0, y1)),
+        ];
+        let Some((axis, w, el)) = across
+            .into_iter()
+            .filter(|&(_, w, el)| el > 0.0 && w < MIN_ELEMENTS_ACROSS * el)
+            .min_by(|a, b| (a.1 / a.2).total_cmp(&(b.1 / b.2)))
+        else {
+            continue;
+        };
+        out.push(Warning::new(
+            WarningKind::Discretisation,
+            format!(
+                "{} is {:.3} elements across along {axis} (width {w:.4}, element size {el:.4}; \
+                 fewer than {MIN_ELEMENTS_ACROSS}): the nodes and elements spanning it tie its \
+                 faces, so the model is stiffer than the scene; refine there (mesh.refine box, \
+                 or finer xs / ys), or draw a crack through a slot",
+                h.name,
+                w / el
+            ),
+        ));
+    }
+    out
 }
 
 /// The triangle-rule degree matching a Gauss rule of `gauss` points per direction.
@@ -157,6 +210,7 @@ impl FictitiousDomain {
             node_fraction: Vec::new(),
             removed_nodes: Vec::new(),
             removed: Vec::new(),
+            warnings: narrow_holes(mesh, domain),
         };
         for e in 0..ne {
             let (i, j) = (e % nx, e / nx);

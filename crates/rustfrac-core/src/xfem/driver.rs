@@ -321,6 +321,7 @@ fn initial_result(
                     .as_ref()
                     .and_then(|c| condition_warning("initial solve", c)),
             )
+            .chain(model.fictitious.iter().flat_map(|f| f.warnings.clone()))
             .collect(),
     })
 }
