@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 import rustfrac as rf
+from rustfrac import agreement
 from rustfrac.fig7 import fig7
 
 FILES = ["fig7.png", "fig7.csv", "fig8a.png", "fig8b.png", "fig6.png", "summary.md", "summary.json"]
@@ -173,3 +174,15 @@ def test_out_naming_a_file_fails_before_the_runs(
     assert main(["fig7", "--out", str(f), "--preset", "fast"]) == 2
     assert "it is a file" in capsys.readouterr().err
     assert calls == []
+
+
+def test_summary_carries_the_agreement_along_the_curve(fast_run: tuple[Path, dict]) -> None:
+    out, summary = fast_run
+    cur = summary["agreement"]["curve"]
+    assert cur["window"] == agreement.DEFAULT_WINDOW
+    for k in agreement.READINGS:
+        assert cur[k]["n"] > 5, k
+        # the fast preset's coarse PD grid: within 25 % of LEFM everywhere along the overlap
+        assert abs(cur[k]["mean_rel_diff"]) < 0.25, (k, cur[k])
+    assert json.loads((out / "summary.json").read_text())["agreement"]["curve"] == cur
+    assert "running mean over" in (out / "summary.md").read_text()

@@ -35,7 +35,7 @@ from typing import Any
 
 import numpy as np
 
-from . import _core, figures, handbook
+from . import _core, agreement, figures, handbook
 from ._folder import check_writable, locked, with_fallback, writing
 from ._log import logger
 from .errors import InvalidResultError, ResultNotFoundError
@@ -314,6 +314,8 @@ class _Job:
             ("LEFM handbook (long strip, traction)", hb[0], hb[1], {"ls": "--", "color": "0.4"})
         )
         title = f"edge-cracked plate, bc {self.bc}, preset {self.preset}"
+        both = "xfem_growth" in results and "ccm_pd" in results
+        panel = _curve_agreement(results)["curves"] if both else None
         out: list[tuple[str, Callable[[Path], Any]]] = [
             (
                 "fig7.png",
@@ -324,6 +326,7 @@ class _Job:
                         published=[
                             ("paper, initial (XFEM)", PAPER["cmod_xfem"], PAPER["sigma22_xfem"])
                         ],
+                        agreement=panel,
                     ),
                     f,
                 ),
@@ -481,6 +484,12 @@ def _pd_disc(r: Result, dx: float) -> dict[str, np.ndarray]:
     }
 
 
+def _curve_agreement(results: dict[str, Result]) -> dict[str, Any]:
+    """The CCM-PD saw-tooth against the XFEM growth curve at equal CMOD (:mod:`.agreement`)."""
+    xh, ph = results["xfem_growth"].history, results["ccm_pd"].history
+    return agreement.compare(xh["cmod"], xh["sigma22"], ph["cmod"], ph["sigma22"])
+
+
 def _rel(a: float, b: float) -> float:
     return (a - b) / b if b else float("nan")
 
@@ -542,6 +551,8 @@ def _summary(
             "initial_cmod_rel_diff": _rel(ours["cmod_ccm_pd"], ours["cmod_xfem"]),
             "initial_sigma22_rel_diff": _rel(ours["sigma22_ccm_pd"], ours["sigma22_xfem"]),
         }
+        cur = _curve_agreement(results)
+        s["agreement"]["curve"] = {k: v for k, v in cur.items() if k != "curves"}
     s["cost"] = {
         "xfem_s": sum(v for k, v in times.items() if k.startswith("xfem_growth")),
         "ccm_pd_s": times.get("ccm_pd"),
@@ -599,6 +610,27 @@ def _markdown(s: dict[str, Any]) -> str:
             f"{ag['initial_cmod_rel_diff']:+.2%} |",
             "",
         ]
+        cur = ag.get("curve")
+        if cur:
+            lines += [
+                "Along the curve, at equal CMOD (the XFEM curve interpolated; CCM-PD read three "
+                f"ways, running mean over {cur['window']} steps): PD / XFEM - 1",
+                "",
+                "| CCM-PD reading | points | CMOD range | mean | RMS | min | max |",
+                "|---|---|---|---|---|---|---|",
+            ]
+            for k in agreement.READINGS:
+                v = cur[k]
+                if not v["n"]:
+                    lines.append(f"| {k} | 0 | n/a | | | | |")
+                    continue
+                lo, hi = v["cmod_range"]
+                lines.append(
+                    f"| {k} | {v['n']} | {lo:.5g} .. {hi:.5g} | {v['mean_rel_diff']:+.2%} | "
+                    f"{v['rms_rel_diff']:.2%} | {v['min_rel_diff']:+.2%} | "
+                    f"{v['max_rel_diff']:+.2%} |"
+                )
+            lines.append("")
     c = s["cost"]
     lines += [
         "## Cost",

@@ -11,7 +11,7 @@ Every ``save_*`` writes atomically (temporary file, then rename).
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -45,17 +45,37 @@ def save_figure(fig: Figure, path: str | Path, dpi: int = 150) -> Path:
 
 
 def plot_fig7(
-    curves: Sequence[Curve], *, title: str = "", published: Sequence[tuple[str, float, float]] = ()
+    curves: Sequence[Curve],
+    *,
+    title: str = "",
+    published: Sequence[tuple[str, float, float]] = (),
+    agreement: Mapping[str, tuple[np.ndarray, np.ndarray]] | None = None,
 ) -> Figure:
     """CMOD (x) against sigma22 (y) for each curve; ``published`` marks single (label, cmod,
-    sigma22) points such as the paper's initial values."""
-    fig = Figure(figsize=(7.0, 5.0))
-    ax = fig.add_subplot()
+    sigma22) points such as the paper's initial values. ``agreement`` (reading -> (cmod,
+    relative difference), :func:`rustfrac.agreement.compare`'s ``curves``) adds a panel below:
+    the PD readings against the XFEM curve at the same CMOD, in percent."""
+    fig = Figure(figsize=(7.0, 7.0 if agreement else 5.0))
+    if agreement:
+        ax, bx = fig.subplots(2, 1, sharex=True, gridspec_kw={"height_ratios": [3, 1.3]})
+        for (name, (c, rel)), style in zip(
+            agreement.items(), ({"marker": "^"}, {"marker": "v"}, {"lw": 1.2})
+        ):
+            ls = {"ls": "none", "ms": 3} if "marker" in style else {}
+            bx.plot(c, 100 * np.asarray(rel), label=name.replace("_", " "), **style, **ls)
+        bx.axhline(0.0, color="0.4", lw=0.6)
+        bx.set_xlabel("CMOD [mm]")
+        bx.set_ylabel("CCM-PD / XFEM - 1 [%]", fontsize=8)
+        bx.grid(alpha=0.3)
+        bx.legend(fontsize=7)
+    else:
+        ax = fig.add_subplot()
     for label, cmod, sigma, style in curves:
         ax.plot(cmod, sigma, label=label, **style)
     for label, c, s in published:
         ax.plot([c], [s], "k*", ms=9, label=label)
-    ax.set_xlabel("CMOD [mm]")
+    if not agreement:
+        ax.set_xlabel("CMOD [mm]")
     ax.set_ylabel(r"$\sigma_{22}$ [MPa]")
     ax.set_xlim(left=0)
     ax.set_ylim(bottom=0)
