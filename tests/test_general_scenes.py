@@ -160,15 +160,29 @@ def test_ccm_pd_edge_shear_balances_its_load() -> None:
     it): the applied shear is exact, and the bottom support's reaction balances it up to the
     splice coupling's out-of-balance forces (Ongaro et al. 2021: the coupling is not in
     equilibrium; 1.6 % here, with the PD rectangle reaching the crack's faces); a few SLA steps
-    run, and a hole outside the PD rectangle is refused by name."""
+    run."""
     s = specimens.edge_shear("ccm_pd", pd__sla_steps=3)
     assert s.material.nu == 0.25
     res = rf.run(s)
     assert res.reaction("load[0]")[0] == pytest.approx(7.0, rel=1e-9)
     assert res.reaction("support[0]")[0] == pytest.approx(-7.0, rel=0.03)
     assert len(res.history["load_factor"]) == 4
-    with pytest.raises(rf.InvalidParameterError, match="PD rectangle") as e:
-        rf.run(s.replace(holes=[{"center": [5.5, 3.0], "radius": 0.5}]))
+
+
+def test_ccm_pd_hole_in_the_fem_part() -> None:
+    """CCM-PD with a hole in its FEM part (cut elements, as FEM): the SLA runs, the applied shear
+    stays exact, the hole (near the bottom right, far from the crack) changes the first load factor
+    a little; a hole across
+    the PD rectangle's boundary (hybrid elements) is refused by name."""
+    s = specimens.edge_shear("ccm_pd", pd__sla_steps=3, pd__dx=0.125)
+    plain = rf.run(s)
+    res = rf.run(s.replace(holes=[{"center": [5.5, 3.0], "radius": 0.5}]))
+    assert res.reaction("load[0]")[0] == pytest.approx(7.0, rel=1e-9)
+    lf, lf0 = res.history["load_factor"][1], plain.history["load_factor"][1]
+    assert lf != lf0 and lf == pytest.approx(lf0, rel=0.1)
+    (cx, cy), (sx, _) = s.pd.center, s.pd.size
+    with pytest.raises(rf.InvalidParameterError, match="hybrid element") as e:
+        rf.run(s.replace(holes=[{"center": [cx + 0.5 * sx, cy], "radius": 0.3}]))
     assert e.value.param == "hole[0]"
 
 

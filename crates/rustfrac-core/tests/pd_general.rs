@@ -392,7 +392,8 @@ impl CeilTo for f64 {
 
 #[test]
 fn bad_pd_scenes_are_refused_by_name() {
-    // a hole reaching the FEM part of a CCM-PD model
+    // a hole of the FEM part of a CCM-PD model cutting the hybrid elements at the PD
+    // rectangle's boundary x1 = 0.5
     let mut p = shear_block("ccm_pd");
     p.domain.holes = vec![Hole {
         name: "hole[0]".into(),
@@ -403,7 +404,7 @@ fn bad_pd_scenes_are_refused_by_name() {
     }];
     let e = SpliceModel::new(&p).err().expect("refused");
     assert_eq!(e.param(), Some("hole[0]"), "{e}");
-    assert!(e.to_string().contains("fictitious"), "{e}");
+    assert!(e.to_string().contains("hybrid element"), "{e}");
     // inside the PD rectangle it is a PD hole
     p.domain.holes[0].shape = Shape::Circle {
         center: [1.0, 0.5],

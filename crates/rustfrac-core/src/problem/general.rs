@@ -207,39 +207,17 @@ fn probes(p: &Problem) -> Result<()> {
 }
 
 /// What each method reads of the general scene: the parts not built for a method yet are
-/// refused, naming the first entry. PD reads everything; CCM-PD too, but its holes must lie in a
-/// PD rectangle (holes in the FEM part need the fictitious-domain integration of cut elements).
+/// refused, naming the first entry. PD and CCM-PD read everything (holes in the FEM part of
+/// CCM-PD are a fictitious domain, `pd/splice/holes.rs`, which refuses one cutting a hybrid
+/// element where the grid is known).
 fn supported(p: &Problem) -> Result<()> {
     let m = p.method.name();
     match &p.method {
-        Method::Pd(_) => Ok(()),
-        Method::CcmPd(pd) => {
-            for h in &p.domain.holes {
-                let b = h.shape.bounding_box();
-                let inside =
-                    |r: &[f64; 4]| r[0] <= b[0] && b[2] <= r[2] && r[1] <= b[1] && b[3] <= r[3];
-                if !pd.regions.iter().any(inside) {
-                    return Err(Error::invalid(
-                        &h.name,
-                        &format!(
-                            "for method '{m}' a hole or notch inside a PD rectangle {:?} (holes \
-                             reaching the FEM part need the fictitious-domain integration, not \
-                             available yet; use method 'pd' or a larger PD rectangle)",
-                            pd.regions
-                        ),
-                        format!("bounding box {b:?}"),
-                    ));
-                }
-            }
-            Ok(())
-        }
+        Method::Pd(_) | Method::CcmPd(_) => Ok(()),
         Method::Fem(_) | Method::Xfem(_) => match p.domain.holes.first() {
             Some(h) if FICTITIOUS_DOMAIN_PENDING => Err(Error::invalid(
                 &h.name,
-                &format!(
-                    "no holes or notches for method '{m}' (supported by 'pd', and by 'ccm_pd' \
-                     inside its PD rectangle, for now)"
-                ),
+                &format!("no holes or notches for method '{m}' (supported by 'pd' and 'ccm_pd')"),
                 "a scene with holes or notches",
             )),
             _ => Ok(()),

@@ -63,11 +63,16 @@ pub(super) fn loading(
             (edges, rc.bc.clone(), rc.f.clone(), 0, Some(rc), response)
         }
     };
-    let (mut mask, prescribed) = bc.to_mask(ndof)?;
-    // removed nodes take part in no equation
+    let (mut mask, mut prescribed) = bc.to_mask(ndof)?;
+    let mut f = f;
+    // removed nodes take part in no equation: held at 0 (a grip on a notched edge too: a cut
+    // FEM element keeps their columns), no force
     for (n, _) in material.iter().enumerate().filter(|(_, &m)| !m) {
-        mask[2 * n] = true;
-        mask[2 * n + 1] = true;
+        for d in [2 * n, 2 * n + 1] {
+            mask[d] = true;
+            prescribed[d] = 0.0;
+            f[d] = 0.0;
+        }
     }
     Ok(Loading {
         edges,

@@ -6,10 +6,11 @@
 use super::boundary::loading;
 use super::holes;
 use super::precrack;
-use super::SpliceModel;
+use super::{CutStiffness, SpliceModel};
 use crate::error::{Error, Result};
+use crate::fe::fictitious::{ElementKind, FictitiousDomain};
 use crate::fe::q4::element_stiffness;
-use crate::fe::quadrature::subquad_rule;
+use crate::fe::quadrature::{subquad_rule, QPoint};
 use crate::la::Pattern;
 use crate::memory;
 use crate::pd::{
@@ -44,8 +45,12 @@ impl SpliceModel {
         };
         let all_pd = matches!(p.method, Method::Pd(_));
         let (grid, pd) = grid_and_constants(p, pm)?;
-        let material = holes::material_nodes(&p.domain, &grid);
+        let mut material = holes::material_nodes(&p.domain, &grid);
         let (is_pd, pd_nodes, warnings) = node_classes(pm, &grid, &material)?;
+        let fd = holes::fem_domain(&p.domain, &grid, &pm.regions, all_pd)?;
+        if let Some(fd) = &fd {
+            holes::fem_material(&p.domain, &grid, fd, &is_pd, &pm.regions, &mut material);
+        }
         memory::check(
             &format!(
                 "the {} model ({} grid nodes, {} PD nodes, m = {})",
@@ -57,8 +62,14 @@ impl SpliceModel {
             memory_estimate(grid.n_nodes(), pd_nodes.len(), pm.m),
         )?;
         let crack = precrack::in_grid_units(&precrack, &p.domain, &grid)?;
-        let ke = element_matrix(p, &grid);
-        let (elements, n_removed) = hybrid_elements(&grid, &is_pd, &material, &crack);
+        let ke = element_matrix(p, &grid, None);
+        let fem = FemPart {
+            grid: &grid,
+            is_pd: &is_pd,
+            material: &material,
+            fd: fd.as_ref(),
+        };
+        let (elements, n_removed, cut_ke) = fem.elements(p, &crack)?;
         let bonds = if p.domain.holes.is_empty() {
             find_bonds(&grid, pm.m, &is_pd)?
         } else {
@@ -87,6 +98,7 @@ impl SpliceModel {
             bonds,
             precrack_broken,
             ke,
+            cut_ke,
             rows_of,
             cols_of,
             pattern,
@@ -198,43 +210,78 @@ fn mark_pd_region(r: [f64; 4], grid: &Grid, is_pd: &mut [bool]) {
     }
 }
 
-/// The element stiffness of the dx x dx square (exact 2 x 2 Gauss, row-major 8 x 8; every FEM
-/// element of the grid is this square).
-fn element_matrix(p: &Problem, grid: &Grid) -> Vec<f64> {
+/// The element stiffness of the dx x dx square (exact 2 x 2 Gauss, row-major 8 x 8; every whole
+/// FEM element of the grid is this square), or with `rule` (a cut element's material part,
+/// [`FictitiousDomain::rule`]).
+fn element_matrix(p: &Problem, grid: &Grid, rule: Option<&[QPoint]>) -> Vec<f64> {
     let dx = grid.dx;
     let mut ke = Vec::new();
     let sq = [[0.0, 0.0], [dx, 0.0], [dx, dx], [0.0, dx]];
-    element_stiffness(&sq, &p.material.elastic, &subquad_rule(1, 2), &mut ke);
+    let full = subquad_rule(1, 2);
+    element_stiffness(&sq, &p.material.elastic, rule.unwrap_or(&full), &mut ke);
     ke
 }
 
-/// The FEM elements: every Q4 element with at least one FEM node (hybrid elements included) whose
-/// interior the pre-crack does not cut, all four nodes material (holes reach only the PD part of a
-/// CCM-PD model, `problem::general`). Returns (elements, number removed by the pre-crack).
-fn hybrid_elements(
-    grid: &Grid,
-    is_pd: &[bool],
-    material: &[bool],
-    crack: &[[f64; 2]],
-) -> (Vec<[usize; 4]>, usize) {
-    let (nx, ny) = (grid.nx, grid.ny);
-    let mut elements = Vec::new();
-    let mut n_removed = 0;
-    for j in 0..ny {
-        for i in 0..nx {
-            let n0 = grid.node(i, j);
-            let e = [n0, n0 + 1, n0 + nx + 2, n0 + nx + 1];
-            if e.iter().all(|&n| is_pd[n]) || !e.iter().all(|&n| material[n]) {
-                continue;
+/// The grid's FEM part: node classes, material flags and the fictitious domain of FEM holes.
+struct FemPart<'a> {
+    grid: &'a Grid,
+    is_pd: &'a [bool],
+    material: &'a [bool],
+    fd: Option<&'a FictitiousDomain>,
+}
+
+impl FemPart<'_> {
+    /// The FEM elements: every Q4 element with at least one FEM node (hybrid elements included)
+    /// whose interior the pre-crack does not cut. Without FEM holes all four nodes must be
+    /// material (the centre rule of PD holes); with them (`holes.rs`) an element of FEM nodes
+    /// is kept whole, dropped (void) or cut, and a hybrid element must be left whole by them.
+    /// Returns (elements, number removed by the pre-crack, the cut elements' stiffness by
+    /// element index).
+    fn elements(
+        &self,
+        p: &Problem,
+        crack: &[[f64; 2]],
+    ) -> Result<(Vec<[usize; 4]>, usize, CutStiffness)> {
+        let (grid, is_pd, material) = (self.grid, self.is_pd, self.material);
+        let (nx, ny) = (grid.nx, grid.ny);
+        let mut elements = Vec::new();
+        let mut cut_ke = CutStiffness::default();
+        let mut n_removed = 0;
+        let full = subquad_rule(1, 2);
+        for j in 0..ny {
+            for i in 0..nx {
+                let n0 = grid.node(i, j);
+                let e = [n0, n0 + 1, n0 + nx + 2, n0 + nx + 1];
+                let n_pd = e.iter().filter(|&&n| is_pd[n]).count();
+                if n_pd == 4 {
+                    continue;
+                }
+                let mut kind = ElementKind::Material;
+                if let Some(fd) = self.fd {
+                    let id = j * nx + i;
+                    if n_pd > 0 {
+                        holes::check_hybrid(fd, grid, id, &e)?;
+                    }
+                    kind = fd.kind(id);
+                }
+                let whole_material = e.iter().all(|&n| material[n]);
+                // a cut element keeps removed nodes (held at 0), as in FEM
+                if kind == ElementKind::Void || (kind == ElementKind::Material && !whole_material) {
+                    continue;
+                }
+                if precrack::cuts_cell(crack, i, j) {
+                    n_removed += 1;
+                    continue;
+                }
+                if let (Some(fd), ElementKind::Cut) = (self.fd, kind) {
+                    let ke = element_matrix(p, grid, Some(fd.rule(j * nx + i, &full)));
+                    cut_ke.push(elements.len(), &ke);
+                }
+                elements.push(e);
             }
-            if precrack::cuts_cell(crack, i, j) {
-                n_removed += 1;
-                continue;
-            }
-            elements.push(e);
         }
+        Ok((elements, n_removed, cut_ke))
     }
-    (elements, n_removed)
 }
 
 /// The blocks of the splice matrix and their pattern: an element writes the rows of its FEM nodes

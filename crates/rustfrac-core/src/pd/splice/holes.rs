@@ -12,9 +12,109 @@
 //!   circle, the segment's distance to the centre below the radius; rectangles and polygons, the
 //!   segment crossing the interior) does not exist, even between two material nodes: the hole
 //!   screens the interaction, as a pre-crack does.
+//!
+//! Holes in the FEM part of CCM-PD (a hole whose bounding box lies in no PD rectangle, a *FEM
+//! hole*) are a fictitious domain on the grid's Q4 elements, the rule of FEM and XFEM
+//! ([`FictitiousDomain`], `fe/fictitious.rs`): an element with FEM nodes only is integrated over
+//! its material part (cut), dropped (void) or kept whole; a FEM node is removed by the
+//! small-fraction rule ([`DEFAULT_MIN_SUPPORT_FRACTION`] of its support), not by the centre rule.
+//! A FEM hole cutting a hybrid element (PD and FEM nodes: the band at a PD rectangle's boundary)
+//! is refused: its PD rows would need partial volumes, its FEM rows a cut element of mixed
+//! nodes. Holes inside a PD rectangle keep the centre rule (bit for bit as before).
 
+use crate::error::{Error, Result};
+use crate::fe::fictitious::{ElementKind, FictitiousDomain, DEFAULT_MIN_SUPPORT_FRACTION};
+use crate::fe::mesh::Mesh;
 use crate::pd::Grid;
-use crate::problem::Domain;
+use crate::problem::{Domain, Hole};
+
+/// Is the hole's bounding box inside one of the PD rectangles (a PD hole, the centre rule)?
+pub(crate) fn in_pd_rectangle(h: &Hole, regions: &[[f64; 4]]) -> bool {
+    let b = h.shape.bounding_box();
+    regions
+        .iter()
+        .any(|r| r[0] <= b[0] && b[2] <= r[2] && r[1] <= b[1] && b[3] <= r[3])
+}
+
+/// The FEM part's holes as a fictitious domain on the grid's elements (None without FEM holes:
+/// pure PD, or every hole in a PD rectangle). Element e = j nx + i and node numbering are the
+/// grid's.
+pub(super) fn fem_domain(
+    d: &Domain,
+    grid: &Grid,
+    regions: &[[f64; 4]],
+    all_pd: bool,
+) -> Result<Option<FictitiousDomain>> {
+    let holes: Vec<Hole> = d
+        .holes
+        .iter()
+        .filter(|h| !all_pd && !in_pd_rectangle(h, regions))
+        .cloned()
+        .collect();
+    if holes.is_empty() {
+        return Ok(None);
+    }
+    let (w, h) = (grid.nx as f64 * grid.dx, grid.ny as f64 * grid.dx);
+    let mesh = Mesh::uniform(grid.x0, grid.y0, w, h, grid.nx, grid.ny)?;
+    let fem = Domain {
+        width: d.width,
+        height: d.height,
+        holes,
+    };
+    FictitiousDomain::new(&mesh, &fem, 2, DEFAULT_MIN_SUPPORT_FRACTION)
+}
+
+/// The material flags with FEM holes: a FEM node is material iff the small-fraction rule keeps
+/// it and no PD hole holds it by the centre rule; PD nodes keep the centre rule (`material`).
+pub(super) fn fem_material(
+    d: &Domain,
+    grid: &Grid,
+    fd: &FictitiousDomain,
+    is_pd: &[bool],
+    regions: &[[f64; 4]],
+    material: &mut [bool],
+) {
+    for (n, m) in material.iter_mut().enumerate() {
+        if is_pd[n] {
+            continue;
+        }
+        let q = grid.xy(n);
+        *m = !fd.is_removed(n)
+            && d.holes
+                .iter()
+                .filter(|h| in_pd_rectangle(h, regions))
+                .all(|h| h.shape.level_set(q) >= 0.0);
+    }
+}
+
+/// How FEM holes meet a hybrid element `e` (nodes `nodes`): Ok when they leave it whole
+/// (then the centre rule of the PD holes decides, as before), refused naming the hole otherwise.
+pub(super) fn check_hybrid(
+    fd: &FictitiousDomain,
+    grid: &Grid,
+    e: usize,
+    nodes: &[usize; 4],
+) -> Result<()> {
+    if fd.kind(e) == ElementKind::Material {
+        return Ok(());
+    }
+    let (lo, hi) = (grid.xy(nodes[0]), grid.xy(nodes[2]));
+    let c = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
+    let hd = 0.5 * (hi[0] - lo[0]).hypot(hi[1] - lo[1]);
+    let name = fd
+        .domain
+        .holes
+        .iter()
+        .find(|h| h.shape.level_set(c) < hd)
+        .map_or("hole", |h| h.name.as_str());
+    Err(Error::invalid(
+        name,
+        "for method 'ccm_pd' a hole or notch in the FEM part that cuts no hybrid element (the \
+         elements with PD and FEM nodes at a PD rectangle's boundary), or one inside a PD \
+         rectangle; move the hole or enlarge the PD rectangle around it",
+        format!("it cuts the hybrid element [{:?}, {:?}]", lo, hi),
+    ))
+}
 
 /// `material[n]`: is node n material by the centre rule (all true without holes)?
 pub(super) fn material_nodes(d: &Domain, grid: &Grid) -> Vec<bool> {

@@ -59,8 +59,10 @@ pub struct SpliceModel {
     pub bonds: Vec<Bond>,
     /// bonds broken by the pre-crack
     pub precrack_broken: Vec<bool>,
-    /// element stiffness (all elements are the same dx x dx square), row-major 8 x 8
+    /// element stiffness of the whole dx x dx square, row-major 8 x 8
     pub ke: Vec<f64>,
+    /// the stiffness of the elements cut by a FEM hole (`holes.rs`; empty without)
+    pub cut_ke: CutStiffness,
     rows_of: Vec<Vec<usize>>,
     cols_of: Vec<Vec<usize>>,
     pattern: Pattern,
@@ -87,6 +89,43 @@ pub struct SpliceModel {
     node_bonds: Vec<u32>,
     /// accuracy warnings about the discretisation (e.g. m < 2: too few bonds per node)
     pub warnings: Vec<Warning>,
+}
+
+/// The stiffness matrices of the FEM elements cut by holes (their material part's rule,
+/// [`crate::fe::fictitious`]), by index into [`SpliceModel::elements`].
+#[derive(Debug, Clone, Default)]
+pub struct CutStiffness {
+    /// per element: index into `ke` (u32::MAX: a whole element, the shared square)
+    slot: Vec<u32>,
+    /// row-major 8 x 8 matrices, one after the other
+    ke: Vec<f64>,
+}
+
+impl CutStiffness {
+    pub(crate) fn push(&mut self, element: usize, ke: &[f64]) {
+        if self.slot.len() <= element {
+            self.slot.resize(element + 1, u32::MAX);
+        }
+        self.slot[element] = (self.ke.len() / 64) as u32;
+        self.ke.extend_from_slice(ke);
+    }
+
+    /// The matrix of element `e` if it is cut.
+    pub fn of(&self, e: usize) -> Option<&[f64]> {
+        match self.slot.get(e) {
+            Some(&k) if k != u32::MAX => Some(&self.ke[64 * k as usize..64 * (k as usize + 1)]),
+            _ => None,
+        }
+    }
+
+    /// Number of cut elements.
+    pub fn len(&self) -> usize {
+        self.ke.len() / 64
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.ke.is_empty()
+    }
 }
 
 /// A static solution of the coupled model.
@@ -136,10 +175,11 @@ impl SpliceModel {
             .assemble(&self.rows_of, &self.cols_of, |blk, out| {
                 if blk < ne {
                     let e = &self.elements[blk];
+                    let ke = self.cut_ke.of(blk).unwrap_or(&self.ke);
                     for (a, &n) in e.iter().enumerate() {
                         if !self.is_pd[n] {
-                            out.extend_from_slice(&self.ke[(2 * a) * 8..(2 * a + 1) * 8]);
-                            out.extend_from_slice(&self.ke[(2 * a + 1) * 8..(2 * a + 2) * 8]);
+                            out.extend_from_slice(&ke[(2 * a) * 8..(2 * a + 1) * 8]);
+                            out.extend_from_slice(&ke[(2 * a + 1) * 8..(2 * a + 2) * 8]);
                         }
                     }
                 } else {
