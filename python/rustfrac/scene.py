@@ -41,10 +41,9 @@ table: a scene has one or the other (the core refuses both; the result's ``meta[
 "regions" and ``sigma22`` the mean normal stress on the first loaded edge, or the force of a
 point load along its direction). The k-th entry of each list is named ``support[k]``,
 ``load[k]``, ``hole[k]`` in errors (``support[1].point``) and in results
-(``Result.reaction("support[0]")``). Supports, region loads and probes run with "fem" and
-"xfem"; holes and notches are refused by the core for now (the fictitious-domain integration
-is not in this build), as are regions with the PD methods: the core's message says so when the
-scene is built. In Python the key ``from`` is the attribute ``from_`` (``Support(from_=1.0)``);
+(``Result.reaction("support[0]")``). Every method reads supports, region loads, probes, holes
+and notches; what a method cannot model yet (e.g. a CCM-PD hole cutting a hybrid element) the
+core refuses by name when the scene is run. In Python the key ``from`` is the attribute ``from_`` (``Support(from_=1.0)``);
 dicts use ``"from"``.
 
 :func:`keys` lists every key with its default, valid range and meaning (the section classes'

@@ -15,8 +15,9 @@ its length along x2 (``(x, y) -> (y, L - x)``), the cracked face is the left edg
 the right one. The responses (reactions, probes, K_I) are the same; their vectors turn with it.
 
 Every method reads supports, loads on regions, probes, holes and notches (a fictitious domain
-for FEM and XFEM, removed cells and bonds for PD; CCM-PD needs its holes inside a PD rectangle;
-the README's general scenes section says what each method reads, and what it still refuses). A refused scene raises
+for FEM and XFEM, removed cells and bonds for PD, either in CCM-PD's FEM part, which may not cut
+the hybrid elements at a PD rectangle's boundary; the README's general scenes section says what
+each method reads, and what it still refuses). A refused scene raises
 the core's :class:`~rustfrac.errors.InvalidParameterError` (its ``param`` names the scene key,
 e.g. ``support[0]`` or ``hole[0]``, and its message the valid range) when it is run.
 
