@@ -209,6 +209,7 @@ fn scalars_and_meta(s: &Shaped<'_>, r: &XfemResult, p: &Problem, wall: f64) -> P
     sc.set_item("condition_pivot_ratio", r.condition.map(|c| c.pivot_ratio))?;
     let m = &s.meta;
     s.anchor(p, r.anchor_node)?;
+    s.work_conjugate(p)?;
     m.set_item("status", r.status.name())?;
     let e = PyDict::new(py);
     e.set_item("n_std", r.n_std)?;
