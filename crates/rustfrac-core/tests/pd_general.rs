@@ -425,6 +425,31 @@ fn bad_pd_scenes_are_refused_by_name() {
     assert_eq!(e.param(), Some("crack.y"), "{e}");
 }
 
+/// A strip with an edge pre-crack, its bottom edge fixed, its top pulled by a unit traction
+/// (CCM-PD: a PD rectangle across the crack).
+fn pulled_strip(method: &str) -> Problem {
+    let mut p = region_plate(
+        method,
+        1.2,
+        2.2,
+        0.1,
+        vec![support(0, Region::Edge(Side::Bottom), Some(0.0), Some(0.0))],
+        vec![load(
+            0,
+            Region::Edge(Side::Top),
+            LoadKind::Traction {
+                normal: 1.0,
+                shear: 0.0,
+            },
+        )],
+    );
+    p.cracks = vec![edge(Side::Left, 0.0, 1.15, 0.45, 10.0)];
+    if method == "ccm_pd" {
+        p.pd_mut().regions = vec![[0.0, 0.6, 1.2, 1.6]];
+    }
+    p
+}
+
 #[test]
 fn sla_on_region_scenes_fast_equals_oracle() {
     // a pure PD strip with an edge pre-crack, its bottom layer fixed, its top pulled by a
@@ -432,25 +457,7 @@ fn sla_on_region_scenes_fast_equals_oracle() {
     for method in ["pd", "ccm_pd"] {
         let mut hist = Vec::new();
         for fast in [true, false] {
-            let mut p = region_plate(
-                method,
-                1.2,
-                2.2,
-                0.1,
-                vec![support(0, Region::Edge(Side::Bottom), Some(0.0), Some(0.0))],
-                vec![load(
-                    0,
-                    Region::Edge(Side::Top),
-                    LoadKind::Traction {
-                        normal: 1.0,
-                        shear: 0.0,
-                    },
-                )],
-            );
-            p.cracks = vec![edge(Side::Left, 0.0, 1.15, 0.45, 10.0)];
-            if method == "ccm_pd" {
-                p.pd_mut().regions = vec![[0.0, 0.6, 1.2, 1.6]];
-            }
+            let mut p = pulled_strip(method);
             p.pd_mut().sla = SlaParams {
                 max_steps: 40,
                 fast,
@@ -492,25 +499,7 @@ fn sla_histories_carry_the_probes() {
     for method in ["pd", "ccm_pd"] {
         let mut runs = Vec::new();
         for fast in [true, false] {
-            let mut p = region_plate(
-                method,
-                1.2,
-                2.2,
-                0.1,
-                vec![support(0, Region::Edge(Side::Bottom), Some(0.0), Some(0.0))],
-                vec![load(
-                    0,
-                    Region::Edge(Side::Top),
-                    LoadKind::Traction {
-                        normal: 1.0,
-                        shear: 0.0,
-                    },
-                )],
-            );
-            p.cracks = vec![edge(Side::Left, 0.0, 1.15, 0.45, 10.0)];
-            if method == "ccm_pd" {
-                p.pd_mut().regions = vec![[0.0, 0.6, 1.2, 1.6]];
-            }
+            let mut p = pulled_strip(method);
             p.probes = vec![
                 Probe {
                     name: "fem_corner".into(),
