@@ -24,7 +24,7 @@ TOML layout (only ``method`` is required; omitted sections and keys take the pap
     [mesh]      nx, ny, gauss, xs, ys, refine, refine_h, grading     # fem and xfem
     [xfem]      nsub, tip_nsub, r_I, fixed_area_radius, area_threshold, growth_steps,
                 tip_tie_tol, da, a_stop
-    [pd]        dx, m, center, size, sla_steps, tie_tol, refactor_every, fast,
+    [pd]        dx, m, center, size, hole_volumes, sla_steps, tie_tol, refactor_every, fast,
                 stop_crack_length, damage_at_steps, checkpoint_every, checkpoint_path,
                 resume_from                                    # pd and ccm_pd
 

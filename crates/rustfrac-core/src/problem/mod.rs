@@ -337,6 +337,19 @@ pub struct PdMethod {
     /// `pd.size`); pure PD: none (the whole plate)
     pub regions: Vec<[f64; 4]>,
     pub sla: SlaParams,
+    /// the volume of a node whose cell a hole cuts (`pd.hole_volumes`, [`HoleVolumes`])
+    pub hole_volumes: HoleVolumes,
+}
+
+/// The volume of a PD node whose cell a hole or notch cuts (scene key `pd.hole_volumes`;
+/// `pd::splice::holes`). In both, a node is material iff its cell centre is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum HoleVolumes {
+    /// the centre rule: every material node keeps its full cell volume dx^2 t
+    #[default]
+    Centre,
+    /// the material part of its cell (exact for circles and rectangles, sub-sampled otherwise)
+    Exact,
 }
 
 /// Options of the sequentially linear analysis (paper section 3). Defaults and ranges are the
