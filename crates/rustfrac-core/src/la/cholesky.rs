@@ -321,6 +321,7 @@ impl Cholesky {
     }
 
     /// Whether faer chose the supernodal storage (else simplicial).
+    #[cfg(test)]
     pub(super) fn is_supernodal(&self) -> bool {
         matches!(self.symbolic.raw(), SymbolicCholeskyRaw::Supernodal(_))
     }

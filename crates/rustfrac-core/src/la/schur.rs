@@ -10,6 +10,7 @@
 use super::checks::faer_error;
 use super::cholesky::Cholesky;
 use super::csc::CscMatrix;
+use super::ordering::nested_dissection;
 use crate::error::{catch_panic, Error, Result};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::triangular_solve::{
@@ -30,8 +31,10 @@ pub struct InterfaceCholesky {
 }
 
 impl InterfaceCholesky {
-    /// Orders `iface` (distinct unknowns of `a`) last, the rest by AMD of A_OO, and factorises.
-    pub fn new(a: &CscMatrix, iface: &[usize]) -> Result<Self> {
+    /// Orders `iface` (distinct unknowns of `a`) last, the rest by geometric nested dissection of
+    /// A_OO when the unknowns' positions `xy` are given (less fill on large meshes), AMD
+    /// otherwise, and factorises.
+    pub fn new(a: &CscMatrix, iface: &[usize], xy: Option<&[[f64; 2]]>) -> Result<Self> {
         let n = a.nrows;
         let mut pos = vec![0usize; n];
         for &d in iface {
@@ -46,7 +49,16 @@ impl InterfaceCholesky {
         for (k, &d) in rest.iter().enumerate() {
             pos[d] = k;
         }
-        let order = rest_order(a, &rest, &pos)?;
+        if let Some(xy) = xy {
+            if xy.len() != n {
+                return Err(Error::SizeMismatch {
+                    what: "unknown positions for the ordering".into(),
+                    expected: n,
+                    got: xy.len(),
+                });
+            }
+        }
+        let order = rest_order(a, &rest, &pos, xy)?;
         let perm: Vec<usize> = order
             .iter()
             .map(|&k| rest[k])
@@ -90,9 +102,14 @@ impl InterfaceCholesky {
     }
 }
 
-/// AMD order of the principal submatrix A_OO (`rest`, `pos[d]` = index of d in it): a
-/// permutation of 0..|rest|.
-fn rest_order(a: &CscMatrix, rest: &[usize], pos: &[usize]) -> Result<Vec<usize>> {
+/// Fill-reducing order of the principal submatrix A_OO (`rest`, `pos[d]` = index of d in it):
+/// nested dissection with positions, AMD without; a permutation of 0..|rest|.
+fn rest_order(
+    a: &CscMatrix,
+    rest: &[usize],
+    pos: &[usize],
+    xy: Option<&[[f64; 2]]>,
+) -> Result<Vec<usize>> {
     let mut cp = Vec::with_capacity(rest.len() + 1);
     cp.push(0);
     let mut ri = Vec::new();
@@ -105,6 +122,10 @@ fn rest_order(a: &CscMatrix, rest: &[usize], pos: &[usize]) -> Result<Vec<usize>
         cp.push(ri.len());
     }
     let m = rest.len();
+    if let Some(xy) = xy {
+        let xy_rest: Vec<[f64; 2]> = rest.iter().map(|&d| xy[d]).collect();
+        return Ok(nested_dissection(&cp, &ri, &xy_rest));
+    }
     catch_panic("faer AMD of the non-interface block", || {
         let mut perm = vec![0usize; m];
         let mut inv = vec![0usize; m];
@@ -155,12 +176,17 @@ mod tests {
     }
 
     /// (A^-1)_II B from the trailing factor block against a dense solve of the whole matrix.
-    fn check(m: usize, supernodal: bool) {
+    fn check(m: usize, supernodal: bool, geometric: bool) {
         let a = scaled_laplacian(m);
+        let xy: Option<Vec<[f64; 2]>> = geometric.then(|| {
+            (0..m * m)
+                .map(|i| [(i % m) as f64, (i / m) as f64])
+                .collect()
+        });
         let n = a.nrows;
         // an interface in scrambled order, spread over the grid
         let iface: Vec<usize> = (0..n).map(|k| (k * 37 + 11) % n).step_by(9).collect();
-        let ic = InterfaceCholesky::new(&a, &iface).unwrap();
+        let ic = InterfaceCholesky::new(&a, &iface, xy.as_deref()).unwrap();
         assert_eq!(ic.cholesky().is_supernodal(), supernodal, "m = {m}");
         let k = 3;
         let mut b = Mat::<f64>::from_fn(iface.len(), k, |i, j| ((i * 7 + j * 3) % 5) as f64 - 2.0);
@@ -194,17 +220,19 @@ mod tests {
 
     #[test]
     fn trailing_block_gives_the_interface_inverse_simplicial() {
-        check(8, false);
+        check(8, false, false);
+        check(8, false, true);
     }
 
     #[test]
     fn trailing_block_gives_the_interface_inverse_supernodal() {
-        check(40, true);
+        check(40, true, false);
+        check(40, true, true);
     }
 
     #[test]
     fn repeated_interface_unknown_is_an_error() {
         let a = scaled_laplacian(4);
-        assert!(InterfaceCholesky::new(&a, &[1, 2, 1]).is_err());
+        assert!(InterfaceCholesky::new(&a, &[1, 2, 1], None).is_err());
     }
 }
