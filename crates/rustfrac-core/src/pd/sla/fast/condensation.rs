@@ -23,6 +23,9 @@ use faer::linalg::solvers::DenseSolveCore;
 use faer::Mat;
 use std::time::Instant;
 
+/// The Cholesky factor of K_FF with the interface last, and the interface's F indices.
+type Factor = (InterfaceCholesky, Vec<usize>);
+
 /// The dof classes: `cls[d]` (fixed, F or P), `idx[d]` the index of dof d in its class, the P dofs
 /// in order and the number of F dofs.
 struct DofClasses {
@@ -263,7 +266,7 @@ fn fem_block(
     dc: &DofClasses,
     cp: &Coupling,
     t0: Instant,
-) -> Result<(Reduction, Option<(InterfaceCholesky, Vec<usize>)>, Vec<f64>)> {
+) -> Result<(Reduction, Option<Factor>, Vec<f64>)> {
     let (n, cls, nf) = (model.n_dofs(), &dc.cls, dc.nf);
     let mask_f: Vec<bool> = (0..n).map(|d| cls[d] != CLS_F).collect();
     let f_red = Reduction::new(k, &mask_f)?;
@@ -409,7 +412,7 @@ fn functionals(model: &SpliceModel, k: &CscMatrix, dc: &DofClasses, y0: &[f64]) 
 fn z_ring(
     k: &CscMatrix,
     dc: &DofClasses,
-    ichol: Option<&(InterfaceCholesky, Vec<usize>)>,
+    ichol: Option<&Factor>,
     cp: &Coupling,
     fun: &mut Functionals,
 ) -> Result<Vec<f64>> {
