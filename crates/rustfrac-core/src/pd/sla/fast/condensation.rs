@@ -6,9 +6,9 @@
 //! columns), the CMOD, load and probe dofs. K_FP has rows only at H, the F dofs of hybrid
 //! elements, so with the interface I = ring u H, Z_ring = ((K_FF^{-1})_II K_IP)_ring: one sparse
 //! Cholesky of K_FF with I ordered last (AMD on the rest) gives (K_FF^{-1})_II = (L_II L_II^T)^{-1}
-//! from its dense trailing block ([`InterfaceCholesky`]; |I| = 652 on the paper's case), and the
-//! same factor gives y0. Earlier versions solved K_FF for each of the |pc| = 256 columns of K_FP
-//! (0.87 s on the paper's case; now about 0.05 s on top of the factorisation). sigma22 and CMOD
+//! from its dense trailing block ([`InterfaceCholesky`]; |I| = 1164 of 102 499 on the paper's
+//! case), and the same factor gives y0. Earlier versions solved K_FF for each of the |pc| = 256
+//! columns of K_FP (0.87 s on the paper's case; now 0.16 s at load 6, benches/RESULTS.md). sigma22 and CMOD
 //! are linear functionals of u, condensed once into constants plus coefficients on x, their Z
 //! parts by one adjoint solve: q_F . Z = (K_FF^{-1} q_F) . K_FP. [`Fast::new`] runs these phases;
 //! `condense` builds and inverts S (also at every re-condensation).
