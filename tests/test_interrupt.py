@@ -56,7 +56,10 @@ def test_cli_ctrl_c_keeps_the_finished_part(tmp_path: Path, method: str) -> None
     print(f"{method}: exit {code} {waited:.2f} s after SIGINT; stderr: {err.strip()[-300:]}")
     assert code == 130, err
     assert "PanicException" not in err and "Traceback" not in err, err
-    assert waited < 10.0
+    # a liveness bound, not a timing claim: the run (200 000 steps, or 400 growth steps) must
+    # stop at the next step; a dense condensation in progress cannot be interrupted (about 5 s
+    # here on a quiet machine, several times that on a loaded one)
+    assert waited < 40.0
     meta = json.loads((out / "result.json").read_text())["meta"]
     assert meta["status"] == "cancelled"
     assert "finished part" in err
