@@ -63,12 +63,15 @@ fn graded_grid_keeps_dx_around_the_pd_part_and_grows_beyond() {
     assert!(u.grid.is_uniform() && u.grid.nx == 60 && u.own_ke.is_empty());
 }
 
+/// A displacement field u(x).
+type Field = fn([f64; 2]) -> [f64; 2];
+
 #[test]
 fn graded_rigid_motions_give_zero_internal_forces() {
     let model = SpliceModel::new(&graded_patch()).unwrap();
     let k = model.assemble(&model.precrack_broken);
     let nn = model.grid.n_nodes();
-    let fields: [(&str, fn([f64; 2]) -> [f64; 2]); 3] = [
+    let fields: [(&str, Field); 3] = [
         ("translation x", |_| [1.0, 0.0]),
         ("translation y", |_| [0.0, 1.0]),
         ("rotation", |p| [-(p[1] - 3.0), p[0] - 3.0]),

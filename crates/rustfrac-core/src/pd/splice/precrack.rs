@@ -96,7 +96,8 @@ fn straight_in_grid_units(precrack: &[[f64; 2]], grid: &Grid) -> Result<()> {
     };
     for (k, s) in precrack.windows(2).enumerate() {
         let axis_aligned = (s[0][0] - s[1][0]).abs() <= tol || (s[0][1] - s[1][1]).abs() <= tol;
-        if !axis_aligned && !(inside(s[0]) && inside(s[1])) {
+        let in_uniform_part = inside(s[0]) && inside(s[1]);
+        if !(axis_aligned || in_uniform_part) {
             return Err(Error::invalid(
                 "precrack",
                 &format!(
