@@ -186,3 +186,12 @@ def test_summary_carries_the_agreement_along_the_curve(fast_run: tuple[Path, dic
         assert abs(cur[k]["mean_rel_diff"]) < 0.25, (k, cur[k])
     assert json.loads((out / "summary.json").read_text())["agreement"]["curve"] == cur
     assert "running mean over" in (out / "summary.md").read_text()
+
+
+def test_summary_carries_the_energy_audit(fast_run: tuple[Path, dict]) -> None:
+    out, summary = fast_run
+    en = summary["energy"]
+    # LEFM growth dissipates G0 per unit area (tests/test_energy.py); CCM-PD: its measured ratio
+    assert en["xfem"]["ratio"] == pytest.approx(1.0, abs=0.01)
+    assert 0.5 < en["ccm_pd"]["ratio"] < 2.0
+    assert "Energy audit" in (out / "summary.md").read_text()

@@ -21,6 +21,7 @@ import rustfrac as rf
 from general_support import HOLES_REFUSED, has_holes, needs_holes
 from rustfrac import specimens
 from rustfrac.cli import main
+from rustfrac.errors import DiscretisationWarning
 from rustfrac.handbook import srawley_senb_F
 from rustfrac.scene import Hole, Notch, Probe, RegionLoad, Scene, Support
 
@@ -395,3 +396,52 @@ def test_readme_general_section_shows_the_edge_shear_specimen(root: Path) -> Non
     section = text.split("<!-- docs:general -->")[1].split("<!-- /docs:general -->")[0]
     toml = section.split("```toml\n")[1].split("```")[0]
     assert Scene.from_toml_str(toml) == specimens.edge_shear("xfem")
+
+
+@needs_holes
+def test_bittencourt_growth_reaches_the_middle_hole() -> None:
+    """The drilled beam (offset 5 in): the XFEM SIF domain shrinks clear of the holes instead of
+    stopping the growth as a hole enters it, so the crack passes the lower hole and grows until
+    the next tip would come closer than the tip clearance (2 elements) to the middle hole; the
+    history's r_I column records the shrunk radii and a warning says so."""
+    h_el = 0.125
+    with pytest.warns(DiscretisationWarning, match="shrunk"):
+        r = rf.run(specimens.bittencourt_beam("xfem", xfem__growth_steps=60))
+    h = r.history
+    assert r.meta["status"] == "ligament_used_up"
+    tip = np.array([h["tip_x"][-1], h["tip_y"][-1]])
+    gaps = [float(np.hypot(*(tip - c))) - 0.25 for c in ((6.0, 2.25), (6.0, 4.25), (6.0, 6.25))]
+    # measured: 19 steps, last tip (6.017, 3.738), 0.262 from the middle hole (2.1 elements);
+    # the old rule stopped at step 9 (tip (5.397, 2.482)), the lower hole entering the domain
+    assert len(h["a"]) - 1 > 12
+    assert int(np.argmin(gaps)) == 1 and 2.0 * h_el * 0.99 < gaps[1] < 3.0 * h_el
+    r_i = np.asarray(h["r_I"][1:]) / h_el
+    assert np.all(r_i >= 1.5 - 1e-9) and np.all(r_i <= 2.5 + 1e-9) and np.any(r_i < 2.5 - 1e-6)
+    assert r.fields["tip_history_r_I"].shape == (len(h["a"]), 1)
+
+
+@needs_holes
+def test_pd_hole_volumes_key_reaches_the_core() -> None:
+    """``pd.hole_volumes`` ("centre" | "exact") is a scene key from the core's schema: the exact
+    volumes change a PD plate with a hole; a bad value is refused by name."""
+    base = {
+        "method": "pd",
+        "plate": {"width": 2.0, "height": 2.0},
+        "material": {"nu": 0.25},
+        "crack": {"y": 1.05, "a0": 0.3},
+        "pd": {"dx": 0.1, "m": 3, "sla_steps": 1},
+        "hole": [{"center": [1.0, 1.0], "radius": 0.33}],
+    }
+    assert rf.Scene.from_dict(base).pd.hole_volumes == "centre"
+    runs = {}
+    for rule in ("centre", "exact"):
+        d = json.loads(json.dumps(base))
+        d["pd"]["hole_volumes"] = rule
+        runs[rule] = rf.run(rf.Scene.from_dict(d))
+    uc, ue = runs["centre"].fields["u"], runs["exact"].fields["u"]
+    assert np.all(np.isfinite(ue)) and not np.allclose(uc, ue, rtol=1e-6, atol=0.0)
+    bad = json.loads(json.dumps(base))
+    bad["pd"]["hole_volumes"] = "midpoint"
+    with pytest.raises(rf.InvalidParameterError) as e:
+        rf.Scene.from_dict(bad)
+    assert "hole_volumes" in str(e.value.param)

@@ -17,7 +17,7 @@ from rustfrac.cli import main
 #: history columns of an XFEM growth run
 XFEM_HISTORY = (
     "load_factor", "sigma22", "cmod", "u0", "traction", "a", "K_I", "K_II", "kink_angle",
-    "tip_x", "tip_y", "condition",
+    "tip_x", "tip_y", "r_I", "condition",
 )  # fmt: skip
 #: the paper's XFEM scene as the native module takes it (every other key: the core's default)
 PAPER: dict[str, Any] = {"method": "xfem", "mesh": {"nx": 44, "ny": 83}}

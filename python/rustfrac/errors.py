@@ -152,9 +152,9 @@ WARNING_CLASSES: dict[str, type[Warning]] = {
 
 
 class PlotDataError(RustfracError, ValueError):
-    """A plot or view needs data the result does not carry (e.g. the damage map of an XFEM
-    result, the load path of a single solve); the message says what is missing and for which
-    methods it exists."""
+    """A plot, view or audit needs data the result does not carry (e.g. the damage map of an
+    XFEM result, the load path of a single solve, the work-conjugate load of an energy audit);
+    the message says what is missing and for which methods it exists."""
 
 
 __all__ += ["PlotDataError"]

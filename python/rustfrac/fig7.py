@@ -35,7 +35,7 @@ from typing import Any
 
 import numpy as np
 
-from . import _core, agreement, figures, handbook
+from . import _core, agreement, energy, figures, handbook
 from ._folder import check_writable, locked, with_fallback, writing
 from ._log import logger
 from .errors import InvalidResultError, ResultNotFoundError
@@ -553,6 +553,13 @@ def _summary(
         }
         cur = _curve_agreement(results)
         s["agreement"]["curve"] = {k: v for k, v in cur.items() if k != "curves"}
+    audits = {}
+    for part, key in (("xfem_growth", "xfem"), ("ccm_pd", "ccm_pd")):
+        if part in results and results[part].meta.get("work_conjugate"):
+            au = energy.audit(results[part])
+            audits[key] = {k: au[k] for k in ("G0", "energy", "crack_area", "ratio")}
+    if audits:
+        s["energy"] = audits
     s["cost"] = {
         "xfem_s": sum(v for k, v in times.items() if k.startswith("xfem_growth")),
         "ccm_pd_s": times.get("ccm_pd"),
@@ -631,6 +638,22 @@ def _markdown(s: dict[str, Any]) -> str:
                     f"{v['max_rel_diff']:+.2%} |"
                 )
             lines.append("")
+    if s.get("energy"):
+        lines += [
+            "## Energy audit (rustfrac.energy)",
+            "",
+            "Energy dissipated per unit of new crack area, from the load path alone (XFEM: between "
+            "successive secants of the critical states; CCM-PD: released at each SLA break, over "
+            "the damage front's advance), against G0:",
+            "",
+            "| method | dissipated | new crack area | G / G0 |",
+            "|---|---|---|---|",
+            *(
+                f"| {k} | {v['energy']:.5g} | {v['crack_area']:.5g} | {v['ratio']:.4f} |"
+                for k, v in s["energy"].items()
+            ),
+            "",
+        ]
     c = s["cost"]
     lines += [
         "## Cost",

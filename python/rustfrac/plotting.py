@@ -97,7 +97,8 @@ _STRESS_COLUMN = {"s11": 0, "s22": 1, "s12": 2}
 #: quantity kind of every history column (rustfrac.Result.history); others are labelled bare
 HISTORY_QUANTITIES: dict[str, str] = {
     **dict.fromkeys(
-        ("u0", "cmod", "a", "crack_length", "tip_x", "tip_y", "load_displacement"), "length"
+        ("u0", "cmod", "a", "crack_length", "tip_x", "tip_y", "r_I", "load_displacement"),
+        "length",
     ),
     **dict.fromkeys(("sigma22", "traction"), "stress"),
     **dict.fromkeys(("K_I", "K_II"), "sif"),

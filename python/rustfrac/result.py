@@ -83,11 +83,11 @@ class Result:
             J_domain], ``radii_factor``, ``tips`` (t, 6) [x1, x2, K_I, K_II, J_from_K,
             J_domain] for every tip (see :attr:`tip_sifs`), ``tip_crack`` (t,), ``cracks``
             (P, 2) with ``cracks_offsets`` (final polylines of all cracks), growth runs
-            ``tip_history_<x|y|K_I|K_II|kink_angle|grows>`` (s, t) (every tip at every history
-            row), ``deformed_cells`` / ``deformed_disp`` (c, 4, 2) near the tip.
+            ``tip_history_<x|y|K_I|K_II|kink_angle|r_I|grows>`` (s, t) (every tip at every
+            history row), ``deformed_cells`` / ``deformed_disp`` (c, 4, 2) near the tip.
         history: growth / SLA runs: equal-length arrays ("load_factor", "sigma22", "cmod", "u0",
             ...; XFEM adds "traction", "a", "K_I", "K_II", "kink_angle", "tip_x", "tip_y",
-            "condition", with the unloaded origin first); empty for a single linear solve.
+            "r_I" (the SIF q-radius, shrunk where a hole would enter it), "condition", with the unloaded origin first); empty for a single linear solve.
         scalars: further scalars (energy, residual, K_I, K_II, J, gamma, condition, ...).
         meta: version, scene (as a dict), bc variant, anchor node, timings, warnings.
     """

@@ -15,6 +15,7 @@ use rustfrac_core::fe::mesh::{Mesh, Side};
 use rustfrac_core::fe::{Dirichlet, ElementKind, FemModel, LinearSystem};
 use rustfrac_core::fem_driver;
 use rustfrac_core::problem::{CrackKind, Domain, Growth, Hole, Method, Problem, Shape};
+use rustfrac_core::xfem::MIN_HOLE_FREE_RADIUS;
 use rustfrac_core::xfem::{self, GrowthStatus, XfemModel};
 use std::sync::Arc;
 
@@ -544,6 +545,14 @@ fn xfem_plate(nx: usize, ny: usize, a0: f64) -> Problem {
 /// One XFEM solve of `crack` in `p`'s plate by the model API (free grips at the reference
 /// load): K_I at r_I = 2.5 tip elements and the CMOD.
 fn xfem_solve(p: &Problem, crack: Vec<[f64; 2]>) -> (f64, f64) {
+    let (model, u) = xfem_model_solve(p, crack);
+    let s = model.sifs(&u, 0, 2.5 * model.tip_element_size(0)).unwrap();
+    (s.k_i, model.cmod(&u).unwrap())
+}
+
+/// The model and displacements of one XFEM solve of `crack` in `p`'s plate (free grips at the
+/// reference load).
+fn xfem_model_solve(p: &Problem, crack: Vec<[f64; 2]>) -> (XfemModel, Vec<f64>) {
     let Method::Xfem(x) = &p.method else {
         unreachable!()
     };
@@ -559,8 +568,7 @@ fn xfem_solve(p: &Problem, crack: Vec<[f64; 2]>) -> (f64, f64) {
     let bc = model.constrain(bc, &mut f).unwrap();
     let sys = LinearSystem::new(model.stiffness().unwrap(), &bc).unwrap();
     let u = sys.solve(&f, 1.0).unwrap().u;
-    let s = model.sifs(&u, 0, 2.5 * model.tip_element_size(0)).unwrap();
-    (s.k_i, model.cmod(&u).unwrap())
+    (model, u)
 }
 
 /// A crack from a notch tip (its polyline starts on the notch: the mouth) against the same crack
@@ -698,7 +706,9 @@ fn xfem_small_area_rule_sees_the_material() {
 #[test]
 fn xfem_growth_towards_a_hole_stops_at_the_ligament() {
     let mut p = xfem_plate(44, 83, 1.1);
-    p.domain.holes.push(circle("hole[0]", [4.0, 10.5], 0.75));
+    // the tip at 2.6 is 0.55 (2.2 elements) from the hole: its default domain would take the
+    // hole in (the old rule stopped there), the shrunk one does not
+    p.domain.holes.push(circle("hole[0]", [3.9, 10.5], 0.75));
     if let Method::Xfem(x) = &mut p.method {
         x.growth = Some(Growth {
             max_steps: 40,
@@ -717,4 +727,110 @@ fn xfem_growth_towards_a_hole_stops_at_the_ligament() {
     assert_eq!(r.status, GrowthStatus::LigamentUsedUp);
     assert!(r.history.len() > 2 && gap > 0.0);
     assert!(r.history.iter().all(|h| h.lambda.is_finite()));
+    // the SIF domain shrinks clear of the hole instead of stopping the growth: the last steps
+    // ran with r_I < 2.5 element sizes (never below the minimum), and a warning says so
+    let h = 11.0 / 44.0_f64 * (21.0 / 83.0_f64 / (11.0 / 44.0)).sqrt();
+    for row in &r.history[1..] {
+        eprintln!(
+            "  tip ({:.3}, {:.3}) a {:.3} K_I {:.4} r_I {:.3} h",
+            row.tip[0],
+            row.tip[1],
+            row.a,
+            row.k_i,
+            row.r_i / h
+        );
+        assert!(row.r_i >= MIN_HOLE_FREE_RADIUS * h * (1.0 - 1e-9));
+    }
+    let last = r.history.last().unwrap();
+    assert!(last.r_i < 2.5 * h * (1.0 - 1e-6), "{}", last.r_i / h);
+    assert!(r.history[1].r_i > 2.5 * h * (1.0 - 1e-9));
+    assert!(r.tip_history.last().unwrap()[0].r_i == last.r_i);
+    assert!(
+        r.warnings.iter().any(|w| w.message.contains("shrunk")),
+        "{:?}",
+        r.warnings
+    );
+}
+
+/// The SIF domain shrunk clear of a hole (`XfemModel::sifs_clear_of_holes`): an edge crack
+/// (a = 1.1 at y = 10.5) whose tip is 0.6 from a hole of radius 0.5 ahead of it, so that the
+/// default r_I = 2.5 elements of the coarse mesh (h = 0.25) would take the hole in. First the
+/// radius study on the same crack without the hole (K_I against r_I: what justifies
+/// `MIN_HOLE_FREE_RADIUS`), then K_I with the shrunk domain on the coarse and a medium mesh
+/// against the fine mesh (h = 0.0625, whose default domain of 2.5 elements stays clear of the
+/// hole), the reference.
+#[test]
+fn xfem_sif_domain_radius_near_a_hole() {
+    let crack = vec![[0.0, 10.5], [1.1, 10.5]];
+    let (m0, u0) = xfem_model_solve(&xfem_plate(44, 83, 1.1), crack.clone());
+    let h0 = m0.tip_element_size(0);
+    let k_ref0 = m0.sifs(&u0, 0, 2.5 * h0).unwrap().k_i;
+    let mut worst_above_min: f64 = 0.0;
+    for f in [0.75, 1.0, 1.25, 1.5, 2.0, 3.0, 4.0] {
+        let k = m0.sifs(&u0, 0, f * h0).unwrap().k_i;
+        eprintln!(
+            "no hole, r_I = {f:.2} h: K_I {k:.5} ({:+.3} % of r_I = 2.5 h)",
+            100.0 * (k / k_ref0 - 1.0)
+        );
+        if f >= MIN_HOLE_FREE_RADIUS {
+            worst_above_min = worst_above_min.max((k / k_ref0 - 1.0).abs());
+        }
+    }
+    assert!(worst_above_min < 1e-2, "{worst_above_min}");
+    let hole = circle("hole[0]", [2.2, 10.5], 0.5);
+    let mut ks = Vec::new();
+    for (nx, ny) in [(44, 83), (88, 167), (176, 335)] {
+        let mut p = xfem_plate(nx, ny, 1.1);
+        p.domain.holes.push(hole.clone());
+        let (m, u) = xfem_model_solve(&p, crack.clone());
+        let h = m.tip_element_size(0);
+        let full = 2.5 * h;
+        let s = m.sifs_clear_of_holes(&u, 0, full).unwrap();
+        let shrunk = s.radius < full;
+        assert_eq!(shrunk, m.hole_in_domain(0, full).is_some());
+        assert!(m.hole_in_domain(0, s.radius).is_none());
+        eprintln!(
+            "hole 0.6 ahead, mesh {nx} x {ny}: r_I {:.3} h (shrunk: {shrunk}), K_I {:.5}, J_dom / J_K {:.4}",
+            s.radius / h,
+            s.k_i,
+            s.j_domain / s.j_from_k
+        );
+        // the same solution with a domain of 8 elements, shrunk clear of the hole: the error
+        // of the shrinking alone against the unshrunk domain
+        let big = m.sifs_clear_of_holes(&u, 0, 8.0 * h).unwrap();
+        eprintln!(
+            "  r_I = 8 h shrunk to {:.3} h: K_I {:.5} ({:+.3} % of r_I {:.3} h)",
+            big.radius / h,
+            big.k_i,
+            100.0 * (big.k_i / s.k_i - 1.0),
+            s.radius / h
+        );
+        assert!(big.radius <= 8.0 * h && big.radius >= MIN_HOLE_FREE_RADIUS * h);
+        if !shrunk {
+            assert!((big.k_i / s.k_i - 1.0).abs() < 5e-3);
+        }
+        ks.push((shrunk, s.k_i));
+    }
+    // a domain that would have to shrink below the minimum is refused, naming the hole
+    // (tip at 1.2, 0.51 from the hole: the nearest node of a cut element is 0.3 = 1.2 h away)
+    let mut p = xfem_plate(44, 83, 1.2);
+    p.domain.holes.push(circle("hole[0]", [2.11, 10.5], 0.4));
+    let (m, u) = xfem_model_solve(&p, vec![[0.0, 10.5], [1.2, 10.5]]);
+    let e = m
+        .sifs_clear_of_holes(&u, 0, 2.5 * m.tip_element_size(0))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("r_I") && e.contains("hole[0]"), "{e}");
+    let k_ref = ks[2].1;
+    assert!(ks[0].0 && !ks[2].0);
+    for (shrunk, k) in &ks[..2] {
+        eprintln!(
+            "  shrunk {shrunk}: {:+.3} % of the fine mesh",
+            100.0 * (k / k_ref - 1.0)
+        );
+    }
+    assert!((ks[0].1 / k_ref - 1.0).abs() < 1e-2);
+    assert!((ks[1].1 / k_ref - 1.0).abs() < 5e-3);
+    // the hole raises K_I against the same crack without it
+    assert!(ks[0].1 > k_ref0);
 }

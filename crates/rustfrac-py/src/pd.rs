@@ -145,6 +145,7 @@ fn meta(s: &Shaped<'_>, r: &CcmPdResult, p: &Problem, wall: f64) -> PyResult<()>
         m.set_item("bc_description", d)?;
     }
     s.anchor(p, r.anchor_node)?;
+    s.work_conjugate(p)?;
     // the general scene's responses of the pre-cracked model before any break (the history's
     // sigma22 and u0 follow every break)
     s.responses(p, &r.responses)?;

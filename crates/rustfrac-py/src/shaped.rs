@@ -72,6 +72,16 @@ impl<'py> Shaped<'py> {
         }
     }
 
+    /// `meta["work_conjugate"]`: the pair (a, b) whose product with the history's sigma22 and u0
+    /// is twice the load's work ([`rustfrac_core::problem::Boundary::work_conjugate`]), or None.
+    pub fn work_conjugate(&self, p: &Problem) -> PyResult<()> {
+        let t = p.material.elastic.thickness;
+        match p.boundary.work_conjugate(p.domain.width, t) {
+            Some(ab) => self.meta.set_item("work_conjugate", ab.to_vec()),
+            None => self.meta.set_item("work_conjugate", self.py.None()),
+        }
+    }
+
     /// The general scene's responses as flat scalars (present only for the parts a scene has):
     /// `force:<region>:1|2` (the force a support or load region receives from outside),
     /// `mean_stress:<region>` (edge regions), `displacement:<region>:1|2` (its mean),

@@ -9,11 +9,12 @@
 //! (t,), cracks (P,2) with cracks_offsets (C+1,), cut_points / cut_disp (P,2) with cut_offsets
 //! (C+1,), cut_element (C,) and cut_stress (C,3) (the enriched elements as polygons on each side
 //! of the crack with their own displacements and stresses: files), gauss_points / gauss_stress
-//! (4m,2)/(4m,3) (the enriched stresses at the 2 x 2 Gauss points), tip_history_<x|y|K_I|K_II|kink_angle|grows>
+//! (4m,2)/(4m,3) (the enriched stresses at the 2 x 2 Gauss points), tip_history_<x|y|K_I|K_II|kink_angle|r_I|grows>
 //! (s,t), deformed_cells / deformed_disp (c,4,2), snapshot_cells / snapshot_disp (C,4,2) with
 //! snapshot_offsets (s+1,) (snapshot k belongs to history row k + 1). History (growth runs,
 //! origin first): load_factor, sigma22, cmod, u0, traction, a, K_I, K_II, kink_angle, tip_x,
-//! tip_y, condition (when computed).
+//! tip_y, r_I (the q-radius of the SIFs, shrunk where a hole would enter the domain; 0 at the
+//! origin), condition (when computed).
 
 use crate::arrays::{arr1, arr2, elements_i64, index_i64, quads, table};
 use crate::errors::detached;
@@ -151,6 +152,7 @@ fn growth_fields(s: &Shaped<'_>, r: &XfemResult, p: &Problem) -> PyResult<()> {
     s.fields.set_item("tip_history_K_II", tip_col(|t| t.k_ii))?;
     s.fields
         .set_item("tip_history_kink_angle", tip_col(|t| t.kink_angle))?;
+    s.fields.set_item("tip_history_r_I", tip_col(|t| t.r_i))?;
     s.fields.set_item(
         "tip_history_grows",
         tip_col(|t| f64::from(u8::from(t.grows))),
@@ -186,6 +188,7 @@ fn growth_fields(s: &Shaped<'_>, r: &XfemResult, p: &Problem) -> PyResult<()> {
     s.column("kink_angle", col(|q| q.kink_angle))?;
     s.column("tip_x", col(|q| q.tip[0]))?;
     s.column("tip_y", col(|q| q.tip[1]))?;
+    s.column("r_I", col(|q| q.r_i))?;
     if x.condition {
         s.column("condition", col(|q| q.condition.unwrap_or(0.0)))?;
     }
@@ -209,6 +212,7 @@ fn scalars_and_meta(s: &Shaped<'_>, r: &XfemResult, p: &Problem, wall: f64) -> P
     sc.set_item("condition_pivot_ratio", r.condition.map(|c| c.pivot_ratio))?;
     let m = &s.meta;
     s.anchor(p, r.anchor_node)?;
+    s.work_conjugate(p)?;
     m.set_item("status", r.status.name())?;
     let e = PyDict::new(py);
     e.set_item("n_std", r.n_std)?;

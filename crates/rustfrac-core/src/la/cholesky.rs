@@ -80,6 +80,28 @@ impl Cholesky {
             }
         }
         let perm = xy.map(|xy| nested_dissection(&a.col_ptr, &a.row_idx, xy));
+        Self::analyze_perm(a, perm)
+    }
+
+    /// Symbolic analysis with a given elimination order: `perm[k]` is the unknown eliminated
+    /// k-th (a permutation of 0..n, else an error).
+    pub fn analyze_with_order(a: &CscMatrix, perm: Vec<usize>) -> Result<Self> {
+        check_square(a)?;
+        let mut seen = vec![false; a.nrows];
+        if perm.len() != a.nrows
+            || perm
+                .iter()
+                .any(|&p| p >= a.nrows || std::mem::replace(&mut seen[p], true))
+        {
+            return Err(Error::Internal {
+                detail: format!("elimination order is not a permutation of 0..{}", a.nrows),
+            });
+        }
+        Self::analyze_perm(a, Some(perm))
+    }
+
+    /// Symbolic analysis with the permutation `perm` (AMD when none).
+    fn analyze_perm(a: &CscMatrix, perm: Option<Vec<usize>>) -> Result<Self> {
         let inv = perm.as_ref().map(|p| inverse(p));
         catch_panic("faer symbolic Cholesky", || {
             let ord = match (&perm, &inv) {
@@ -296,6 +318,60 @@ impl Cholesky {
         let mut x = b.to_vec();
         self.solve_in_place(&mut x)?;
         Ok(x)
+    }
+
+    /// Whether faer chose the supernodal storage (else simplicial).
+    #[cfg(test)]
+    pub(super) fn is_supernodal(&self) -> bool {
+        matches!(self.symbolic.raw(), SymbolicCholeskyRaw::Supernodal(_))
+    }
+
+    /// The trailing m x m block of the factor L of S A S in the elimination order (dense lower
+    /// triangle, zero above): with the last m unknowns eliminated last, L_II L_II^T is the Schur
+    /// complement of the scaled matrix onto them.
+    pub(super) fn trailing_factor(&self, m: usize) -> Mat<f64> {
+        let n = self.n;
+        let o = n - m.min(n);
+        let mut l = Mat::<f64>::zeros(n - o, n - o);
+        match self.symbolic.raw() {
+            SymbolicCholeskyRaw::Supernodal(sn) => {
+                let (begin, end, cpv) = (
+                    sn.supernode_begin(),
+                    sn.supernode_end(),
+                    sn.col_ptr_for_val(),
+                );
+                for s in 0..sn.n_supernodes() {
+                    let (b, e) = (begin[s], end[s]);
+                    if e <= o {
+                        continue;
+                    }
+                    let pat = sn.supernode(s).pattern();
+                    let ncols = e - b;
+                    let nrows = ncols + pat.len();
+                    let block = &self.values[cpv[s]..cpv[s + 1]];
+                    for j in o.saturating_sub(b)..ncols {
+                        let col = &block[j * nrows..(j + 1) * nrows];
+                        for i in j..ncols {
+                            l[(b + i - o, b + j - o)] = col[i];
+                        }
+                        for (pi, &r) in pat.iter().enumerate() {
+                            l[(r - o, b + j - o)] = col[ncols + pi];
+                        }
+                    }
+                }
+            }
+            SymbolicCholeskyRaw::Simplicial(s) => {
+                let (cp, ri) = (s.col_ptr(), s.row_idx());
+                for j in o..n {
+                    for k in cp[j]..cp[j + 1] {
+                        if ri[k] >= j {
+                            l[(ri[k] - o, j - o)] = self.values[k];
+                        }
+                    }
+                }
+            }
+        }
+        l
     }
 
     /// Squared diagonal of the factor of S A S, indexed by the original unknown.

@@ -1,7 +1,8 @@
 //! Sparse linear algebra under every model: CSC storage ([`csc`]), the sparsity pattern built
 //! once with race-free parallel assembly ([`pattern`]), the Dirichlet elimination on the matrix
 //! level ([`reduction`]), the geometric nested-dissection ordering ([`ordering`]), the direct
-//! solvers on top of faer, supernodal Cholesky for the SPD FEM/XFEM systems ([`cholesky`]) and
+//! solvers on top of faer, supernodal Cholesky for the SPD FEM/XFEM systems ([`cholesky`]), the
+//! block of the inverse at a few interface unknowns from one factorisation ([`schur`]), and
 //! sparse LU for the non-symmetric splice-coupled CCM-PD systems ([`lu`], DESIGN.md section 4),
 //! and the condition estimate with its thresholds ([`condition`]).
 //!
@@ -16,6 +17,7 @@ pub mod lu;
 pub mod ordering;
 pub mod pattern;
 pub mod reduction;
+pub mod schur;
 
 pub use cholesky::{Cholesky, PIVOT_TOL};
 pub use condition::{
@@ -26,3 +28,4 @@ pub use csc::CscMatrix;
 pub use lu::Lu;
 pub use pattern::Pattern;
 pub use reduction::Reduction;
+pub use schur::InterfaceCholesky;

@@ -98,6 +98,19 @@ impl Boundary {
         })
     }
 
+    /// The work-conjugate pair (a, b) of the histories' load columns: the load's work at a state
+    /// is 1/2 (a sigma22)(b u0), so the energy released between states follows from the load
+    /// path alone (`rustfrac.energy`). Grips u2 = +-u0 on the top and bottom edges: a = W t (the
+    /// top edge's force over sigma22), b = 2 (the edges' relative displacement over u0). None
+    /// where the history has no conjugate displacement (traction grips: u0 = 0) or the pair is
+    /// not exact for every scene (supports and loads on regions).
+    pub fn work_conjugate(&self, width: f64, thickness: f64) -> Option<[f64; 2]> {
+        match self {
+            Boundary::Grips(l) if l.grip != Grip::Traction => Some([width * thickness, 2.0]),
+            _ => None,
+        }
+    }
+
     /// The stable name of the conditions: the grip ("free", "clamped", "traction") or "regions".
     pub fn name(&self) -> &'static str {
         match self.grips() {
@@ -329,6 +342,19 @@ pub struct PdMethod {
     /// CCM-PD graded grid: the largest FEM element size, in units of dx
     pub fem_coarse: f64,
     pub sla: SlaParams,
+    /// the volume of a node whose cell a hole cuts (`pd.hole_volumes`, [`HoleVolumes`])
+    pub hole_volumes: HoleVolumes,
+}
+
+/// The volume of a PD node whose cell a hole or notch cuts (scene key `pd.hole_volumes`;
+/// `pd::splice::holes`). In both, a node is material iff its cell centre is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum HoleVolumes {
+    /// the centre rule: every material node keeps its full cell volume dx^2 t
+    #[default]
+    Centre,
+    /// the material part of its cell (exact for circles and rectangles, sub-sampled otherwise)
+    Exact,
 }
 
 /// Options of the sequentially linear analysis (paper section 3). Defaults and ranges are the

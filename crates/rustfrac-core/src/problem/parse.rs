@@ -9,9 +9,9 @@
 use super::schema::{self, Kind, Val};
 use super::value::{Table, Value};
 use super::{
-    Boundary, CrackKind, CrackSpec, Domain, FeGrid, FemMethod, Growth, Hole, LoadKind, Material,
-    Method, PdMethod, Probe, ProbeKind, Problem, Region, RegionLoad, Shape, SlaParams, Support,
-    XfemMethod, XfemOptions,
+    Boundary, CrackKind, CrackSpec, Domain, FeGrid, FemMethod, Growth, Hole, HoleVolumes, LoadKind,
+    Material, Method, PdMethod, Probe, ProbeKind, Problem, Region, RegionLoad, Shape, SlaParams,
+    Support, XfemMethod, XfemOptions,
 };
 use crate::error::{Error, Result};
 use crate::fe::grading::graded_lines;
@@ -761,6 +761,11 @@ fn pd_method(pd: &Section, ccm: bool) -> PdMethod {
     PdMethod {
         dx: pd["dx"].f(),
         m: pd["m"].i() as usize,
+        hole_volumes: if pd["hole_volumes"].s() == "exact" {
+            HoleVolumes::Exact
+        } else {
+            HoleVolumes::Centre
+        },
         regions: ccm
             .then_some([cx - sx / 2.0, cy - sy / 2.0, cx + sx / 2.0, cy + sy / 2.0])
             .into_iter()

@@ -83,6 +83,8 @@ pub const LIST_SECTIONS: [(&str, &str); 5] = [
 ];
 /// Hole shapes.
 pub const SHAPES: [&str; 3] = ["circle", "rect", "polygon"];
+/// `pd.hole_volumes`: the volume of a PD node whose cell a hole cuts ([`super::HoleVolumes`]).
+pub const HOLE_VOLUMES: [&str; 2] = ["centre", "exact"];
 /// Regions of supports (loads: all but "box").
 pub const REGIONS: [&str; 4] = ["edge", "edge_part", "point", "box"];
 /// Probe kinds.
@@ -410,6 +412,9 @@ fn build() -> Vec<KeySpec> {
           &format!("an integer >= 0 (at most {MAX_STEPS})"),
           "fast solver: re-condense after this many breaks (0 = automatic, n_P / 2)",
           |v| (0..=MAX_STEPS as i64).contains(&v.i())),
+        k("pd", "hole_volumes", Str, Val::Str("centre".into()), &choice(&HOLE_VOLUMES),
+          "volume of a node whose cell a hole cuts: 'centre' (the full cell, the centre rule) \
+           or 'exact' (the cell's material part)", |v| HOLE_VOLUMES.contains(&v.s())),
         k("pd", "fast", Bool, Val::Bool(true), "true or false",
           "condensation + Sherman-Morrison-Woodbury; false runs the refactorise-every-step \
            oracle", |_| true),

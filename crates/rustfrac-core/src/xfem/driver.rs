@@ -2,7 +2,7 @@
 //! cracks and [`XfemMethod`]), builds the model, solves at the reference load, reports the SIFs,
 //! and optionally grows the cracks ([`crate::xfem::growth`]).
 
-use super::growth::{grow, GrowthStatus, GrowthStep, TipStep};
+use super::growth::{grow, shrunk_warning, GrowthStatus, GrowthStep, TipStep};
 use super::interaction_integral::DomainSifs;
 use super::model::XfemModel;
 use super::patch::CutCells;
@@ -50,7 +50,8 @@ pub struct XfemResult {
     pub k_ii: f64,
     pub j_from_k: f64,
     pub j_domain: f64,
-    /// r_I (absolute)
+    /// r_I (absolute) of the primary tip's SIFs: `xfem.r_I` element sizes, or less where a hole
+    /// would enter the domain ([`XfemModel::hole_free_radius`])
     pub r_i: f64,
     /// SIFs of the primary tip at r_I and at the extra radii, sorted by radius
     pub radii: Vec<RadiusSifs>,
@@ -220,7 +221,9 @@ fn radius_key(e: Error, key: &str) -> Error {
 
 /// The SIFs of the initial solve `u`: r_I of the primary tip, (position, SIFs at r_I) of every
 /// tip, and the primary tip's SIFs at r_I and at those extra radii whose q-domain neither the
-/// other tip of its crack nor another crack enters (the others are dropped), sorted by radius.
+/// other tip of its crack nor another crack nor a hole enters (the others are dropped), sorted by
+/// radius. Where a hole would enter a tip's r_I domain, it is shrunk clear of it
+/// ([`XfemModel::sifs_clear_of_holes`], the radius used is that tip's [`DomainSifs::radius`]).
 #[allow(clippy::type_complexity)]
 fn initial_sifs(
     x: &XfemMethod,
@@ -228,21 +231,26 @@ fn initial_sifs(
     u: &[f64],
 ) -> Result<(f64, Vec<([f64; 2], DomainSifs)>, Vec<RadiusSifs>)> {
     let h_tip = model.tip_element_size(0);
-    let r_i = x.r_i * h_tip;
     let mut tips = Vec::new();
     for t in 0..model.tips.len() {
         let r = x.r_i * model.tip_element_size(t);
-        let s = model.sifs(u, t, r).map_err(|e| radius_key(e, "xfem.r_I"))?;
+        let s = model
+            .sifs_clear_of_holes(u, t, r)
+            .map_err(|e| radius_key(e, "xfem.r_I"))?;
         tips.push((model.tips[t].pos, s));
     }
     let main = tips[0].1;
+    let r_i = main.radius;
     let mut radii = vec![RadiusSifs {
         factor: x.r_i,
         sifs: main,
     }];
     for &f in &x.extra_radii {
         let r = f * h_tip;
-        if model.other_tip_in_domain(0, r) || model.other_crack_in_domain(0, r).is_some() {
+        if model.other_tip_in_domain(0, r)
+            || model.other_crack_in_domain(0, r).is_some()
+            || model.hole_in_domain(0, r).is_some()
+        {
             continue;
         }
         radii.push(RadiusSifs {
@@ -264,6 +272,12 @@ fn initial_result(
     first: &PlateSolve,
 ) -> Result<XfemResult> {
     let (r_i, tips, radii) = initial_sifs(x, model, &first.u)?;
+    let shrunk: Vec<(usize, usize, f64)> = tips
+        .iter()
+        .enumerate()
+        .filter(|(t, (_, s))| s.radius < x.r_i * model.tip_element_size(*t))
+        .map(|(t, (_, s))| (0, t, s.radius / model.tip_element_size(t)))
+        .collect();
     let main = tips[0].1;
     let h_tip = model.tip_element_size(0);
     let deformed = model.deformed_near_tip(&first.u, 0, 5.0 * h_tip, 4)?;
@@ -322,6 +336,7 @@ fn initial_result(
                     .and_then(|c| condition_warning("initial solve", c)),
             )
             .chain(model.fictitious.iter().flat_map(|f| f.warnings.clone()))
+            .chain(shrunk_warning(&shrunk, x.r_i, "initial crack"))
             .collect(),
     })
 }

@@ -18,10 +18,17 @@
 //! `cracks_meet` when the grown cracks would cross or touch each other or put tips of two cracks
 //! in one element, or another crack would enter a tip's SIF domain (coalescence is not
 //! modelled), `max_steps_reached`, or `crack_closes` (K_eq <= 0).
+//!
+//! Holes and notches: where one would enter a tip's SIF domain, the q-radius is shrunk to the
+//! largest one that excludes it ([`XfemModel::hole_free_radius`]; the domain form has no
+//! hole-boundary term), recorded per step (`r_i` of [`GrowthStep`] and [`TipStep`]) with one
+//! warning per run; growth stops with `ligament_used_up` once it would have to shrink below
+//! [`MIN_HOLE_FREE_RADIUS`] element sizes (or a new tip comes closer to the hole than
+//! [`MIN_TIP_CLEARANCE`] element lengths).
 
 use super::crack::{Crack, CRACKS_APART};
 use super::enrichment::TIPS_APART;
-use super::interaction_integral::DomainSifs;
+use super::interaction_integral::{DomainSifs, MIN_HOLE_FREE_RADIUS};
 use super::model::XfemModel;
 use super::patch::DeformedPatch;
 use super::plate::{PlateProblem, PlateSolve, MIN_TIP_CLEARANCE};
@@ -73,6 +80,9 @@ pub struct GrowthStep {
     pub kink_angle: f64,
     /// position of the most critical tip (first in global tip order on ties)
     pub tip: [f64; 2],
+    /// the q-radius (absolute) of that tip's SIFs: r_I, or less where a hole would enter the
+    /// domain ([`XfemModel::hole_free_radius`]); 0 for the origin
+    pub r_i: f64,
     /// condition estimate of this step's solve ([`crate::la::ConditionEstimate::value`]; 0 for the origin;
     /// None when not computed, [`crate::problem::XfemMethod::condition`])
     pub condition: Option<f64>,
@@ -88,6 +98,9 @@ pub struct TipStep {
     pub k_ii: f64,
     /// kink angle (radians, tip frame) of the Erdogan-Sih criterion
     pub kink_angle: f64,
+    /// the q-radius (absolute) of the SIFs (shrunk clear of holes, see [`GrowthStep::r_i`]);
+    /// 0 for the origin
+    pub r_i: f64,
     /// whether this tip was critical (within a relative `xfem.tip_tie_tol` of the step's load factor) and grew
     pub grows: bool,
 }
@@ -100,7 +113,8 @@ pub enum GrowthStatus {
     /// the next length `a` of a crack would exceed `a_stop`
     AStopReached,
     /// a new tip would come closer to the boundary, or to a hole or notch, than
-    /// [`MIN_TIP_CLEARANCE`] element lengths, or a hole would enter a tip's SIF domain
+    /// [`MIN_TIP_CLEARANCE`] element lengths, or a tip's SIF domain would have to shrink below
+    /// [`MIN_HOLE_FREE_RADIUS`] element sizes to keep a hole out
     LigamentUsedUp,
     MaxStepsReached,
     /// the cracks would cross or touch, or another crack would enter a tip's SIF domain
@@ -158,18 +172,13 @@ struct TipStates {
 }
 
 impl TipStates {
-    fn new(
-        model: &XfemModel,
-        u: &[f64],
-        sizes: Vec<f64>,
-        r_i_factor: f64,
-        kic: f64,
-    ) -> Result<Self> {
+    /// `radii`: every tip's q-radius (r_I, shrunk clear of holes).
+    fn new(model: &XfemModel, u: &[f64], sizes: Vec<f64>, radii: &[f64], kic: f64) -> Result<Self> {
         let n_tips = model.tips.len();
         let mut sifs = Vec::with_capacity(n_tips);
         let mut lams = Vec::with_capacity(n_tips);
-        for (t, &h_t) in sizes.iter().enumerate() {
-            let s = model.sifs(u, t, r_i_factor * h_t)?;
+        for (t, &r) in radii.iter().enumerate() {
+            let s = model.sifs(u, t, r)?;
             let keq = k_equivalent(s.k_i, s.k_ii);
             lams.push(if keq > 0.0 { kic / keq } else { f64::INFINITY });
             sifs.push(s);
@@ -280,6 +289,7 @@ impl Growth {
             k_ii: 0.0,
             kink_angle: 0.0,
             tip: model.tips[0].pos,
+            r_i: 0.0,
             condition: first.condition.map(|_| 0.0),
         }];
         let tip_history = vec![model
@@ -290,6 +300,7 @@ impl Growth {
                 k_i: 0.0,
                 k_ii: 0.0,
                 kink_angle: 0.0,
+                r_i: 0.0,
                 grows: false,
             })
             .collect()];
@@ -328,6 +339,7 @@ impl Growth {
             k_ii: lam * s.k_ii,
             kink_angle: st.kinks[t],
             tip: model.tips[t].pos,
+            r_i: s.radius,
             condition: sol.condition.map(|c| c.value()),
         });
         self.tip_history.push(
@@ -337,6 +349,7 @@ impl Growth {
                     k_i: lam * st.sifs[k].k_i,
                     k_ii: lam * st.sifs[k].k_ii,
                     kink_angle: st.kinks[k],
+                    r_i: st.sifs[k].radius,
                     grows: grows[k],
                 })
                 .collect(),
@@ -348,6 +361,29 @@ impl Growth {
         self.snapshots.push(snap);
         Ok(())
     }
+}
+
+/// One warning for the SIF domains shrunk clear of holes during `what` (history row, tip,
+/// radius in element sizes), or None when none was.
+pub(super) fn shrunk_warning(
+    shrunk: &[(usize, usize, f64)],
+    r_i_factor: f64,
+    what: &str,
+) -> Option<Warning> {
+    let (first, last) = (shrunk.first()?, shrunk.last()?);
+    let min = shrunk.iter().map(|s| s.2).fold(f64::INFINITY, f64::min);
+    Some(Warning::new(
+        crate::warning::WarningKind::Discretisation,
+        format!(
+            "xfem.r_I: {what}: the SIF domain was shrunk from {r_i_factor} to as little as \
+             {min:.3} element sizes so that no hole or notch enters it ({} tip states, history \
+             rows {} .. {}; K_I stays within about 1 % down to {MIN_HOLE_FREE_RADIUS}, \
+             see the r_I history column)",
+            shrunk.len(),
+            first.0,
+            last.0
+        ),
+    ))
 }
 
 /// The growth loop (see the module documentation) from the initial model and its solve `first`
@@ -372,6 +408,8 @@ pub(super) fn grow(
     };
     let mut out = Growth::origin(&model, &first);
     let mut sol = first;
+    // (history row, tip, radius in element sizes) of every domain shrunk clear of a hole
+    let mut shrunk: Vec<(usize, usize, f64)> = Vec::new();
     for step in 0..g.max_steps {
         if step > 0 {
             let what = format!("growth step {step}");
@@ -384,19 +422,24 @@ pub(super) fn grow(
         }
         let n_tips = model.tips.len();
         let sizes: Vec<f64> = (0..n_tips).map(|t| model.tip_element_size(t)).collect();
-        if (0..n_tips).any(|t| {
-            model
-                .other_crack_in_domain(t, r_i_factor * sizes[t])
-                .is_some()
-        }) {
+        // r_I, shrunk where a hole would enter the domain (not below MIN_HOLE_FREE_RADIUS)
+        let radii: Vec<f64> = (0..n_tips)
+            .map(|t| model.hole_free_radius(t, r_i_factor * sizes[t]))
+            .collect();
+        if (0..n_tips).any(|t| model.other_crack_in_domain(t, radii[t]).is_some()) {
             out.status = Some(GrowthStatus::CracksMeet);
             break;
         }
-        if (0..n_tips).any(|t| model.hole_in_domain(t, r_i_factor * sizes[t]).is_some()) {
+        if (0..n_tips).any(|t| radii[t] < MIN_HOLE_FREE_RADIUS * sizes[t]) {
             out.status = Some(GrowthStatus::LigamentUsedUp);
             break;
         }
-        let st = TipStates::new(&model, &sol.u, sizes, r_i_factor, kic)?;
+        for (t, &r) in radii.iter().enumerate() {
+            if r < r_i_factor * sizes[t] {
+                shrunk.push((step + 1, t, r / sizes[t]));
+            }
+        }
+        let st = TipStates::new(&model, &sol.u, sizes, &radii, kic)?;
         let Some(crit) = st.critical(tie) else {
             out.status = Some(GrowthStatus::CrackCloses);
             break;
@@ -430,6 +473,8 @@ pub(super) fn grow(
         };
     }
     out.cracks = model.cracks.iter().map(|c| c.points.clone()).collect();
+    out.warnings
+        .extend(shrunk_warning(&shrunk, r_i_factor, "growth"));
     Ok(out)
 }
 

@@ -92,7 +92,7 @@ pub use crack::{Crack, Tip, SNAP_REL};
 pub use driver::{run, RadiusSifs, XfemResult};
 pub use enrichment::{branch_functions, branch_functions_snapped, DEFAULT_AREA_THRESHOLD};
 pub use growth::{k_equivalent, kink_angle, GrowthStatus, GrowthStep, TipStep};
-pub use interaction_integral::{DomainIntegral, DomainSifs};
+pub use interaction_integral::{DomainIntegral, DomainSifs, MIN_HOLE_FREE_RADIUS};
 pub use model::{XfemModel, XfemOptions};
 pub use patch::{CutCells, DeformedPatch};
 pub use plate::MIN_TIP_CLEARANCE;

@@ -75,7 +75,10 @@ impl SpliceModel {
             find_bonds(&grid, pm.m, &is_pd)?
         } else {
             let exists = |a, b| holes::bond_exists(&p.domain, &grid, &material, a, b);
-            find_bonds_where(&grid, pm.m, &is_pd, &exists)?
+            let mut bonds = find_bonds_where(&grid, pm.m, &is_pd, &exists)?;
+            let rule = (pm.hole_volumes, pm.regions.as_slice(), all_pd);
+            holes::apply_hole_volumes(&p.domain, &grid, rule, &mut bonds);
+            bonds
         };
         graded::check_families(&grid, &bonds)?;
         let precrack_broken = precrack::broken_bonds(&crack, &grid, &bonds);

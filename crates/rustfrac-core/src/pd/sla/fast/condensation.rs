@@ -1,28 +1,30 @@
 //! Condensation of the splice system onto the PD unknowns (the fast solver's setup).
 //!
 //! The dofs are fixed, free FEM (F) or free PD (P). The FEM rows never change when a bond breaks,
-//! so y = y0 - Z x with Z = K_FF^{-1} K_FP (sparse Cholesky of the SPD FEM block; one multi-RHS
-//! solve for the few PD columns touched by hybrid elements, in column blocks solved
-//! concurrently), and S x = g with S = K_PP - K_PF Z (dense, n_P x n_P). Of Z only the rows at the
-//! *ring* are kept: the F dofs coupled to PD rows and the CMOD dofs. sigma22 and CMOD are linear
-//! functionals of u, condensed once into constants plus coefficients on x. [`Fast::new`] runs
-//! these phases; `condense` builds and inverts S (also at every re-condensation).
+//! so y = y0 - Z x with Z = K_FF^{-1} K_FP, and S x = g with S = K_PP - K_PF Z (dense,
+//! n_P x n_P). Of Z only the rows at the *ring* are kept: the F dofs coupled to PD rows (K_PF
+//! columns), the CMOD, load and probe dofs. K_FP has rows only at H, the F dofs of hybrid
+//! elements, so with the interface I = ring u H, Z_ring = ((K_FF^{-1})_II K_IP)_ring: one sparse
+//! Cholesky of K_FF with I ordered last (AMD on the rest) gives (K_FF^{-1})_II = (L_II L_II^T)^{-1}
+//! from its dense trailing block ([`InterfaceCholesky`]; |I| = 1164 of 102 499 on the paper's
+//! case), and the same factor gives y0. Earlier versions solved K_FF for each of the |pc| = 256
+//! columns of K_FP (0.87 s on the paper's case; now 0.16 s at load 6, benches/RESULTS.md). sigma22 and CMOD
+//! are linear functionals of u, condensed once into constants plus coefficients on x, their Z
+//! parts by one adjoint solve: q_F . Z = (K_FF^{-1} q_F) . K_FP. [`Fast::new`] runs these phases;
+//! `condense` builds and inverts S (also at every re-condensation).
 
 use super::{Fast, CLS_F, CLS_FIXED, CLS_P};
 use crate::error::{Error, Result};
-use crate::la::Cholesky;
-use crate::la::{CscMatrix, Reduction};
+use crate::la::{CscMatrix, InterfaceCholesky, Reduction};
 use crate::pd::sla::engine::{separated, timing};
 use crate::pd::sla::params::auto_refactor_every;
 use crate::pd::splice::{SpliceModel, Spring};
 use faer::linalg::solvers::DenseSolveCore;
 use faer::Mat;
-use rayon::prelude::*;
 use std::time::Instant;
 
-/// One column block of Z: (first column, width, ring rows (row-major |ring| x width), sigma22
-/// and CMOD functionals of its columns).
-type ZBlock = (usize, usize, Vec<f64>, Vec<f64>, Vec<f64>);
+/// The Cholesky factor of K_FF with the interface last, and the interface's F indices.
+type Factor = (InterfaceCholesky, Vec<usize>);
 
 /// The dof classes: `cls[d]` (fixed, F or P), `idx[d]` the index of dof d in its class, the P dofs
 /// in order and the number of F dofs.
@@ -70,10 +72,11 @@ impl<'a> Fast<'a> {
         let np = dc.p_dofs.len();
         let t0 = Instant::now();
         let k = k.clone();
-        let (f_red, chol, y0) = fem_block(model, &k, &dc, t0)?;
         let cp = coupling_sets(model, &k, &dc, probe_dofs);
+        let (f_red, ichol, y0) = fem_block(model, &k, &dc, &cp, t0)?;
         let mut fun = functionals(model, &k, &dc, &y0);
-        let z_ring = z_ring(&k, &dc, chol.as_ref(), &f_red, &cp, &mut fun)?;
+        let z_ring = z_ring(&k, &dc, ichol.as_ref(), &cp, &mut fun)?;
+        let chol = ichol.map(|(c, _)| c.into_cholesky());
         let mut me = Self {
             model,
             cls: dc.cls,
@@ -127,6 +130,7 @@ impl<'a> Fast<'a> {
 
     /// Builds S = K_PP - K_PF Z and g from the current matrix, inverts S, resets the SMW state.
     pub(super) fn condense(&mut self, k: &CscMatrix) -> Result<()> {
+        let t0 = Instant::now();
         let np = self.p_dofs.len();
         let npc = self.pc.len();
         let mut s = Mat::<f64>::zeros(np, np);
@@ -168,7 +172,9 @@ impl<'a> Fast<'a> {
                 }
             }
         }
+        timing("fast: S = K_PP - K_PF Z built", t0);
         let lu = s.partial_piv_lu();
+        timing("fast: S factorised (LU)", t0);
         let ud = lu.U().diagonal();
         let (mut dmin, mut dmax) = (f64::INFINITY, 0.0f64);
         for i in 0..np {
@@ -183,6 +189,7 @@ impl<'a> Fast<'a> {
             )));
         }
         self.sinv = lu.inverse();
+        timing("fast: S inverted", t0);
         let mut x0 = vec![0.0; np];
         for (j, &gj) in g.iter().enumerate() {
             if gj != 0.0 {
@@ -232,32 +239,66 @@ fn dof_classes(model: &SpliceModel) -> DofClasses {
     }
 }
 
-/// K_FF, its Cholesky factorisation (none without free FEM dofs) and y0 = K_FF^{-1} (f_F - K_F0 u0),
-/// the FEM displacements with the PD dofs held at zero.
+/// The interface of the partial factorisation, as F indices: the ring (K_PF columns, CMOD, load
+/// and probe dofs) and the F rows of K_FP.
+fn interface(k: &CscMatrix, dc: &DofClasses, cp: &Coupling) -> Vec<usize> {
+    let mut on = vec![false; dc.nf];
+    for &d in &cp.ring {
+        on[dc.idx[d]] = true;
+    }
+    for &p in &cp.pc {
+        let c = dc.p_dofs[p];
+        for &r in &k.row_idx[k.col_ptr[c]..k.col_ptr[c + 1]] {
+            if dc.cls[r] == CLS_F {
+                on[dc.idx[r]] = true;
+            }
+        }
+    }
+    (0..dc.nf).filter(|&f| on[f]).collect()
+}
+
+/// The Cholesky factor of K_FF with the interface ([`interface`]) eliminated last (none without
+/// free FEM dofs) with the interface's F indices, and y0 = K_FF^{-1} (f_F - K_F0 u0), the FEM
+/// displacements with the PD dofs held at zero.
 fn fem_block(
     model: &SpliceModel,
     k: &CscMatrix,
     dc: &DofClasses,
+    cp: &Coupling,
     t0: Instant,
-) -> Result<(Reduction, Option<Cholesky>, Vec<f64>)> {
+) -> Result<(Reduction, Option<Factor>, Vec<f64>)> {
     let (n, cls, nf) = (model.n_dofs(), &dc.cls, dc.nf);
     let mask_f: Vec<bool> = (0..n).map(|d| cls[d] != CLS_F).collect();
     let f_red = Reduction::new(k, &mask_f)?;
-    let chol = if nf > 0 {
-        Some(
-            Cholesky::new(&f_red.reduce(k)).map_err(|e| Error::Singular {
+    let ichol = if nf > 0 {
+        let iface = interface(k, dc, cp);
+        // AMD on the rest: geometric nested dissection measured no faster here (whole-process
+        // CPU ratio 0.98 on the paper's case) and changed the round-off enough to turn the m = 2
+        // shredding run of sla_long_validation into an early "separated" status
+        let c = InterfaceCholesky::new(&f_red.reduce(k), &iface, None).map_err(|e| {
+            Error::Singular {
                 detail: format!("FEM block of the splice matrix: {e}"),
-            })?,
-        )
+            }
+        })?;
+        Some((c, iface))
     } else {
         None
     };
-    timing("fast: Cholesky of K_FF", t0);
-    let y0 = match &chol {
-        Some(c) => c.solve(&f_red.rhs(k, &model.f, &model.prescribed))?,
+    if let Some((c, iface)) = &ichol {
+        let what = format!(
+            "fast: Cholesky of K_FF ({nf} dofs, interface of {} last, factor nnz {})",
+            iface.len(),
+            c.cholesky().factor_nnz()
+        );
+        timing(&what, t0);
+    }
+    let y0 = match &ichol {
+        Some((c, _)) => c
+            .cholesky()
+            .solve(&f_red.rhs(k, &model.f, &model.prescribed))?,
         None => Vec::new(),
     };
-    Ok((f_red, chol, y0))
+    Ok((f_red, ichol, y0))
 }
 
 /// The coupling sets of the condensation, from the pattern of `k` ([`Coupling`]); the ring also
@@ -364,72 +405,61 @@ fn functionals(model: &SpliceModel, k: &CscMatrix, dc: &DofClasses, y0: &[f64]) 
     }
 }
 
-/// Z = K_FF^{-1} K_FP in column blocks (`RUSTFRAC_ZBLK` columns, default 32): returns its rows at
-/// the ring (row-major |ring| x |pc|) and subtracts the Z parts from the functionals'
-/// coefficients.
+/// Z = K_FF^{-1} K_FP at the ring: K_FP has rows only at the interface I, so
+/// Z_I = (K_FF^{-1})_II K_IP from the trailing block of the factor ([`InterfaceCholesky`]).
+/// Returns Z's ring rows (row-major |ring| x |pc|) and subtracts the Z parts from the
+/// functionals' coefficients: q_F . Z = (K_FF^{-1} q_F) . K_FP, one solve for sigma22 and CMOD.
 fn z_ring(
     k: &CscMatrix,
     dc: &DofClasses,
-    chol: Option<&Cholesky>,
-    f_red: &Reduction,
+    ichol: Option<&Factor>,
     cp: &Coupling,
     fun: &mut Functionals,
 ) -> Result<Vec<f64>> {
     let (cls, idx, p_dofs, nf) = (&dc.cls, &dc.idx, &dc.p_dofs, dc.nf);
     let (pc, ring) = (&cp.pc, &cp.ring);
-    let (q, e) = (&fun.q, &fun.e);
-    let (sig_coef, cmod_coef) = (&mut fun.sig_coef, &mut fun.cmod_coef);
     let npc = pc.len();
     let mut z_ring = vec![0.0; ring.len() * npc];
-    if let Some(ch) = chol {
-        let f_dofs = &f_red.free;
-        let blk_size: usize = std::env::var("RUSTFRAC_ZBLK")
-            .ok()
-            .and_then(|s| s.parse().ok())
-            .filter(|&b: &usize| b > 0)
-            .unwrap_or(32);
-        let starts: Vec<usize> = (0..npc).step_by(blk_size).collect();
-        // column blocks solved concurrently (the supernodal triangular solves themselves
-        // parallelise poorly); each block keeps only its ring rows and functionals
-        let blocks: Vec<Result<ZBlock>> = starts
-            .par_iter()
-            .map(|&c0| {
-                let nb = blk_size.min(npc - c0);
-                let mut blk = vec![0.0; nf * nb];
-                for t in 0..nb {
-                    let col = p_dofs[pc[c0 + t]];
-                    for kk in k.col_ptr[col]..k.col_ptr[col + 1] {
-                        let r = k.row_idx[kk];
-                        if cls[r] == CLS_F {
-                            blk[t * nf + idx[r]] = k.val[kk];
-                        }
-                    }
-                }
-                ch.solve_in_place(&mut blk)?;
-                let mut zr = vec![0.0; ring.len() * nb];
-                let mut sq = vec![0.0; nb];
-                let mut se = vec![0.0; nb];
-                for t in 0..nb {
-                    let zc = &blk[t * nf..(t + 1) * nf];
-                    for (fi, &d) in f_dofs.iter().enumerate() {
-                        sq[t] += q[d] * zc[fi];
-                        se[t] += e[d] * zc[fi];
-                    }
-                    for (r, &d) in ring.iter().enumerate() {
-                        zr[r * nb + t] = zc[idx[d]];
-                    }
-                }
-                Ok((c0, nb, zr, sq, se))
-            })
-            .collect();
-        for bl in blocks {
-            let (c0, nb, zr, sq, se) = bl?;
-            for t in 0..nb {
-                sig_coef[pc[c0 + t]] -= sq[t];
-                cmod_coef[pc[c0 + t]] -= se[t];
-                for r in 0..ring.len() {
-                    z_ring[r * npc + c0 + t] = zr[r * nb + t];
-                }
+    let Some((ch, iface)) = ichol else {
+        return Ok(z_ring);
+    };
+    let mut ipos = vec![usize::MAX; nf];
+    for (i, &f) in iface.iter().enumerate() {
+        ipos[f] = i;
+    }
+    let mut zi = Mat::<f64>::zeros(iface.len(), npc);
+    for (t, &p) in pc.iter().enumerate() {
+        let col = p_dofs[p];
+        for kk in k.col_ptr[col]..k.col_ptr[col + 1] {
+            let r = k.row_idx[kk];
+            if cls[r] == CLS_F {
+                zi[(ipos[idx[r]], t)] = k.val[kk];
+            }
+        }
+    }
+    ch.apply_inverse_ii(zi.as_mut());
+    for (r, &d) in ring.iter().enumerate() {
+        let i = ipos[idx[d]];
+        for t in 0..npc {
+            z_ring[r * npc + t] = zi[(i, t)];
+        }
+    }
+    // the functionals: adjoint solves with q_F and e_F
+    let mut qe = vec![0.0; 2 * nf];
+    for (d, &c) in cls.iter().enumerate() {
+        if c == CLS_F {
+            qe[idx[d]] = fun.q[d];
+            qe[nf + idx[d]] = fun.e[d];
+        }
+    }
+    ch.cholesky().solve_in_place(&mut qe)?;
+    for &p in pc {
+        let col = p_dofs[p];
+        for kk in k.col_ptr[col]..k.col_ptr[col + 1] {
+            let r = k.row_idx[kk];
+            if cls[r] == CLS_F {
+                fun.sig_coef[p] -= qe[idx[r]] * k.val[kk];
+                fun.cmod_coef[p] -= qe[nf + idx[r]] * k.val[kk];
             }
         }
     }

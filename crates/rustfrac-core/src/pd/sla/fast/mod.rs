@@ -1,9 +1,10 @@
 //! The fast solver (default, `fast = true`): condense once, then low-rank updates.
 //!
 //! The FEM rows never change when a bond breaks, so with y = free FEM dofs and x = PD dofs,
-//! y = y0 - Z x where Z = K_FF^{-1} K_FP (sparse Cholesky of the SPD FEM block, one multi-RHS solve
-//! for the few PD columns touched by hybrid elements), and S x = g with S = K_PP - K_PF Z, dense
-//! and small (2 x PD nodes): `condensation.rs`. S is inverted once; a broken bond is a rank-1
+//! y = y0 - Z x where Z = K_FF^{-1} K_FP, and S x = g with S = K_PP - K_PF Z, dense and small
+//! (2 x PD nodes): `condensation.rs`. K_FP and K_PF touch only a thin interface I of FEM dofs, so
+//! S needs only (K_FF^{-1})_II: one sparse Cholesky of the SPD FEM block with I ordered last
+//! gives it from the factor's dense trailing block ([`crate::la::InterfaceCholesky`]). S is inverted once; a broken bond is a rank-1
 //! change of S and g (a on the PD rows of its ends), handled by Sherman-Morrison-Woodbury with the
 //! capacitance inverse grown by bordering (O(k^2) per break): `smw.rs`. The Schur pivot of the
 //! bordering is the ratio det(S_k+1)/det(S_k): when it vanishes the body has separated (status
