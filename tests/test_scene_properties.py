@@ -317,6 +317,8 @@ FLOAT_KEYS = [
     ("xfem", "a_stop"),
     ("pd", "dx"),
     ("pd", "tie_tol"),
+    ("pd", "fem_grading"),
+    ("pd", "fem_coarse"),
     ("pd", "stop_crack_length"),
 ]
 

@@ -62,6 +62,8 @@ def edge_crack_plate(
             (0 = 0.7 width)). Growth uses ``G0``.
         dx, m, pd_center, pd_size, sla_steps: PD grid spacing, horizon factor (delta = m dx),
             PD rectangle of the CCM-PD model (pure PD covers the plate), and SLA steps.
+        fem_grading, fem_coarse: CCM-PD graded FEM grid: growth ratio away from the PD
+            rectangle (1 = uniform dx, the default) and largest element in dx (8).
         tie_tol, refactor_every, fast, stop_crack_length: SLA options (see
             :class:`~rustfrac.scene.PdOptions`).
         damage_at_steps, checkpoint_every, checkpoint_path, resume_from: SLA outputs and

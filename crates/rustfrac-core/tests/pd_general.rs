@@ -49,7 +49,7 @@ fn edge(side: Side, x: f64, y: f64, a0: f64, angle: f64) -> CrackSpec {
 fn check_precrack(p: &Problem, tips: &[[f64; 2]]) {
     let model = SpliceModel::new(p).unwrap();
     let line = p.pd_precrack();
-    let g = model.grid;
+    let g = &model.grid;
     let m = model.pd.m as f64;
     let mut expected = 0;
     let nn = g.n_nodes();

@@ -64,13 +64,7 @@ fn bulk_energy_density_matches_continuum() {
         let dx = 0.05;
         let consts = PdConstants::new(&mat, 0.367, dx, m).unwrap();
         let nx = 4 * m + 2;
-        let grid = Grid {
-            nx,
-            ny: nx,
-            dx,
-            x0: 0.0,
-            y0: 0.0,
-        };
+        let grid = Grid::uniform(nx, nx, dx, 0.0, 0.0);
         let centre = grid.node(nx / 2, nx / 2);
         let v = consts.volume;
         // uniaxial strain along x1 and along x2: exact with gamma

@@ -1,4 +1,4 @@
-//! Bonds on the uniform grid: the grid, the bond list, the neighbour search and the damage index
+//! Bonds on the PD grid: the grid, the bond list, the neighbour search and the damage index
 //! (paper section 2.2.1, eqs. 37-45, 53).
 //!
 //! * Grid: nodes at the vertices of a uniform `dx` grid (the same nodes as the Q4 mesh of the
@@ -38,17 +38,61 @@ impl Bond {
 /// Memory of one stored bond in bytes.
 pub const BYTES_PER_BOND: usize = std::mem::size_of::<Bond>();
 
-/// A uniform grid of (nx + 1) x (ny + 1) nodes, node (i, j) = j (nx + 1) + i, at (x0 + i dx, y0 + j dx).
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// A tensor grid of (nx + 1) x (ny + 1) nodes, node (i, j) = j (nx + 1) + i, at (xs[i], ys[j]).
+/// Uniform ([`Grid::uniform`]): xs[i] = x0 + i dx. Graded ([`Grid::graded`], the FEM part of a
+/// CCM-PD model, `pd::splice`): the lines are spaced `dx` wherever PD nodes and their families
+/// lie and grow away from them; everything that is only about the PD part (bonds, volumes, the
+/// family stencil) keeps the uniform spacing `dx`.
+#[derive(Debug, Clone, PartialEq)]
 pub struct Grid {
     pub nx: usize,
     pub ny: usize,
+    /// the PD spacing (the lines' spacing everywhere on a uniform grid)
     pub dx: f64,
     pub x0: f64,
     pub y0: f64,
+    /// the vertical grid lines (nx + 1)
+    pub xs: Vec<f64>,
+    /// the horizontal grid lines (ny + 1)
+    pub ys: Vec<f64>,
+    /// the lines are x0 + i dx, y0 + j dx
+    uniform: bool,
 }
 
 impl Grid {
+    /// The uniform grid of nx x ny cells of size dx from (x0, y0).
+    pub fn uniform(nx: usize, ny: usize, dx: f64, x0: f64, y0: f64) -> Self {
+        Self {
+            nx,
+            ny,
+            dx,
+            x0,
+            y0,
+            xs: (0..=nx).map(|i| x0 + i as f64 * dx).collect(),
+            ys: (0..=ny).map(|j| y0 + j as f64 * dx).collect(),
+            uniform: true,
+        }
+    }
+
+    /// The tensor grid with lines `xs`, `ys` (strictly increasing, at least 2 each) and PD
+    /// spacing `dx`.
+    pub fn graded(xs: Vec<f64>, ys: Vec<f64>, dx: f64) -> Self {
+        Self {
+            nx: xs.len() - 1,
+            ny: ys.len() - 1,
+            dx,
+            x0: xs[0],
+            y0: ys[0],
+            xs,
+            ys,
+            uniform: false,
+        }
+    }
+
+    /// Are the lines x0 + i dx, y0 + j dx?
+    pub fn is_uniform(&self) -> bool {
+        self.uniform
+    }
     pub fn n_nodes(&self) -> usize {
         (self.nx + 1) * (self.ny + 1)
     }
@@ -60,7 +104,25 @@ impl Grid {
     }
     pub fn xy(&self, n: usize) -> [f64; 2] {
         let (i, j) = self.ij(n);
-        [self.x0 + i as f64 * self.dx, self.y0 + j as f64 * self.dx]
+        [self.xs[i], self.ys[j]]
+    }
+    /// The size (hx, hy) of cell (i, j).
+    pub fn cell_size(&self, i: usize, j: usize) -> [f64; 2] {
+        [self.xs[i + 1] - self.xs[i], self.ys[j + 1] - self.ys[j]]
+    }
+    /// A point in grid units: (x - x0) / dx on a uniform grid; on a graded grid the cell index
+    /// plus the fraction within the cell (piecewise linear in each coordinate; outside the
+    /// lines extrapolated with the end cells).
+    pub fn to_units(&self, p: [f64; 2]) -> [f64; 2] {
+        if self.uniform {
+            return [(p[0] - self.x0) / self.dx, (p[1] - self.y0) / self.dx];
+        }
+        let unit = |lines: &[f64], x: f64| -> f64 {
+            let n = lines.len() - 1;
+            let k = lines.partition_point(|&l| l <= x).clamp(1, n) - 1;
+            k as f64 + (x - lines[k]) / (lines[k + 1] - lines[k])
+        };
+        [unit(&self.xs, p[0]), unit(&self.ys, p[1])]
     }
 }
 

@@ -336,6 +336,11 @@ pub struct PdMethod {
     /// CCM-PD: the PD rectangles [x0, y0, x1, y1] (a scene states one, by `pd.center` and
     /// `pd.size`); pure PD: none (the whole plate)
     pub regions: Vec<[f64; 4]>,
+    /// CCM-PD: ratio of neighbouring FEM element sizes away from the PD rectangles (1: one
+    /// uniform dx grid, the paper's; > 1: a graded FEM grid, `pd::splice::graded`)
+    pub fem_grading: f64,
+    /// CCM-PD graded grid: the largest FEM element size, in units of dx
+    pub fem_coarse: f64,
     pub sla: SlaParams,
     /// the volume of a node whose cell a hole cuts (`pd.hole_volumes`, [`HoleVolumes`])
     pub hole_volumes: HoleVolumes,

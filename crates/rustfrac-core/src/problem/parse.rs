@@ -770,6 +770,8 @@ fn pd_method(pd: &Section, ccm: bool) -> PdMethod {
             .then_some([cx - sx / 2.0, cy - sy / 2.0, cx + sx / 2.0, cy + sy / 2.0])
             .into_iter()
             .collect(),
+        fem_grading: pd["fem_grading"].f(),
+        fem_coarse: pd["fem_coarse"].f(),
         sla: SlaParams {
             max_steps: pd["sla_steps"].i() as usize,
             stop_crack_length: positive_or_none(pd["stop_crack_length"].f()),

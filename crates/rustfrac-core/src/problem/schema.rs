@@ -91,6 +91,8 @@ pub const REGIONS: [&str; 4] = ["edge", "edge_part", "point", "box"];
 pub const PROBES: [&str; 2] = ["displacement", "opening"];
 /// Largest ratio of neighbouring element sizes of a graded grid (`mesh.grading`).
 pub const MAX_GRADING: f64 = 2.0;
+/// Largest FEM element of a graded CCM-PD grid, in units of dx (`pd.fem_coarse`).
+pub const MAX_FEM_COARSE: f64 = 1000.0;
 /// Most vertices of a polygon hole.
 pub const MAX_POLYGON_VERTICES: usize = 10_000;
 
@@ -390,6 +392,16 @@ fn build() -> Vec<KeySpec> {
         k("pd", "size", Pair, Val::Pair([2.73, 1.67]), "two finite numbers in [1e-30, 1e30]",
           "size of the CCM-PD rectangle along x1 and x2",
           |v| v.pair().iter().all(|&x| positive(x))),
+        k("pd", "fem_grading", Float, Val::Float(1.0),
+          &format!("1 <= fem_grading <= {MAX_GRADING} (> 1 for method 'ccm_pd' only)"),
+          "CCM-PD: 1 = one uniform dx grid (the paper's); > 1 = a graded FEM grid: uniform dx \
+           over the PD rectangles and a band of m + 1 elements around them, element sizes \
+           growing by this ratio beyond, up to pd.fem_coarse dx",
+          |v| v.f() >= 1.0 && v.f() <= MAX_GRADING),
+        k("pd", "fem_coarse", Float, Val::Float(8.0),
+          &format!("1 <= fem_coarse <= {MAX_FEM_COARSE}"),
+          "CCM-PD graded grid: the largest FEM element size, in units of pd.dx",
+          |v| v.f() >= 1.0 && v.f() <= MAX_FEM_COARSE),
         k("pd", "sla_steps", Int, Val::Int(500),
           &format!("an integer >= 0 (0 = the reference solution only; at most {MAX_STEPS})"),
           "most SLA steps (bond-break events)", |v| (0..=MAX_STEPS as i64).contains(&v.i())),

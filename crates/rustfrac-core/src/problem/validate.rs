@@ -153,6 +153,8 @@ fn pd_ranges(pd: &PdMethod, int: &dyn Fn(usize) -> Val) -> Result<()> {
         in_range("pd", "pd", key, int(n))?;
     }
     in_range("pd", "pd", "tie_tol", Val::Float(sla.tie_tol))?;
+    in_range("pd", "pd", "fem_grading", Val::Float(pd.fem_grading))?;
+    in_range("pd", "pd", "fem_coarse", Val::Float(pd.fem_coarse))?;
     let stop = sla.stop_crack_length.unwrap_or(0.0);
     in_range("pd", "pd", "stop_crack_length", Val::Float(stop))?;
     if sla.stop_crack_length == Some(0.0) {
@@ -492,6 +494,14 @@ fn peridynamics(p: &Problem, pd: &PdMethod) -> Result<()> {
             ))
         }
         _ => {}
+    }
+    if pd.fem_grading != 1.0 && matches!(p.method, Method::Pd(_)) {
+        return Err(Error::invalid(
+            "pd.fem_grading",
+            "1 for method 'pd' (pure PD has no FEM part to grade; a graded FEM grid needs \
+             method 'ccm_pd')",
+            pd.fem_grading,
+        ));
     }
     let mat = &p.material.elastic;
     if mat.nu != PD_NU {

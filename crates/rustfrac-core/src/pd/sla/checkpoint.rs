@@ -71,7 +71,8 @@ impl Fnv {
 
 /// Fingerprint of everything that determines an SLA's sequence of floating-point operations: the
 /// model (method, plate, grid, horizon, material, G0, PD rectangles, pre-crack polyline, the load
-/// that acts; holes and supports and loads on regions, as their full description) and the solver options (fast, refactor_every, tie_tol), plus the built model's
+/// that acts; holes and supports and loads on regions, as their full description; a graded FEM
+/// grid's pd.fem_grading and pd.fem_coarse) and the solver options (fast, refactor_every, tie_tol), plus the built model's
 /// counts. The step limit, stop length, damage snapshots and checkpoint options may change
 /// between the runs.
 pub fn fingerprint(p: &Problem, precrack: &[[f64; 2]], n_dofs: usize, n_bonds: usize) -> u64 {
@@ -114,6 +115,11 @@ pub fn fingerprint(p: &Problem, precrack: &[[f64; 2]], n_dofs: usize, n_bonds: u
     // the paper's plate, so its fingerprints stay)
     if !d.holes.is_empty() {
         h.str(&format!("{:?}", d.holes));
+    }
+    // a graded FEM grid (nothing is hashed for the uniform one)
+    if pd.fem_grading != 1.0 {
+        h.f64(pd.fem_grading);
+        h.f64(pd.fem_coarse);
     }
     if let crate::problem::Boundary::Regions { supports, loads } = &p.boundary {
         h.str(&format!("{supports:?}{loads:?}"));

@@ -89,14 +89,13 @@ pub(super) fn loading(
 /// The loaded node rows with their tributary lengths: the edge rows (coupled), or volumetric layers
 /// of m rows (pure PD, at most half the grid; only the outer row carries a traction length).
 fn edges(layers: usize, grid: &Grid) -> PlateEdges {
-    let (nx, ny, dx) = (grid.nx, grid.ny, grid.dx);
+    let ny = grid.ny;
     let layers = layers.min(ny / 2).max(1);
     let mut top = Vec::new();
     let mut bottom = Vec::new();
     let mut top_len = Vec::new();
     let mut bottom_len = Vec::new();
-    let xs: Vec<f64> = (0..=nx).map(|i| i as f64 * dx).collect();
-    let trib = tributary_lengths(&xs);
+    let trib = tributary_lengths(&grid.xs);
     for j in (ny + 1 - layers)..=ny {
         for (i, &t) in trib.iter().enumerate() {
             top.push(grid.node(i, j));

@@ -4,9 +4,10 @@
 //! node -> bonds incidence. The problem's rules are checked first ([`validate::problem`]).
 
 use super::boundary::loading;
+use super::graded;
 use super::holes;
 use super::precrack;
-use super::{CutStiffness, SpliceModel};
+use super::{ElementStiffness, SpliceModel};
 use crate::error::{Error, Result};
 use crate::fe::fictitious::{ElementKind, FictitiousDomain};
 use crate::fe::q4::element_stiffness;
@@ -62,14 +63,14 @@ impl SpliceModel {
             memory_estimate(grid.n_nodes(), pd_nodes.len(), pm.m),
         )?;
         let crack = precrack::in_grid_units(&precrack, &p.domain, &grid)?;
-        let ke = element_matrix(p, &grid, None);
+        let ke = element_matrix(p, [grid.dx; 2], None);
         let fem = FemPart {
             grid: &grid,
             is_pd: &is_pd,
             material: &material,
             fd: fd.as_ref(),
         };
-        let (elements, n_removed, cut_ke) = fem.elements(p, &crack)?;
+        let (elements, n_removed, own_ke) = fem.elements(p, &crack)?;
         let bonds = if p.domain.holes.is_empty() {
             find_bonds(&grid, pm.m, &is_pd)?
         } else {
@@ -79,6 +80,7 @@ impl SpliceModel {
             holes::apply_hole_volumes(&p.domain, &grid, rule, &mut bonds);
             bonds
         };
+        graded::check_families(&grid, &bonds)?;
         let precrack_broken = precrack::broken_bonds(&crack, &grid, &bonds);
         let (rows_of, cols_of, pattern) = blocks(&grid, &elements, &bonds, &is_pd)?;
         let layers = if all_pd { pm.m } else { 1 };
@@ -101,7 +103,7 @@ impl SpliceModel {
             bonds,
             precrack_broken,
             ke,
-            cut_ke,
+            own_ke,
             rows_of,
             cols_of,
             pattern,
@@ -138,21 +140,16 @@ fn memory_estimate(n_nodes: usize, n_pd: usize, m: usize) -> f64 {
     bonds * per_bond + fem + solver
 }
 
-/// The grid (its fit and node count are rules of the problem, [`validate::problem`]) and the PD
-/// constants on it.
+/// The grid (its fit and node count are rules of the problem, [`validate::problem`]; graded
+/// away from the PD rectangles with `pd.fem_grading` > 1, `graded.rs`) and the PD constants on
+/// its uniform spacing.
 fn grid_and_constants(p: &Problem, pm: &PdMethod) -> Result<(Grid, PdConstants)> {
     let d = &p.domain;
     let fit = |len: f64| validate::grid_count(len, pm.dx).expect("checked by validate::problem");
     let (nx, ny) = (fit(d.width), fit(d.height));
     let dx = d.width / nx as f64;
     let pd = PdConstants::new(&p.material.elastic, p.material.g0, dx, pm.m)?;
-    let grid = Grid {
-        nx,
-        ny,
-        dx,
-        x0: 0.0,
-        y0: 0.0,
-    };
+    let grid = graded::grid(pm, nx, ny, dx);
     Ok((grid, pd))
 }
 
@@ -213,13 +210,12 @@ fn mark_pd_region(r: [f64; 4], grid: &Grid, is_pd: &mut [bool]) {
     }
 }
 
-/// The element stiffness of the dx x dx square (exact 2 x 2 Gauss, row-major 8 x 8; every whole
-/// FEM element of the grid is this square), or with `rule` (a cut element's material part,
-/// [`FictitiousDomain::rule`]).
-fn element_matrix(p: &Problem, grid: &Grid, rule: Option<&[QPoint]>) -> Vec<f64> {
-    let dx = grid.dx;
+/// The element stiffness of the h[0] x h[1] rectangle (exact 2 x 2 Gauss, row-major 8 x 8; every
+/// whole FEM element of a uniform grid is the dx x dx square), or with `rule` (a cut element's
+/// material part, [`FictitiousDomain::rule`]).
+fn element_matrix(p: &Problem, h: [f64; 2], rule: Option<&[QPoint]>) -> Vec<f64> {
     let mut ke = Vec::new();
-    let sq = [[0.0, 0.0], [dx, 0.0], [dx, dx], [0.0, dx]];
+    let sq = [[0.0, 0.0], [h[0], 0.0], [h[0], h[1]], [0.0, h[1]]];
     let full = subquad_rule(1, 2);
     element_stiffness(&sq, &p.material.elastic, rule.unwrap_or(&full), &mut ke);
     ke
@@ -238,17 +234,17 @@ impl FemPart<'_> {
     /// whose interior the pre-crack does not cut. Without FEM holes all four nodes must be
     /// material (the centre rule of PD holes); with them (`holes.rs`) an element of FEM nodes
     /// is kept whole, dropped (void) or cut, and a hybrid element must be left whole by them.
-    /// Returns (elements, number removed by the pre-crack, the cut elements' stiffness by
-    /// element index).
+    /// Returns (elements, number removed by the pre-crack, the own stiffness of the cut and the
+    /// graded elements by element index).
     fn elements(
         &self,
         p: &Problem,
         crack: &[[f64; 2]],
-    ) -> Result<(Vec<[usize; 4]>, usize, CutStiffness)> {
+    ) -> Result<(Vec<[usize; 4]>, usize, ElementStiffness)> {
         let (grid, is_pd, material) = (self.grid, self.is_pd, self.material);
         let (nx, ny) = (grid.nx, grid.ny);
         let mut elements = Vec::new();
-        let mut cut_ke = CutStiffness::default();
+        let mut own_ke = ElementStiffness::default();
         let mut n_removed = 0;
         let full = subquad_rule(1, 2);
         for j in 0..ny {
@@ -276,14 +272,22 @@ impl FemPart<'_> {
                     n_removed += 1;
                     continue;
                 }
+                let graded = graded::is_graded_cell(grid, i, j);
+                let h = if graded {
+                    grid.cell_size(i, j)
+                } else {
+                    [grid.dx; 2]
+                };
                 if let (Some(fd), ElementKind::Cut) = (self.fd, kind) {
-                    let ke = element_matrix(p, grid, Some(fd.rule(j * nx + i, &full)));
-                    cut_ke.push(elements.len(), &ke);
+                    let ke = element_matrix(p, h, Some(fd.rule(j * nx + i, &full)));
+                    own_ke.push(elements.len(), &ke);
+                } else if graded {
+                    own_ke.push(elements.len(), &element_matrix(p, h, None));
                 }
                 elements.push(e);
             }
         }
-        Ok((elements, n_removed, cut_ke))
+        Ok((elements, n_removed, own_ke))
     }
 }
 

@@ -40,7 +40,6 @@
 
 use crate::error::{Error, Result};
 use crate::fe::fictitious::{ElementKind, FictitiousDomain, DEFAULT_MIN_SUPPORT_FRACTION};
-use crate::fe::mesh::Mesh;
 use crate::pd::{rect_disc_area, Bond, Grid};
 use crate::problem::{Domain, Hole, HoleVolumes, Shape};
 
@@ -70,8 +69,7 @@ pub(super) fn fem_domain(
     if holes.is_empty() {
         return Ok(None);
     }
-    let (w, h) = (grid.nx as f64 * grid.dx, grid.ny as f64 * grid.dx);
-    let mesh = Mesh::uniform(grid.x0, grid.y0, w, h, grid.nx, grid.ny)?;
+    let mesh = super::graded::fe_mesh(grid)?;
     let fem = Domain {
         width: d.width,
         height: d.height,

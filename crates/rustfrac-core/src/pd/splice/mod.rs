@@ -1,10 +1,13 @@
 //! Splice CCM-PD coupling on the paper's plate (section 2.2.2, eq. 58; DESIGN.md sections 3-4).
 //!
-//! Every node of one uniform `dx` grid is a FEM node or a PD node; PD nodes are those inside the
-//! given rectangles (closed, tolerance 1e-9 dx), or all nodes for the pure PD model.
+//! Every node of one tensor grid is a FEM node or a PD node; PD nodes are those inside the
+//! given rectangles (closed, tolerance 1e-9 dx), or all nodes for the pure PD model. The grid is
+//! uniform (spacing dx, the paper's) or, with `pd.fem_grading` > 1, graded away from the PD
+//! rectangles (`graded.rs`: uniform dx over the PD rectangles plus a band of m + 1 elements).
 //!
-//! * FEM rows: every Q4 element (exact 2 x 2 Gauss stiffness of a dx x dx square) with at least one
-//!   FEM node writes the rows of its FEM nodes only (all 8 columns): hybrid elements included.
+//! * FEM rows: every Q4 element (exact 2 x 2 Gauss stiffness of its rectangle: one shared dx x dx
+//!   square, own matrices for graded or cut elements) with at least one FEM node writes the rows
+//!   of its FEM nodes only (all 8 columns): hybrid elements included.
 //! * PD rows: every bond of a PD node (to PD or FEM nodes of its family) writes the rows of its PD
 //!   end(s) only. PD rows hold forces (the bond force density times both node volumes), so PD and
 //!   FEM rows, reactions and residuals are comparable.
@@ -18,6 +21,7 @@
 
 mod boundary;
 mod build;
+mod graded;
 mod holes;
 mod precrack;
 mod regions;
@@ -61,8 +65,9 @@ pub struct SpliceModel {
     pub precrack_broken: Vec<bool>,
     /// element stiffness of the whole dx x dx square, row-major 8 x 8
     pub ke: Vec<f64>,
-    /// the stiffness of the elements cut by a FEM hole (`holes.rs`; empty without)
-    pub cut_ke: CutStiffness,
+    /// the elements with their own stiffness matrix: cut by a FEM hole (`holes.rs`) or of
+    /// another size than dx x dx (a graded grid, `graded.rs`); empty without either
+    pub own_ke: ElementStiffness,
     rows_of: Vec<Vec<usize>>,
     cols_of: Vec<Vec<usize>>,
     pattern: Pattern,
@@ -91,17 +96,18 @@ pub struct SpliceModel {
     pub warnings: Vec<Warning>,
 }
 
-/// The stiffness matrices of the FEM elements cut by holes (their material part's rule,
-/// [`crate::fe::fictitious`]), by index into [`SpliceModel::elements`].
+/// The stiffness matrices of the FEM elements that are not the shared dx x dx square: cut by
+/// holes (their material part's rule, [`crate::fe::fictitious`]) or graded (`graded.rs`), by
+/// index into [`SpliceModel::elements`].
 #[derive(Debug, Clone, Default)]
-pub struct CutStiffness {
+pub struct ElementStiffness {
     /// per element: index into `ke` (u32::MAX: a whole element, the shared square)
     slot: Vec<u32>,
     /// row-major 8 x 8 matrices, one after the other
     ke: Vec<f64>,
 }
 
-impl CutStiffness {
+impl ElementStiffness {
     pub(crate) fn push(&mut self, element: usize, ke: &[f64]) {
         if self.slot.len() <= element {
             self.slot.resize(element + 1, u32::MAX);
@@ -110,7 +116,7 @@ impl CutStiffness {
         self.ke.extend_from_slice(ke);
     }
 
-    /// The matrix of element `e` if it is cut.
+    /// The matrix of element `e` if it has its own.
     pub fn of(&self, e: usize) -> Option<&[f64]> {
         match self.slot.get(e) {
             Some(&k) if k != u32::MAX => Some(&self.ke[64 * k as usize..64 * (k as usize + 1)]),
@@ -118,7 +124,7 @@ impl CutStiffness {
         }
     }
 
-    /// Number of cut elements.
+    /// Number of elements with their own matrix.
     pub fn len(&self) -> usize {
         self.ke.len() / 64
     }
@@ -175,7 +181,7 @@ impl SpliceModel {
             .assemble(&self.rows_of, &self.cols_of, |blk, out| {
                 if blk < ne {
                     let e = &self.elements[blk];
-                    let ke = self.cut_ke.of(blk).unwrap_or(&self.ke);
+                    let ke = self.own_ke.of(blk).unwrap_or(&self.ke);
                     for (a, &n) in e.iter().enumerate() {
                         if !self.is_pd[n] {
                             out.extend_from_slice(&ke[(2 * a) * 8..(2 * a + 1) * 8]);

@@ -10,6 +10,10 @@
 //! coupled neither by bonds nor by elements across the crack. (Duplicated nodes would need the
 //! crack on a grid line, i.e. a different grid than the paper's.)
 //!
+//! On a graded grid (`graded.rs`) grid units are piecewise linear in the position: a pre-crack
+//! segment must be horizontal, vertical or inside the uniform part (refused otherwise), so its
+//! image in grid units is the straight segment the tests below use.
+//!
 //! Here: the validation of the polyline (in grid units), the cells it cuts, the bonds it breaks,
 //! and the crack-mouth nodes of the CMOD.
 
@@ -26,7 +30,7 @@ pub(super) fn in_grid_units(
     grid: &Grid,
 ) -> Result<Vec<[f64; 2]>> {
     let (nx, ny, dx) = (grid.nx, grid.ny, grid.dx);
-    let crack: Vec<[f64; 2]> = precrack.iter().map(|p| [p[0] / dx, p[1] / dx]).collect();
+    let crack: Vec<[f64; 2]> = precrack.iter().map(|&p| grid.to_units(p)).collect();
     if precrack.len() == 1 {
         return Err(Error::invalid(
             "precrack",
@@ -46,6 +50,9 @@ pub(super) fn in_grid_units(
             ));
         }
     }
+    if !grid.is_uniform() {
+        straight_in_grid_units(precrack, grid)?;
+    }
     for s in crack.windows(2) {
         let (a, b) = (s[0], s[1]);
         let l = ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2)).sqrt();
@@ -60,15 +67,48 @@ pub(super) fn in_grid_units(
             return Err(Error::invalid(
                 "precrack",
                 "a polyline passing between grid nodes (as the paper's x2 = 10.5)",
-                format!(
-                    "it passes through node ({}, {})",
-                    i as f64 * dx,
-                    j as f64 * dx
-                ),
+                format!("it passes through node {:?}", grid.xy(grid.node(i, j))),
             ));
         }
     }
     Ok(crack)
+}
+
+/// On a graded grid the map to grid units is piecewise linear, so a segment stays straight in
+/// grid units only if it is axis-aligned or lies where the lines are uniform (the cells of
+/// spacing dx around the PD rectangles): other segments are refused.
+fn straight_in_grid_units(precrack: &[[f64; 2]], grid: &Grid) -> Result<()> {
+    let tol = 1e-9 * grid.dx;
+    // the uniform run of lines around the PD part, per axis
+    let uniform_run = |lines: &[f64]| -> [f64; 2] {
+        let h: Vec<f64> = lines.windows(2).map(|w| w[1] - w[0]).collect();
+        let ok = |k: usize| (h[k] - grid.dx).abs() <= tol;
+        let k0 = (0..h.len()).find(|&k| ok(k)).unwrap_or(0);
+        let mut k1 = k0;
+        while k1 < h.len() && ok(k1) {
+            k1 += 1;
+        }
+        [lines[k0], lines[k1]]
+    };
+    let (rx, ry) = (uniform_run(&grid.xs), uniform_run(&grid.ys));
+    let inside = |p: [f64; 2]| {
+        p[0] >= rx[0] - tol && p[0] <= rx[1] + tol && p[1] >= ry[0] - tol && p[1] <= ry[1] + tol
+    };
+    for (k, s) in precrack.windows(2).enumerate() {
+        let axis_aligned = (s[0][0] - s[1][0]).abs() <= tol || (s[0][1] - s[1][1]).abs() <= tol;
+        let in_uniform_part = inside(s[0]) && inside(s[1]);
+        if !(axis_aligned || in_uniform_part) {
+            return Err(Error::invalid(
+                "precrack",
+                &format!(
+                    "with pd.fem_grading > 1, segments that are horizontal or vertical or lie in                      the uniform part of the grid around the PD rectangles (x1 in [{:.6},                      {:.6}], x2 in [{:.6}, {:.6}]); or pd.fem_grading = 1",
+                    rx[0], rx[1], ry[0], ry[1]
+                ),
+                format!("segment {k}: {:?} -> {:?}", s[0], s[1]),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// Does the pre-crack cut the interior of grid cell (i, j) (the element there is removed)?

@@ -2,7 +2,7 @@
 //!
 //! The region node sets, the consistent nodal forces of tractions and the checks (a part holding
 //! nodes, a point near a node, one prescription per dof) are [`region_conditions`] on the PD grid
-//! as a uniform [`Mesh`] (the same numbering: node (i, j) = j (nx + 1) + i), removed nodes
+//! as a [`Mesh`] with the grid's lines (the same numbering: node (i, j) = j (nx + 1) + i), removed nodes
 //! (holes, `holes.rs`) excluded. Then:
 //!
 //! * CCM-PD (`layers` = 1): unchanged, the edge node rows in the FEM part, as the grips.
@@ -21,7 +21,7 @@
 //!   the applied force exactly (up to round-off).
 
 use crate::error::{Error, Result};
-use crate::fe::mesh::{Mesh, Side};
+use crate::fe::mesh::Side;
 use crate::fe::regions::{region_conditions, RegionConditions};
 use crate::fe::Dirichlet;
 use crate::pd::Grid;
@@ -106,8 +106,7 @@ pub(super) fn region_loading(
     layers: usize,
     thickness: f64,
 ) -> Result<RegionConditions> {
-    let (w, h) = (grid.nx as f64 * grid.dx, grid.ny as f64 * grid.dx);
-    let mesh = Mesh::uniform(grid.x0, grid.y0, w, h, grid.nx, grid.ny)?;
+    let mesh = super::graded::fe_mesh(grid)?;
     let ndof = 2 * grid.n_nodes();
     let mut rc = region_conditions(&mesh, domain, material, supports, loads, ndof, thickness)?;
     if layers <= 1 {

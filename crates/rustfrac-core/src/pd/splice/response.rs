@@ -156,12 +156,8 @@ impl SpliceModel {
                     [vec![(2 * n, 1.0)], vec![(2 * n + 1, 1.0)]]
                 }
                 ProbeKind::Opening { .. } => {
-                    let c: Vec<[f64; 2]> = self
-                        .precrack
-                        .iter()
-                        .map(|p| [p[0] / g.dx, p[1] / g.dx])
-                        .collect();
-                    let qg = [q[0] / g.dx, q[1] / g.dx];
+                    let c: Vec<[f64; 2]> = self.precrack.iter().map(|&p| g.to_units(p)).collect();
+                    let qg = g.to_units(q);
                     let seg = c
                         .windows(2)
                         .min_by(|a, b| {
