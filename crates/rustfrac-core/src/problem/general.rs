@@ -70,12 +70,29 @@ fn holes(p: &Problem) -> Result<()> {
             "the holes cover the whole plate",
         ));
     }
-    // a crack tip in a hole: the crack would end in the void
+    // a crack tip in a hole: the crack would end in the void (a centre crack's end in a hole is
+    // its mouth, `CrackSpec::tips`, but one of its ends must be a tip)
     for (k, c) in p.cracks.iter().enumerate() {
         let line = c.polyline(d);
         let tips: Vec<[f64; 2]> = match c.kind {
-            super::CrackKind::Center => line.clone(),
-            _ => vec![line[line.len() - 1]],
+            super::CrackKind::Center => {
+                let tips = c.tips(d);
+                if tips.is_empty() {
+                    let h = d.holes.iter().find(|h| h.shape.level_set(line[0]) <= 0.0);
+                    return Err(Error::invalid(
+                        &format!("{}.a0", crack_name(k)),
+                        "a crack with at least one tip in material (both ends lie in holes)",
+                        format!(
+                            "ends {:?} and {:?}{}",
+                            line[0],
+                            line[1],
+                            h.map(|h| format!(" in {}", h.name)).unwrap_or_default()
+                        ),
+                    ));
+                }
+                tips
+            }
+            _ => c.tips(d),
         };
         for t in tips {
             if let Some(h) = d.holes.iter().find(|h| h.shape.level_set(t) <= 0.0) {

@@ -63,6 +63,12 @@ impl Domain {
             .map(|h| h.shape.level_set(p))
             .fold(f64::INFINITY, f64::min)
     }
+
+    /// A point on or inside a hole or notch (level set within 1e-9 x the plate's diagonal): a
+    /// crack end there is a mouth, not a tip.
+    pub fn on_or_in_hole(&self, p: [f64; 2]) -> bool {
+        self.level_set(p) <= 1e-9 * self.width.hypot(self.height)
+    }
 }
 
 /// Boundary conditions, all proportional to one load factor (growth and the SLA scale it).
@@ -198,6 +204,17 @@ impl CrackSpec {
                     [mouth[0] + self.a0 * dir[0], mouth[1] + self.a0 * dir[1]],
                 ]
             }
+        }
+    }
+
+    /// The crack's tips: the end of an edge crack or seam; both ends of a centre crack except an
+    /// end on or inside a hole or notch, which is a mouth (a crack from a hole's boundary, as
+    /// [`crate::xfem::Crack::named_in`] reads it).
+    pub fn tips(&self, d: &Domain) -> Vec<[f64; 2]> {
+        let line = self.polyline(d);
+        match self.kind {
+            CrackKind::Center => line.into_iter().filter(|&q| !d.on_or_in_hole(q)).collect(),
+            _ => vec![line[line.len() - 1]],
         }
     }
 }

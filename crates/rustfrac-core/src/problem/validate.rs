@@ -601,11 +601,7 @@ fn peridynamics(p: &Problem, pd: &PdMethod) -> Result<()> {
     if let (Some(c), Some(r)) = (p.cracks.first(), pd.regions.first()) {
         // the tips grow in PD; the rest of the crack may cross the FEM part, where the elements
         // it cuts are removed (`pd::splice::precrack`)
-        let line = c.polyline(d);
-        let tips: Vec<[f64; 2]> = match c.kind {
-            CrackKind::Center => line.clone(),
-            _ => vec![line[line.len() - 1]],
-        };
+        let tips = c.tips(d);
         let inside = |r: &[f64; 4], q: [f64; 2]| {
             r[0] <= q[0] && q[0] <= r[2] && r[1] <= q[1] && q[1] <= r[3]
         };

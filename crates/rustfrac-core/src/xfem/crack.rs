@@ -114,7 +114,7 @@ impl Crack {
                 || (p[1] - y0).abs() <= tol
                 || (p[1] - y0 - h).abs() <= tol
         };
-        let on_hole = |p: [f64; 2]| domain.is_some_and(|d| d.level_set(p) <= tol);
+        let on_hole = |p: [f64; 2]| domain.is_some_and(|d| d.on_or_in_hole(p));
         let n = points.len();
         let (mut start_b, mut end_b) = (
             on_plate_boundary(points[0]),
