@@ -195,3 +195,16 @@ def test_summary_carries_the_energy_audit(fast_run: tuple[Path, dict]) -> None:
     assert en["xfem"]["ratio"] == pytest.approx(1.0, abs=0.01)
     assert 0.5 < en["ccm_pd"]["ratio"] < 2.0
     assert "Energy audit" in (out / "summary.md").read_text()
+
+
+def test_summary_splits_the_job_time(fast_run: tuple[Path, dict]) -> None:
+    """issue 15 item 3: the job's own time split (computation, figures, files) in summary.json
+    and summary.md; the parts add up to the total."""
+    out, summary = fast_run
+    t = summary["time_split_s"]
+    assert set(t) == {"compute", "figures", "files", "other", "total"}
+    assert all(v >= 0.0 for v in t.values())
+    parts = t["compute"] + t["figures"] + t["files"] + t["other"]
+    assert parts == pytest.approx(t["total"], rel=1e-9, abs=1e-9)
+    assert t["compute"] >= sum(summary["times_s"].values()) - 1e-9  # the runs are inside it
+    assert "Job time: computation" in (out / "summary.md").read_text()

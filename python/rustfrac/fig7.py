@@ -197,7 +197,8 @@ def fig7(
     except KeyboardInterrupt:
         interrupted = True
         say("interrupted: writing what finished")
-    job = _Job(results, times, p, preset, bc, scenes, interrupted, t_all)
+    compute_s = time.perf_counter() - t_all
+    job = _Job(results, times, p, preset, bc, scenes, interrupted, t_all, compute_s)
     summary = with_fallback(outdir, job.write, "fig7")
     say(f"saved   {outdir}/ ({', '.join(summary['files'])})")
     if summary["missing"]:
@@ -234,6 +235,8 @@ class _Job:
     scenes: dict[str, Scene]
     interrupted: bool
     t_all: float
+    #: wall time of the runs (the job's computation)
+    compute_s: float = 0.0
 
     def write(self, outdir: Path) -> dict[str, Any]:
         """Writes every output into ``outdir`` (summary.json last, naming the save id of each
@@ -242,6 +245,7 @@ class _Job:
         owned = (*FILES, *PARTS.values())
         with writing(outdir, owned=owned, last="summary.json", inner=OWNED_NAMES) as w:
             parts: dict[str, str] = {}
+            t_files = time.perf_counter()
             for name, part in PARTS.items():
                 if name in self.results:
                     parts[part] = secrets.token_hex(8)
@@ -251,8 +255,10 @@ class _Job:
                             self.results[name]._save, outdir / part, save_id=parts[part]
                         ),
                     )
+            files_s = time.perf_counter() - t_files
             files: list[str] = []
             stopped = False  # a Ctrl-C while drawing: the rest is listed as missing
+            t_fig = time.perf_counter()
             for fname, make in self._drawings():
                 if stopped:
                     break
@@ -263,11 +269,24 @@ class _Job:
                     stopped = True
                     continue
                 files.append(fname)
+            figures_s = time.perf_counter() - t_fig
             interrupted = self.interrupted or stopped
+            t_sum = time.perf_counter()
             summary = _summary(
                 self.results, self.times, self.p, self.preset, self.bc, self.scenes, interrupted
             )
             summary["total_s"] = time.perf_counter() - self.t_all
+            # the job's own wall time by phase: the runs, the figures (fig7.csv included: it is
+            # written among them), the files (result folders, summaries); "other" is the rest
+            summary["time_split_s"] = split = {
+                "compute": self.compute_s,
+                "figures": figures_s,
+                "files": files_s + (time.perf_counter() - t_sum),
+                "total": summary["total_s"],
+            }
+            split["other"] = max(
+                0.0, split["total"] - split["compute"] - split["figures"] - split["files"]
+            )
             summary["files"] = [*files, "summary.md", "summary.json"]
             summary["parts"] = parts
             summary["missing"] = (
@@ -663,6 +682,7 @@ def _markdown(s: dict[str, Any]) -> str:
         f"| XFEM growth | {c['paper_xfem_s']} s | {_fmt(c['xfem_s'], '.3f')} s |",
         f"| CCM-PD, SLA | {c['paper_ccm_pd_s']} s | {_fmt(c['ccm_pd_s'], '.3f')} s |",
         "",
+        _split_line(s),
         f"Whole job: {s.get('total_s', 0):.1f} s. Growth status: XFEM "
         f"{o.get('xfem_growth_status', 'n/a')} (final a = {_fmt(o.get('xfem_final_a'))}), "
         f"CCM-PD {o.get('ccm_pd_status', 'n/a')} after {o.get('ccm_pd_steps', 'n/a')} steps.",
@@ -671,6 +691,18 @@ def _markdown(s: dict[str, Any]) -> str:
         "",
     ]
     return "\n".join(lines)
+
+
+def _split_line(s: dict[str, Any]) -> str:
+    """The job's time split (``time_split_s``) as one line of summary.md."""
+    t = s.get("time_split_s")
+    if not t:
+        return ""
+    return (
+        f"Job time: computation {t['compute']:.2f} s, figures {t['figures']:.2f} s, files "
+        f"{t['files']:.2f} s, other {t['other']:.2f} s (total {t['total']:.2f} s; "
+        "interpreter start-up and imports not included)."
+    )
 
 
 def _json_default(v: Any) -> Any:
