@@ -20,7 +20,7 @@ coarser when the rectangle would exceed the fast SLA engine's limit of ``PD_DENS
 PD dofs (the core's constant): above it the slow refactorise-every-step oracle runs, so a
 ``dx`` or ``region`` the user gave that exceeds it is refused unless ``allow_slow``.
 
-Compared (written into ``out`` as one unit, :mod:`rustfrac._folder`):
+Compared (written into ``out`` as one unit, ``rustfrac._folder``):
 
 - the crack paths: the PD damage ridge (:func:`rustfrac.paths.bond_ridge` of the bonds the SLA
   broke, stations every dx along the grown XFEM path) and its distance to the XFEM polyline, in
@@ -28,8 +28,8 @@ Compared (written into ``out`` as one unit, :mod:`rustfrac._folder`):
 - the load-response curves in one response pair (``curves.png``, ``curves.csv``): sigma22
   against CMOD under the grips (``[load]``), the load factor (the multiplier of the scene's
   loads) against the load displacement ``u0`` with supports and loads on regions; their
-  agreement at equal abscissa (:func:`rustfrac.agreement.compare`);
-- the energy audit of both (:func:`rustfrac.energy.audit`: displacement grips only);
+  agreement at equal abscissa (``rustfrac.agreement.compare``);
+- the energy audit of both (``rustfrac.energy.audit``: displacement grips only);
 - the cost: wall time, unknowns, steps, PD nodes, the SLA engine;
 - ``summary.md`` / ``summary.json`` (the last file written, naming the save id of the result
   folders ``xfem/`` and ``ccm_pd/``).
@@ -72,10 +72,13 @@ __all__ = [
     "CompareInterrupted",
     "Plan",
     "compare",
+    "grown_path",
     "path_agreement",
     "pd_region",
+    "place",
     "plan",
     "response_pair",
+    "sla_broken_bonds",
 ]
 
 #: XFEM growth steps when the scene sets none (full run, ``quick``)
@@ -576,16 +579,19 @@ def compare(
 
     Args:
         quick: fewer XFEM growth steps when the scene sets none (4 instead of 24).
-        dx, m: PD grid spacing and horizon factor (default: a PD scene's, else dx = the XFEM
-            element size, coarsened to stay under the fast SLA engine, and m = 4).
+        dx: PD grid spacing (default: a PD scene's, else the XFEM element size, coarsened to
+            stay under the fast SLA engine).
+        m: PD horizon factor (default: a PD scene's, else 4).
         margin_horizons: margin of the PD rectangle around the XFEM path, in horizons.
-        growth_steps, sla_steps: XFEM growth steps (default: the scene's, else 24 / 4 quick)
-            and SLA steps (default: enough for the XFEM path; the SLA stops at its length).
+        growth_steps: XFEM growth steps (default: the scene's, else 24, 4 with ``quick``).
+        sla_steps: most SLA steps (default: enough for the XFEM path; the SLA stops when the PD
+            crack has advanced as far).
         region: the PD rectangle (x0, y0, x1, y1); "auto": :func:`pd_region` around the XFEM
             path; None (default): a CCM-PD scene's own rectangle if it states one, else "auto".
         allow_slow: run even when the PD rectangle exceeds the fast SLA engine's limit.
         vtu: also write the ParaView files of the two result folders.
-        log: line logger (None: silent); progress: factory of progress callbacks per run.
+        log: line logger (None: silent).
+        progress: factory ``progress(name)`` of a progress callback for each run, or None.
 
     Raises:
         InvalidParameterError: a scene or option the comparison cannot run (naming it).
@@ -649,7 +655,7 @@ def _built(res: Result) -> str:
 
 @dataclass
 class _Job:
-    """The outputs of one comparison, written as one folder (:mod:`rustfrac._folder`)."""
+    """The outputs of one comparison, written as one folder (``rustfrac._folder``)."""
 
     p: Plan
     scenes: dict[str, Scene]
@@ -890,7 +896,7 @@ class _Job:
 
 
 def _draw_holes(ax: Any, d: Mapping[str, Any], w: float, hgt: float) -> None:
-    style = {"fc": "0.85", "ec": "k", "lw": 0.6}
+    style: dict[str, Any] = {"fc": "0.85", "ec": "k", "lw": 0.6}
     for hole in d.get("hole", []):
         shape = hole.get("shape", "circle")
         if shape == "circle":

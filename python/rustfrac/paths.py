@@ -9,12 +9,13 @@ read across it.
   (its first point, then s = spacing, 2 spacing, ..., and its last point), each with the unit
   tangent t of its segment and the normal n = (-t2, t1).
 - **Ridge** (:func:`bond_ridge`): at station k (point p, tangent t, normal n), the bonds whose
-  midpoints x lie in the strip |t . (x - p)| <= spacing / 2, |n . (x - p)| <= ``half_width``;
-  the ridge point is p + c n with c the (weighted) mean of n . (x - p) over them, the centroid of
+  midpoints x lie in the strip ``|t . (x - p)| <= window / 2``, ``|n . (x - p)| <= half_width``
+  (``window`` = ``spacing`` unless given); the ridge point is ``p + c n`` with ``c`` the
+  (weighted) mean of ``n . (x - p)`` over them, the centroid of
   the broken bonds' midpoints in the normal direction. A station without such bonds has no ridge
   point (``covered`` False): the PD crack stopped short of it, or runs elsewhere.
 - **Distance** (:func:`distance_to_polyline`): the shortest distance from each ridge point to the
-  polyline's segments (not only |c|, which measures along one station's normal).
+  polyline's segments (not only ``|c|``, which measures along one station's normal).
 
 Validated on a straight pre-crack at an angle (``tests/test_compare.py``): the ridge of the bonds
 the core pre-breaks across it lies on it within dx / 2.
@@ -114,8 +115,9 @@ def bond_ridge(
 ) -> Ridge:
     """The ridge of bonds (their ``midpoints`` (b, 2), optional ``weights`` (b,) >= 0) along the
     polyline ``line`` (k, 2): at each of its :func:`stations` every ``spacing``, the weighted
-    centroid of the midpoints in the station's strip (``spacing`` long along the path,
-    ``2 half_width`` wide across it) in the normal direction (see the module docstring)."""
+    centroid of the midpoints in the station's strip (``window`` long along the path, default
+    ``spacing``; ``2 half_width`` wide across it) in the normal direction (see the module
+    docstring)."""
     spacing = _positive(spacing, "spacing")
     half_width = _positive(half_width, "half_width")
     window = spacing if window is None else _positive(window, "window")
