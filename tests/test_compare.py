@@ -150,6 +150,26 @@ def test_xfem_path_and_pd_ridge_agree_on_an_inclined_crack() -> None:
 # placement and cost guard
 
 
+def test_plan_derives_both_scenes_from_any_method() -> None:
+    """A CCM-PD scene with its own rectangle keeps it unless region="auto"; the XFEM scene gets
+    a mesh of element size dx; a crack along a PD node row moves by dx / 2 in both (noted); the
+    material becomes nu = 1/4 plane strain (noted)."""
+    pd_scene = rf.Scene.from_toml_str(TINY_CCM_PD_TOML)
+    p = compare.plan(pd_scene)
+    assert p.region_given == (0.0, 3.25, 4.0, 6.5)
+    assert (p.xfem.mesh.nx, p.xfem.mesh.ny) == (16, 32) and p.dx == 0.25 and p.m == 3
+    assert compare.plan(pd_scene, region="auto").region_given is None
+    with pytest.raises(rf.InvalidParameterError) as e:
+        compare.plan(pd_scene, region="everywhere")
+    assert e.value.param == "region"
+    d = {**TINY_INCLINED, "crack": {"kind": "edge", "a0": 1.0, "y": 4.0},
+         "material": {"E": 1.0e4, "nu": 0.3, "plane": "stress"}}
+    p = compare.plan(d)
+    assert p.xfem.crack.y == 4.125 and p.pd["crack"]["y"] == 4.125
+    assert p.xfem.material.nu == 0.25 and p.xfem.material.plane == "strain"
+    assert any("crack moved" in n for n in p.notes) and any("nu = 0.25" in n for n in p.notes)
+
+
 def test_pd_region_covers_the_path_and_keeps_off_loaded_edges() -> None:
     path = np.array([[2.0, 5.0], [3.0, 6.0]])
     dx, m = 0.25, 3

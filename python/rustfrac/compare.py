@@ -247,7 +247,7 @@ def plan(
             f"represents no other; the scene had nu = {mat.get('nu')}, plane "
             f"{mat.get('plane', 'strain')})"
         )
-    tmp = {"method": "pd", "pd": {"dx": dx, "m": m}, "material": mat, "crack": crack}
+    tmp = {"method": "pd", "pd": {"dx": dx, "m": m}, "material": dict(mat), "crack": dict(crack)}
     _pd_layout(tmp)  # nu, plane, and the crack moved off a PD node row (specimens' rule)
     if tmp["crack"] != crack:
         notes.append(f"crack moved by dx/2 = {dx / 2:g} off a PD node row (both methods)")
