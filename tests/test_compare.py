@@ -255,3 +255,27 @@ def test_compare_command_refuses_bad_input(tmp_path: Path) -> None:
     uncracked.write_text('method = "xfem"\n[crack]\nkind = "none"\n')
     assert main(["compare", str(uncracked), "--out", str(tmp_path / "o")]) == 2
     assert not (tmp_path / "o").exists()
+
+
+def test_an_interrupted_compare_writes_what_finished(tmp_path: Path) -> None:
+    """Ctrl-C during the CCM-PD run (a raising progress callback): the XFEM part is written,
+    the summary says what is missing, and CompareInterrupted carries it."""
+
+    def progress(name: str):  # type: ignore[no-untyped-def]
+        if name != "ccm_pd":
+            return None
+
+        def stop(done: int, total: int, msg: str) -> None:
+            raise KeyboardInterrupt
+
+        return stop
+
+    out = tmp_path / "out"
+    with pytest.raises(compare.CompareInterrupted) as e:
+        compare.compare(TINY_INCLINED, out, quick=True, m=3, log=None, progress=progress)
+    s = json.loads((out / "summary.json").read_text())
+    assert s["missing"] == e.value.summary["missing"]
+    assert not s["complete"] and s["interrupted"]
+    assert "run ccm_pd" in s["missing"] and "ccm_pd/" in s["missing"]
+    assert rf.load(out / "xfem").method == "xfem" and not (out / "ccm_pd").exists()
+    assert (out / "compare.png").is_file() and "curves.png" in s["missing"]
