@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import rustfrac as rf
-from rustfrac import compare, paths
+from rustfrac import compare, paths, pd_region
 from rustfrac.cli import main
 
 #: a small inclined edge crack under the free grips: XFEM 16 x 32 (h = 0.25), PD dx = h, m = 3
@@ -68,8 +68,8 @@ def test_ridge_of_a_pre_crack_lies_on_it(angle: float, y: float) -> None:
     rule, not ours): their ridge, at stations every dx along the pre-crack (strips dx long), lies
     on it within dx / 2 wherever the bond families are whole (stations a horizon from the plate's
     edges, and not at the pre-crack's ends, where the strip is cut). Measured over these angles
-    and offsets (5 x 5 plate, dx = 0.25, m = 3): at most 0.32 dx. The same ridge against the pre-crack moved by one dx is off
-    by more than dx / 2 (the test can fail)."""
+    and offsets (5 x 5 plate, dx = 0.25, m = 3): at most 0.32 dx. The same ridge against the pre-
+    crack moved by one dx is off by more than dx / 2 (the test can fail)."""
     dx, m, w = 0.25, 3, 5.0
     scene = {
         "method": "pd",
@@ -162,8 +162,11 @@ def test_plan_derives_both_scenes_from_any_method() -> None:
     with pytest.raises(rf.InvalidParameterError) as e:
         compare.plan(pd_scene, region="everywhere")
     assert e.value.param == "region"
-    d = {**TINY_INCLINED, "crack": {"kind": "edge", "a0": 1.0, "y": 4.0},
-         "material": {"E": 1.0e4, "nu": 0.3, "plane": "stress"}}
+    d = {
+        **TINY_INCLINED,
+        "crack": {"kind": "edge", "a0": 1.0, "y": 4.0},
+        "material": {"E": 1.0e4, "nu": 0.3, "plane": "stress"},
+    }
     p = compare.plan(d)
     assert p.xfem.crack.y == 4.125 and p.pd["crack"]["y"] == 4.125
     assert p.xfem.material.nu == 0.25 and p.xfem.material.plane == "strain"
@@ -174,8 +177,9 @@ def test_pd_region_covers_the_path_and_keeps_off_loaded_edges() -> None:
     path = np.array([[2.0, 5.0], [3.0, 6.0]])
     dx, m = 0.25, 3
     hole = {"center": [4.5, 4.5], "radius": 0.5}
-    box = compare.pd_region(path, (8.0, 8.0), dx, m, holes=[hole], held=["top", "bottom"],
-                            margin_horizons=2.0)
+    box = pd_region.pd_region(
+        path, (8.0, 8.0), dx, m, holes=[hole], held=["top", "bottom"], margin_horizons=2.0
+    )
     delta = m * dx
     assert box[0] == 0.0  # a free side within m + 1 spacings: taken whole
     assert box[1] <= 4.0 - (m + 1) * dx  # the hole taken in whole, with the hybrid band
@@ -206,11 +210,11 @@ def test_an_automatic_dx_is_coarsened_to_fit_the_fast_engine() -> None:
     assert dx > 4.0 / 128 and any("coarsened" in n for n in p.notes)
     (cx, cy), (sx, sy) = scene.pd.center, scene.pd.size
     box = (cx - sx / 2, cy - sy / 2, cx + sx / 2, cy + sy / 2)
-    assert compare._pd_dofs(box, dx) <= compare.PD_DENSE_LIMIT
+    assert pd_region.pd_dofs(box, dx) <= compare.PD_DENSE_LIMIT
     # the next finer spacing that fits the plate would not have fitted the engine
     finer = [v for v in compare._fitting_spacings(4.0, 8.0, 4.0 / 128) if v < dx * (1 - 1e-12)]
-    box2 = compare.pd_region(gp, (4.0, 8.0), finer[-1], 4, held=["top", "bottom"])
-    assert compare._pd_dofs(box2, finer[-1]) > compare.PD_DENSE_LIMIT
+    box2 = pd_region.pd_region(gp, (4.0, 8.0), finer[-1], 4, held=["top", "bottom"])
+    assert pd_region.pd_dofs(box2, finer[-1]) > compare.PD_DENSE_LIMIT
 
 
 # ---------------------------------------------------------------------------------------------

@@ -7,11 +7,11 @@ load, holes and pre-crack, and runs them:
 1. **XFEM growth** (LEFM: critical states at G = G0, the kink criterion's direction), on the
    scene's mesh (a PD scene: a mesh of element size dx);
 2. **CCM-PD** with the sequentially linear analysis (one bond break per step) in a *fixed* PD
-   rectangle placed by :func:`pd_region` around the XFEM path's bounding box plus a margin of
-   ``margin_horizons`` horizons (the adaptive PD region will replace that one function), unless
-   the scene is a CCM-PD scene that states its own rectangle, or ``region`` is given. The SLA
-   stops when the PD crack has advanced as far along the pre-crack's direction as the XFEM tip
-   (``pd.stop_crack_length``).
+   rectangle placed by :func:`~rustfrac.pd_region.pd_region` around the XFEM path's bounding
+   box plus a margin of ``margin_horizons`` horizons (the adaptive PD region will replace that one
+   function), unless the scene is a CCM-PD scene that states its own rectangle, or ``region`` is
+   given. The SLA stops when the PD crack has advanced as far along the pre-crack's direction as
+   the XFEM tip (``pd.stop_crack_length``).
 
 Both use nu = 1/4 in plane strain, the only material bond-based PD represents (the scene's
 values are replaced, as :mod:`rustfrac.specimens` does; the summary says so). The PD grid
@@ -59,6 +59,7 @@ from ._folder import check_writable, with_fallback, writing
 from ._log import logger
 from .errors import InvalidParameterError, PlotDataError
 from .fig7 import _json_default, _machine, _write_text
+from .pd_region import DEFAULT_MARGIN_HORIZONS, Box, held_sides, pd_dofs, pd_region
 from .result import OWNED_NAMES, Result
 from .runner import run
 from .scene import _CONST, METHODS, PdOptions, Scene
@@ -66,7 +67,6 @@ from .specimens import _pd_layout
 
 __all__ = [
     "DEFAULT_GROWTH_STEPS",
-    "DEFAULT_MARGIN_HORIZONS",
     "FILES",
     "PARTS",
     "CompareInterrupted",
@@ -74,7 +74,6 @@ __all__ = [
     "compare",
     "grown_path",
     "path_agreement",
-    "pd_region",
     "place",
     "plan",
     "response_pair",
@@ -83,8 +82,6 @@ __all__ = [
 
 #: XFEM growth steps when the scene sets none (full run, ``quick``)
 DEFAULT_GROWTH_STEPS = {False: 24, True: 4}
-#: margin of the fixed PD rectangle around the XFEM path's bounding box, in horizons
-DEFAULT_MARGIN_HORIZONS = 3.0
 #: XFEM edge cracks grow up to this fraction of the plate's width (height for bottom / top
 #: cracks) when the scene sets no xfem.a_stop
 DEFAULT_A_STOP_FRACTION = 0.9
@@ -105,7 +102,6 @@ FILES = ("compare.png", "curves.png", "curves.csv", "path.csv", "summary.md", "s
 PARTS = {"xfem": "xfem", "ccm_pd": "ccm_pd"}
 
 Log = Callable[[str], None]
-Box = tuple[float, float, float, float]  # x0, y0, x1, y1
 
 
 # ----------------------------------------------------------------------------------------------
@@ -149,7 +145,10 @@ def _element_size(d: dict[str, Any], width: float, height: float) -> float | Non
     if not isinstance(mesh, Mapping):
         return None
     sizes = []
-    for lines, n, size in ((mesh.get("xs"), mesh["nx"], width), (mesh.get("ys"), mesh["ny"], height)):
+    for lines, n, size in (
+        (mesh.get("xs"), mesh["nx"], width),
+        (mesh.get("ys"), mesh["ny"], height),
+    ):
         sizes.append(float(np.min(np.diff(lines))) if lines else size / n)
     if mesh.get("refine") and mesh.get("refine_h"):
         sizes.append(float(mesh["refine_h"]))
@@ -193,8 +192,8 @@ def plan(
 ) -> Plan:
     """The XFEM and CCM-PD scenes of a comparison (see the module docstring); every value is
     checked by the core when the scenes are built. ``region`` is (x0, y0, x1, y1), "auto"
-    (:func:`pd_region`, also for a CCM-PD scene that states a rectangle) or None (a CCM-PD
-    scene's own rectangle, else "auto")."""
+    (:func:`~rustfrac.pd_region.pd_region`, also for a CCM-PD scene that states a rectangle)
+    or None (a CCM-PD scene's own rectangle, else "auto")."""
     src = _as_scene(scene)
     if src.method not in METHODS:  # pragma: no cover (Scene checks it)
         raise InvalidParameterError(f"invalid method {src.method!r}", "method")
@@ -205,7 +204,9 @@ def plan(
             "crack",
         )
     if src.crack.kind == "none":
-        raise InvalidParameterError("invalid crack: compare needs a crack, got kind 'none'", "crack")
+        raise InvalidParameterError(
+            "invalid crack: compare needs a crack, got kind 'none'", "crack"
+        )
     if not (math.isfinite(margin_horizons) and margin_horizons >= 1.0):
         raise InvalidParameterError(
             f"invalid margin_horizons: expected a number >= 1 (horizons), got {margin_horizons!r}",
@@ -255,16 +256,24 @@ def plan(
     name = d.get("name", "scene")
 
     xd: dict[str, Any] = {**common, "method": "xfem", "name": f"{name} (XFEM)"}
-    xd["mesh"] = dict(d["mesh"]) if "mesh" in d else {"nx": round(width / dx), "ny": round(height / dx)}
+    xd["mesh"] = (
+        dict(d["mesh"]) if "mesh" in d else {"nx": round(width / dx), "ny": round(height / dx)}
+    )
     xf = dict(d.get("xfem", {})) if src.method == "xfem" else {}
-    gs = growth_steps if growth_steps is not None else (xf.get("growth_steps") or DEFAULT_GROWTH_STEPS[quick])
+    gs = (
+        growth_steps
+        if growth_steps is not None
+        else (xf.get("growth_steps") or DEFAULT_GROWTH_STEPS[quick])
+    )
     xf["growth_steps"] = int(gs)
     if not xf.get("a_stop") and crack.get("kind") == "edge":
         # the path, not the core's 0.7 W default, sets how far to grow: the tip stops itself
         # 2 elements from the boundary ("ligament_used_up")
         side = width if crack.get("side", "left") in ("left", "right") else height
         xf["a_stop"] = DEFAULT_A_STOP_FRACTION * side
-        notes.append(f"XFEM growth up to a = {xf['a_stop']:g} ({DEFAULT_A_STOP_FRACTION:g} of the plate)")
+        notes.append(
+            f"XFEM growth up to a = {xf['a_stop']:g} ({DEFAULT_A_STOP_FRACTION:g} of the plate)"
+        )
     xd["xfem"] = xf
     pd_opts = {k: v for k, v in pd_in.items() if k not in ("center", "size")}
     pd_opts.update(dx=dx, m=m)
@@ -286,8 +295,18 @@ def plan(
     else:
         given = _stated_region(src)
     return Plan(
-        src, Scene.from_dict(xd), pdd, float(h), float(dx), m, dx_auto, given, allow_slow,
-        float(margin_horizons), sla_steps, notes,
+        src,
+        Scene.from_dict(xd),
+        pdd,
+        float(h),
+        float(dx),
+        m,
+        dx_auto,
+        given,
+        allow_slow,
+        float(margin_horizons),
+        sla_steps,
+        notes,
     )
 
 
@@ -295,101 +314,11 @@ def plan(
 # the PD rectangle
 
 
-def _hole_box(hole: Mapping[str, Any]) -> Box:
-    shape = hole.get("shape", "circle")
-    if shape == "circle":
-        (cx, cy), r = hole["center"], hole["radius"]
-        return (cx - r, cy - r, cx + r, cy + r)
-    if shape == "rect":
-        (x0, y0), (x1, y1) = hole["min"], hole["max"]
-        return (x0, y0, x1, y1)
-    p = np.asarray(hole["points"], dtype=float)
-    return (*p.min(axis=0), *p.max(axis=0))  # type: ignore[return-value]
-
-
-def _overlap(a: Box, b: Box) -> bool:
-    return a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]
-
-
-def _held_sides(d: Mapping[str, Any]) -> set[str]:
-    """The plate sides a scene dict loads or supports: the grips' top and bottom, or the sides
-    of its edge / edge-part supports and loads."""
-    if not d.get("support") and not isinstance(d.get("load"), list):
-        return {"top", "bottom"}
-    sides = set()
-    for e in [*d.get("support", []), *(d.get("load") if isinstance(d.get("load"), list) else [])]:
-        if e.get("region", "edge") in ("edge", "edge_part"):
-            sides.add(e.get("side", "bottom"))
-    return sides
-
-
-def pd_region(
-    path: np.ndarray,
-    plate: tuple[float, float],
-    dx: float,
-    m: int,
-    *,
-    holes: Sequence[Mapping[str, Any]] = (),
-    held: Sequence[str] = (),
-    margin_horizons: float = DEFAULT_MARGIN_HORIZONS,
-) -> Box:
-    """The fixed PD rectangle (x0, y0, x1, y1) of a comparison: the bounding box of ``path``
-    (the XFEM crack from its initial tip on) grown by ``margin_horizons`` horizons m dx; grown
-    further to take in whole any hole that comes within m + 1 spacings of it (a hole may not cut
-    the hybrid elements at the rectangle's boundary); edges on half-spacings (between node
-    lines), on a free plate edge when within m + 1 spacings of it, and at least two horizons
-    away from the ``held`` sides ("left", "right", "bottom", "top": loaded or supported; the
-    splice coupling's out-of-balance force breaks bonds at a loaded PD edge first). The adaptive
-    PD region will replace this function."""
-    p = np.asarray(path, dtype=float).reshape(-1, 2)
-    w, hgt = plate
-    margin = margin_horizons * m * dx
-    box: Box = (p[:, 0].min() - margin, p[:, 1].min() - margin, p[:, 0].max() + margin, p[:, 1].max() + margin)
-    band = (m + 1) * dx
-    for _ in range(len(holes) + 1):
-        grown = box
-        for hole in holes:
-            hb = _hole_box(hole)
-            if _overlap((box[0] - band, box[1] - band, box[2] + band, box[3] + band), hb):
-                grown = (
-                    min(grown[0], hb[0] - band), min(grown[1], hb[1] - band),
-                    max(grown[2], hb[2] + band), max(grown[3], hb[3] + band),
-                )  # fmt: skip
-        if grown == box:
-            break
-        box = grown
-    keep = 2 * m * dx
-
-    def snap(v: float, up: bool, size: float, lo_side: str, hi_side: str) -> float:
-        k = math.ceil(v / dx - 0.5) if up else math.floor(v / dx - 0.5)
-        v = (k + 0.5) * dx
-        if lo_side in held:
-            v = max(v, math.ceil(keep / dx - 0.5) * dx + 0.5 * dx)
-        elif v < band:
-            return 0.0
-        if hi_side in held:
-            v = min(v, size - math.ceil(keep / dx - 0.5) * dx - 0.5 * dx)
-        elif v > size - band:
-            return size
-        return v
-
-    return (
-        snap(box[0], False, w, "left", "right"), snap(box[1], False, hgt, "bottom", "top"),
-        snap(box[2], True, w, "left", "right"), snap(box[3], True, hgt, "bottom", "top"),
-    )
-
-
-def _pd_dofs(box: Box, dx: float) -> int:
-    """Free PD dofs of a rectangle, an upper bound (nodes of holes and supports not removed)."""
-    nx = math.floor((box[2] - box[0]) / dx + 1e-9) + 1
-    ny = math.floor((box[3] - box[1]) / dx + 1e-9) + 1
-    return 2 * nx * ny
-
-
 def place(p: Plan, xfem_path: np.ndarray, final_tip: Sequence[float] | None) -> Scene:
-    """The CCM-PD scene of plan ``p`` with its rectangle (the stated one, or :func:`pd_region`
-    around ``xfem_path``), its SLA steps and its stop length. Coarsens an automatic dx to keep
-    the fast SLA engine; refuses a given dx / rectangle beyond it unless ``p.allow_slow``."""
+    """The CCM-PD scene of plan ``p`` with its rectangle (the stated one, or
+    :func:`~rustfrac.pd_region.pd_region` around ``xfem_path``), its SLA steps and its stop length.
+    Coarsens an automatic dx to keep the fast SLA engine; refuses a given dx / rectangle beyond it
+    unless ``p.allow_slow``."""
     w, hgt = p.source.plate.width, p.source.plate.height
     holes = p.pd.get("hole", [])
     cands = [p.dx]
@@ -398,12 +327,17 @@ def place(p: Plan, xfem_path: np.ndarray, final_tip: Sequence[float] | None) -> 
     box: Box = p.region_given or (0.0, 0.0, 0.0, 0.0)
     for dx in cands:
         box = p.region_given or pd_region(
-            xfem_path, (w, hgt), dx, p.m, holes=holes, held=sorted(_held_sides(p.pd)),
+            xfem_path,
+            (w, hgt),
+            dx,
+            p.m,
+            holes=holes,
+            held=sorted(held_sides(p.pd)),
             margin_horizons=p.margin_horizons,
         )
-        if _pd_dofs(box, dx) <= PD_DENSE_LIMIT:
+        if pd_dofs(box, dx) <= PD_DENSE_LIMIT:
             break
-    n = _pd_dofs(box, dx)
+    n = pd_dofs(box, dx)
     if dx != p.dx:
         p.notes.append(
             f"PD grid coarsened from dx = {p.dx:.6g} (the XFEM element size) to {dx:.6g} to keep "
@@ -441,8 +375,10 @@ def place(p: Plan, xfem_path: np.ndarray, final_tip: Sequence[float] | None) -> 
     opts = p.pd["pd"]
     opts["center"] = [(box[0] + box[2]) / 2, (box[1] + box[3]) / 2]
     opts["size"] = [box[2] - box[0], box[3] - box[1]]
-    pre = np.asarray(Scene.from_dict({**p.pd, "method": "pd", "pd": {"dx": dx, "m": p.m}})
-                     .crack_polylines()[0], dtype=float)
+    pre = np.asarray(
+        Scene.from_dict({**p.pd, "method": "pd", "pd": {"dx": dx, "m": p.m}}).crack_polylines()[0],
+        dtype=float,
+    )
     advance = 0.0
     if final_tip is not None and "stop_crack_length" not in opts:
         t = (pre[-1] - pre[0]) / np.linalg.norm(pre[-1] - pre[0])
@@ -454,7 +390,9 @@ def place(p: Plan, xfem_path: np.ndarray, final_tip: Sequence[float] | None) -> 
         opts["sla_steps"] = int(p.sla_steps)
     elif "sla_steps" not in opts or p.source.method != "ccm_pd":
         cells = max(advance / dx, 1.0)
-        opts["sla_steps"] = int(min(SLA_STEPS_PER_SPACING_M3 * p.m**3 * cells + 50, _CONST["MAX_STEPS"]))
+        opts["sla_steps"] = int(
+            min(SLA_STEPS_PER_SPACING_M3 * p.m**3 * cells + 50, _CONST["MAX_STEPS"])
+        )
     return Scene.from_dict(p.pd)
 
 
@@ -586,9 +524,10 @@ def compare(
         growth_steps: XFEM growth steps (default: the scene's, else 24, 4 with ``quick``).
         sla_steps: most SLA steps (default: enough for the XFEM path; the SLA stops when the PD
             crack has advanced as far).
-        region: the PD rectangle (x0, y0, x1, y1); "auto": :func:`pd_region` around the XFEM
-            path; None (default): a CCM-PD scene's own rectangle if it states one, else "auto".
-        allow_slow: run even when the PD rectangle exceeds the fast SLA engine's limit.
+        region: the PD rectangle (x0, y0, x1, y1); "auto":
+            :func:`~rustfrac.pd_region.pd_region` around the XFEM path; None (default): a CCM-PD
+            scene's own rectangle if it states one, else "auto". allow_slow: run even when the PD
+            rectangle exceeds the fast SLA engine's limit.
         vtu: also write the ParaView files of the two result folders.
         log: line logger (None: silent).
         progress: factory ``progress(name)`` of a progress callback for each run, or None.
@@ -774,12 +713,16 @@ class _Job:
         if not self.results:
             return out
         _, ridge, mid = self._ridge()
-        out.append(("compare.png", lambda f: figures.save_figure(self._paths_figure(ridge, mid, s), f)))
+        out.append(
+            ("compare.png", lambda f: figures.save_figure(self._paths_figure(ridge, mid, s), f))
+        )
         if "curves" in s:
             out.append(("curves.png", lambda f: figures.save_figure(self._curves_figure(s), f)))
             out.append(("curves.csv", lambda f: _write_text(f, self._curves_csv(s))))
         if ridge is not None:
-            out.append(("path.csv", lambda f: _write_text(f, _path_csv(ridge, self.results["xfem"]))))
+            out.append(
+                ("path.csv", lambda f: _write_text(f, _path_csv(ridge, self.results["xfem"])))
+            )
         return out
 
     def _curves_csv(self, s: dict[str, Any]) -> str:
@@ -815,7 +758,9 @@ class _Job:
         ax.set_ylim(bottom=0.0)
         return fig
 
-    def _paths_figure(self, ridge: paths.Ridge | None, mid: np.ndarray, s: dict[str, Any]) -> Figure:
+    def _paths_figure(
+        self, ridge: paths.Ridge | None, mid: np.ndarray, s: dict[str, Any]
+    ) -> Figure:
         p, res = self.p, self.results
         w, hgt = p.source.plate.width, p.source.plate.height
         fig = Figure(figsize=(15.0, 6.0), layout="constrained")
@@ -840,7 +785,12 @@ class _Job:
                 on = dmg > 0 if not zoom else np.ones(len(dmg), bool)
                 hd = p.dx / 2
                 sq = np.stack(
-                    [xy[on] + [-hd, -hd], xy[on] + [hd, -hd], xy[on] + [hd, hd], xy[on] + [-hd, hd]],
+                    [
+                        xy[on] + [-hd, -hd],
+                        xy[on] + [hd, -hd],
+                        xy[on] + [hd, hd],
+                        xy[on] + [-hd, hd],
+                    ],
                     axis=1,
                 )
                 pc = PolyCollection(sq, array=dmg[on], cmap="viridis", edgecolors="none")
@@ -852,8 +802,15 @@ class _Job:
                 if zoom:
                     fig.colorbar(pc, ax=a, label="PD damage index", shrink=0.8)
                     if len(mid):
-                        a.plot(mid[:, 0], mid[:, 1], ".", color="w", ms=1.2, alpha=0.8,
-                               label="bonds the SLA broke (midpoints)")
+                        a.plot(
+                            mid[:, 0],
+                            mid[:, 1],
+                            ".",
+                            color="w",
+                            ms=1.2,
+                            alpha=0.8,
+                            label="bonds the SLA broke (midpoints)",
+                        )
             if "xfem" in res:
                 x0 = np.asarray(res["xfem"].meta.get("crack_initial", []), dtype=float)
                 if len(x0):
@@ -881,7 +838,9 @@ class _Job:
             dx_ax.plot(ridge.s[ridge.covered], d / p.delta, ".-", color="C1")
             dx_ax.set_xlabel("arc length along the XFEM path (from the initial tip)")
             dx_ax.set_ylabel("PD ridge to XFEM path (horizons delta = m dx)")
-            sec = dx_ax.secondary_yaxis("right", functions=(lambda v: v * p.delta / p.h, lambda v: v * p.h / p.delta))
+            sec = dx_ax.secondary_yaxis(
+                "right", functions=(lambda v: v * p.delta / p.h, lambda v: v * p.h / p.delta)
+            )
             sec.set_ylabel("(XFEM element lengths)")
             dx_ax.set_title(
                 f"mean {st.get('mean_horizons', float('nan')):.2f}, max "
@@ -891,7 +850,9 @@ class _Job:
             )
             dx_ax.set_ylim(bottom=0.0)
         else:
-            dx_ax.text(0.5, 0.5, st.get("status", "no path"), ha="center", transform=dx_ax.transAxes)
+            dx_ax.text(
+                0.5, 0.5, st.get("status", "no path"), ha="center", transform=dx_ax.transAxes
+            )
         return fig
 
 
@@ -923,7 +884,9 @@ def _path_csv(ridge: paths.Ridge, xr: Result) -> str:
         d[ridge.covered] = paths.distance_to_polyline(ridge.xy[ridge.covered], grown_path(xr))
     buf = io.StringIO()
     wr = csv.writer(buf)
-    wr.writerow(["s", "station_x1", "station_x2", "bonds", "ridge_x1", "ridge_x2", "offset", "distance"])
+    wr.writerow(
+        ["s", "station_x1", "station_x2", "bonds", "ridge_x1", "ridge_x2", "offset", "distance"]
+    )
     for k in range(len(ridge.s)):
         wr.writerow(
             [repr(float(v)) for v in (ridge.s[k], *ridge.station_xy[k])]
@@ -934,7 +897,9 @@ def _path_csv(ridge: paths.Ridge, xr: Result) -> str:
 
 
 def _f(v: Any, spec: str = ".4g") -> str:
-    return "n/a" if v is None or (isinstance(v, float) and not math.isfinite(v)) else format(v, spec)
+    return (
+        "n/a" if v is None or (isinstance(v, float) and not math.isfinite(v)) else format(v, spec)
+    )
 
 
 def _markdown(s: dict[str, Any]) -> str:
@@ -1010,12 +975,19 @@ def _markdown(s: dict[str, Any]) -> str:
                     f"{v['min_rel_diff']:+.2%} | {v['max_rel_diff']:+.2%} |"
                 )
             lines.append("")
-    lines += ["## Energy audit (rustfrac.energy)", "", "| method | dissipated | new crack area | G / G0 |", "|---|---|---|---|"]
+    lines += [
+        "## Energy audit (rustfrac.energy)",
+        "",
+        "| method | dissipated | new crack area | G / G0 |",
+        "|---|---|---|---|",
+    ]
     for k, v in s.get("energy", {}).items():
         if "not_available" in v:
             lines.append(f"| {k} | n/a: {v['not_available']} | | |")
         else:
-            lines.append(f"| {k} | {_f(v['energy'])} | {_f(v['crack_area'])} | {_f(v['ratio'], '.4f')} |")
+            lines.append(
+                f"| {k} | {_f(v['energy'])} | {_f(v['crack_area'])} | {_f(v['ratio'], '.4f')} |"
+            )
     lines += [
         "",
         "## Cost",

@@ -56,9 +56,7 @@ def path_length(line: Any) -> float:
     return float(np.sum(np.linalg.norm(np.diff(p, axis=0), axis=1)))
 
 
-def stations(
-    line: Any, spacing: float
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+def stations(line: Any, spacing: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Stations every ``spacing`` of arc length along ``line`` (k, 2), its ends included.
     Returns (s, points, tangents, normals): arc lengths (n,), points (n, 2), unit tangents of the
     segment each station lies on (n, 2) and the normals n = (-t2, t1) (n, 2)."""
