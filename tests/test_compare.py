@@ -242,6 +242,9 @@ def test_compare_command_writes_every_file(tmp_path: Path) -> None:
         assert r.method == part
         assert s["cost"][part]["unknowns"] == r.n_dofs and s["cost"][part]["steps"] > 0
     assert s["path"]["status"] == "ok" and s["path"]["covered"] > 0
+    # the SLA stops where the XFEM tip is, also for a PD scene (whose stop length was 0)
+    assert s["scenes"]["ccm_pd"]["pd"]["stop_crack_length"] > 1.0
+    assert s["cost"]["ccm_pd"]["status"] == "crack_length_reached"
     assert s["curves"]["x"] == "cmod" and s["curves"]["y"] == "sigma22"
     assert set(s["energy"]) == {"xfem", "ccm_pd"}
     assert all("ratio" in v for v in s["energy"].values())

@@ -380,7 +380,7 @@ def place(p: Plan, xfem_path: np.ndarray, final_tip: Sequence[float] | None) -> 
         dtype=float,
     )
     advance = 0.0
-    if final_tip is not None and "stop_crack_length" not in opts:
+    if final_tip is not None and not opts.get("stop_crack_length"):
         t = (pre[-1] - pre[0]) / np.linalg.norm(pre[-1] - pre[0])
         reach = float((np.asarray(final_tip) - pre[0]) @ t)
         advance = reach - float(np.linalg.norm(pre[-1] - pre[0]))
@@ -388,7 +388,7 @@ def place(p: Plan, xfem_path: np.ndarray, final_tip: Sequence[float] | None) -> 
             opts["stop_crack_length"] = reach
     if p.sla_steps is not None:
         opts["sla_steps"] = int(p.sla_steps)
-    elif "sla_steps" not in opts or p.source.method != "ccm_pd":
+    elif "sla_steps" not in opts:  # a PD scene's own sla_steps stays the limit
         cells = max(advance / dx, 1.0)
         opts["sla_steps"] = int(
             min(SLA_STEPS_PER_SPACING_M3 * p.m**3 * cells + 50, _CONST["MAX_STEPS"])
@@ -522,8 +522,8 @@ def compare(
         m: PD horizon factor (default: a PD scene's, else 4).
         margin_horizons: margin of the PD rectangle around the XFEM path, in horizons.
         growth_steps: XFEM growth steps (default: the scene's, else 24, 4 with ``quick``).
-        sla_steps: most SLA steps (default: enough for the XFEM path; the SLA stops when the PD
-            crack has advanced as far).
+        sla_steps: most SLA steps (default: a PD scene's, else enough for the XFEM path; the
+            SLA stops when the PD crack has advanced as far as the XFEM tip).
         region: the PD rectangle (x0, y0, x1, y1); "auto":
             :func:`~rustfrac.pd_region.pd_region` around the XFEM path; None (default): a CCM-PD
             scene's own rectangle if it states one, else "auto". allow_slow: run even when the PD
