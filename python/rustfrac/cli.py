@@ -5,13 +5,15 @@
 L1,L2,... [--quantity K_I] [--repeats 3] [--dask ADDR|local]`` (the user's scene) and
 ``rustfrac examples [NAME]`` (the shipped example scenes and their paths) and ``rustfrac plot
 load-path RESULT_DIR --x COL --y COL -o FILE`` (a load path of a saved result) and ``rustfrac
-specimens`` / ``rustfrac specimen NAME [--method M] -o SCENE.toml`` (the literature specimens).
+specimens`` / ``rustfrac specimen NAME [--method M] -o SCENE.toml`` (the literature specimens) and
+``rustfrac compare SCENE.toml --out DIR [--quick]`` (XFEM growth and CCM-PD side by side,
+:mod:`rustfrac.compare`).
 
 Exit codes: 0 success, 1 the run failed (singular system, internal error) or its output could not
 be written at the end (the output is then saved to a temporary folder the message names), 2 bad
 input (unreadable or invalid scene file, bad arguments, an ``--out`` that cannot be written:
 checked before computing), 130 interrupted (what finished is written and the message, and for
-``fig7`` / ``sweep`` the summary, lists what is missing).
+``fig7`` / ``sweep`` / ``compare`` the summary, lists what is missing).
 """
 
 from __future__ import annotations
@@ -141,6 +143,39 @@ def _parser() -> argparse.ArgumentParser:
         "--units", choices=("default", "paper"), default="default",
         help="axis units: default (length, force) or paper (mm, N, MPa)",
     )
+    c = sub.add_parser(
+        "compare",
+        help="XFEM growth and CCM-PD side by side on one scene: paths, curves, energy, cost",
+    )
+    c.add_argument("scene", type=Path, help="scene file (TOML), any method")
+    c.add_argument("--out", type=Path, required=True, help="output directory")
+    c.add_argument(
+        "--quick", action="store_true",
+        help="4 XFEM growth steps instead of 24 when the scene sets none (seconds)",
+    )
+    c.add_argument(
+        "--dx", type=float, default=None,
+        help="PD grid spacing (default: a PD scene's, else the XFEM element size, coarsened to "
+        "keep the fast SLA engine)",
+    )
+    c.add_argument("--m", type=int, default=None, help="PD horizon factor (default: the scene's, else 4)")
+    c.add_argument(
+        "--margin", type=float, default=None, metavar="HORIZONS",
+        help="margin of the PD rectangle around the XFEM path, in horizons (default 3)",
+    )
+    c.add_argument(
+        "--region", default=None, metavar="X0,Y0,X1,Y1|auto",
+        help="the PD rectangle; auto: around the XFEM path (default, unless a ccm_pd scene "
+        "states its own rectangle)",
+    )
+    c.add_argument("--growth-steps", type=int, default=None, help="XFEM growth steps")
+    c.add_argument("--sla-steps", type=int, default=None, help="most SLA steps (bond breaks)")
+    c.add_argument(
+        "--allow-slow", action="store_true",
+        help="run even when the PD rectangle exceeds the fast SLA engine's free-dof limit",
+    )
+    c.add_argument("--vtu", action="store_true", help="also write the ParaView files of both results")
+    c.add_argument("--quiet", "-q", action="store_true", help="print nothing but errors")
     sub.add_parser("specimens", help="list the literature specimens (rustfrac.specimens)")
     s1 = sub.add_parser("specimen", help="write one specimen's scene as a TOML file")
     s1.add_argument("name", help="specimen name (see rustfrac specimens)")
@@ -472,6 +507,63 @@ def _cmd_fig7(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_compare(args: argparse.Namespace) -> int:
+    from .compare import DEFAULT_MARGIN_HORIZONS, CompareInterrupted, compare
+
+    scene = _read_scene(args.scene)
+    if scene is None:
+        return 2
+    region: Any = None
+    if args.region == "auto":
+        region = "auto"
+    elif args.region is not None:
+        try:
+            region = tuple(float(v) for v in args.region.split(","))
+        except ValueError:
+            region = ()
+        if len(region) != 4:
+            print(
+                f"rustfrac: error: invalid --region: expected X0,Y0,X1,Y1, got {args.region!r}",
+                file=sys.stderr,
+            )
+            return 2
+    try:
+        check_writable(args.out)  # before computing: a bad --out must not cost the runs
+    except OutputError as e:
+        print(f"rustfrac: error: invalid --out: {e}", file=sys.stderr)
+        return 2
+    log = None if args.quiet else (lambda s: print(s, flush=True))
+    bars: list[ProgressBar] = []
+
+    def progress(name: str) -> ProgressBar | None:
+        if args.quiet:
+            return None
+        for b in bars:
+            b.close()
+        bars.append(ProgressBar())
+        return bars[-1]
+
+    try:
+        compare(
+            scene, args.out, quick=args.quick, dx=args.dx, m=args.m,
+            margin_horizons=DEFAULT_MARGIN_HORIZONS if args.margin is None else args.margin,
+            growth_steps=args.growth_steps, sla_steps=args.sla_steps, region=region,
+            allow_slow=args.allow_slow, vtu=args.vtu, log=log, progress=progress,
+        )  # fmt: skip
+    except CompareInterrupted as e:
+        missing = e.summary["missing"]
+        print(
+            f"rustfrac: interrupted; the finished parts were written to {args.out}/"
+            + (f"; missing: {', '.join(missing)}" if missing else ""),
+            file=sys.stderr,
+        )
+        return 130
+    finally:
+        for b in bars:
+            b.close()
+    return 0
+
+
 def _read_scene(path: Path) -> _Scene | None:
     """The scene in the TOML file ``path``, or None after saying why it cannot be read (the
     commands then exit with 2)."""
@@ -704,6 +796,7 @@ def main(argv: list[str] | None = None) -> int:
         "plot": _cmd_plot,
         "specimens": _cmd_specimens,
         "specimen": _cmd_specimen,
+        "compare": _cmd_compare,
     }
     # one mapping of errors to exit codes for every command (commands handle only their own
     # special cases, such as an unreadable scene file or an interrupted sweep)
