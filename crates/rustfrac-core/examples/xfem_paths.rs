@@ -172,9 +172,10 @@ fn study(name: &str, case: fn(i64, f64, &str) -> Table, h0: f64, fine: bool) {
     if let Ok(dir) = std::env::var("PATHS_OUT") {
         // every path as CSV rows: run, x, y (for figures)
         let mut csv = String::from("case,mesh,da,rule,x,y\n");
+        let case = name.replace(',', ";");
         for r in &runs {
             for q in &r.res.crack {
-                csv += &format!("{name},x{},{},{},{},{}\n", r.n, r.da, r.rule, q[0], q[1]);
+                csv += &format!("{case},x{},{},{},{},{}\n", r.n, r.da, r.rule, q[0], q[1]);
             }
         }
         let file = format!(
