@@ -11,7 +11,7 @@
 use rustfrac_core::problem::value::{Table, Value};
 use rustfrac_core::problem::Problem;
 use rustfrac_core::xfem::paths::{path_deviation, turning_angles};
-use rustfrac_core::xfem::{run, XfemResult};
+use rustfrac_core::xfem::{run, KinkRule, XfemResult};
 use std::time::Instant;
 
 fn f(x: f64) -> Value {
@@ -194,7 +194,8 @@ fn study(name: &str, case: fn(i64, f64, &str) -> Table, h0: f64, fine: bool) {
             .map(|a| format!("{:+.1}", a.to_degrees()))
             .collect();
         let steps = r.res.history.len() - 1;
-        let solves = 1 + (steps - 1) * if r.rule == "hoop" { 1 } else { 2 };
+        let rule = KinkRule::from_name(r.rule).expect("a rule");
+        let solves = 1 + (steps - 1) * rule.solves_per_step();
         println!(
             "| x{} | {h:.4} | {:.4} | {} | {steps} | {solves} | {:.2} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.4} | {} |",
             r.n,
