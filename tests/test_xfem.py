@@ -219,6 +219,36 @@ def test_inclined_edge_crack_turns_towards_mode_i() -> None:
     assert np.all(np.abs(dy) < 0.1)  # the extensions run close to x1 (the initial slope 0.36)
 
 
+def test_kink_rule_reaches_the_core_from_python_toml_and_cli(tmp_path: Path) -> None:
+    """``xfem.kink_rule`` (a core scene key): the 30-degree edge crack of the paper's plate
+    zig-zags under "hoop" (the default) and does not under "predictor_corrector" (kinks after
+    the first below 2 degrees, the bound of crates/rustfrac-core/tests/xfem_paths.rs); the same
+    key from a TOML file through the CLI gives the same path; bad values name the key."""
+    kw = {"crack_angle": 30.0, "growth_steps": 6}
+    default = rf.run(_xfem(**kw))
+    assert _xfem(**kw).xfem.kink_rule == "hoop"
+    pc = rf.run(_xfem(kink_rule="predictor_corrector", **kw))
+
+    def kinks(res: rf.Result) -> np.ndarray:
+        d = np.diff(res.crack_polylines[0][1:], axis=0)
+        t = np.arctan2(d[:, 1], d[:, 0])
+        return np.degrees(np.diff(np.concatenate([[math.radians(30.0)], t])))
+
+    kd, kp = kinks(default), kinks(pc)
+    assert kd[1] > 5.0 and kd[2] < -5.0, kd  # the zig-zag of the issue
+    assert kp[0] < -25.0 and np.all(np.abs(kp[1:]) < 2.0), kp
+    toml = tmp_path / "scene.toml"
+    toml.write_text(_xfem(kink_rule="predictor_corrector", **kw).to_toml())
+    assert 'kink_rule = "predictor_corrector"' in toml.read_text()
+    assert main(["run", str(toml), "--out", str(tmp_path / "out"), "--no-vtu", "-q"]) == 0
+    np.testing.assert_array_equal(
+        rf.load(tmp_path / "out").crack_polylines[0], pc.crack_polylines[0]
+    )
+    with pytest.raises(rf.InvalidParameterError) as e:
+        _xfem(kink_rule="bisector")
+    assert e.value.param == "xfem.kink_rule" and "predictor_corrector" in str(e.value)
+
+
 def test_growth_stops_at_a_stop() -> None:
     res = rf.run(
         rf.scenes.edge_crack_plate(

@@ -37,6 +37,7 @@ fn growth_params() -> Problem {
     x.growth = Some(Growth {
         da: None,
         a_stop: 0.7 * 11.0,
+        kink_rule: rustfrac_core::xfem::KinkRule::Hoop,
         max_steps: 1000,
     });
     p

@@ -94,6 +94,7 @@ fn growth(a_stop: f64, max_steps: usize) -> Option<Growth> {
         max_steps,
         da: None,
         a_stop,
+        kink_rule: rustfrac_core::xfem::KinkRule::Hoop,
     })
 }
 

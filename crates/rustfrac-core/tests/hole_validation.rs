@@ -714,6 +714,7 @@ fn xfem_growth_towards_a_hole_stops_at_the_ligament() {
             max_steps: 40,
             da: None,
             a_stop: 8.0,
+            kink_rule: rustfrac_core::xfem::KinkRule::Hoop,
         });
     }
     let r = xfem::run(&p, &|_, _| true).unwrap();

@@ -324,6 +324,8 @@ pub struct Growth {
     pub da: Option<f64>,
     /// stop once a crack length would exceed this
     pub a_stop: f64,
+    /// the direction rule of each extension (`xfem.kink_rule`)
+    pub kink_rule: crate::xfem::KinkRule,
 }
 
 /// XFEM (section 2.1).

@@ -749,6 +749,8 @@ fn xfem_method(mesh: &Section, x: &Section, domain: &Domain) -> XfemMethod {
             } else {
                 schema::DEFAULT_A_STOP_FRACTION * domain.width
             },
+            // the schema admits only its names
+            kink_rule: crate::xfem::KinkRule::from_name(x["kink_rule"].s()).unwrap_or_default(),
         }),
         tip_tie_tol: x["tip_tie_tol"].f(),
         condition: true,

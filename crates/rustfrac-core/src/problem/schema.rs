@@ -85,6 +85,8 @@ pub const LIST_SECTIONS: [(&str, &str); 5] = [
 pub const SHAPES: [&str; 3] = ["circle", "rect", "polygon"];
 /// `pd.hole_volumes`: the volume of a PD node whose cell a hole cuts ([`super::HoleVolumes`]).
 pub const HOLE_VOLUMES: [&str; 2] = ["centre", "exact"];
+/// `xfem.kink_rule`: the direction rule of XFEM growth ([`crate::xfem::KinkRule`]).
+pub const KINK_RULES: [&str; 2] = ["hoop", "predictor_corrector"];
 /// Regions of supports (loads: all but "box").
 pub const REGIONS: [&str; 4] = ["edge", "edge_part", "point", "box"];
 /// Probe kinds.
@@ -259,7 +261,8 @@ fn nonneg(v: f64) -> bool {
 const POS: &str = "a finite number in [1e-30, 1e30]";
 const FINITE: &str = "a finite number with |value| <= 1e30";
 
-fn choice(opts: &[&str]) -> String {
+/// "one of 'a', 'b'": the valid range in words of a key whose value is one of `opts`.
+pub fn choice(opts: &[&str]) -> String {
     let q: Vec<String> = opts.iter().map(|o| format!("'{o}'")).collect();
     format!("one of {}", q.join(", "))
 }
@@ -378,6 +381,11 @@ fn build() -> Vec<KeySpec> {
         k("xfem", "da", Float, Val::Float(0.0),
           "0 (one element length) or a length in [1e-30, 1e30]",
           "crack extension per growth step", |v| nonneg(v.f())),
+        k("xfem", "kink_rule", Str, Val::Str(KINK_RULES[0].into()), &choice(&KINK_RULES),
+          "growth direction: 'hoop' (maximum hoop stress at the tip, one solve per step) or \
+           'predictor_corrector' (a trial extension, the hoop angle at the trial tip, the \
+           bisector: two solves per step; removes the zig-zag of curving paths)",
+          |v| KINK_RULES.contains(&v.s())),
         k("xfem", "a_stop", Float, Val::Float(0.0),
           "0 (0.7 plate.width) or 0 < a_stop < plate.width",
           "growth stops once a crack length would exceed it (half-length for 'center')",

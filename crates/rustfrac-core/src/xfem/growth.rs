@@ -11,7 +11,8 @@
 //! lambda K_I, lambda K_II, theta_c, tip) of the most critical tip (the first one in tip order on
 //! ties), with every tip's state in `tip_history`. Every tip with lambda_t <= lambda (1 + tip_tie_tol) (scene key `xfem.tip_tie_tol`, 1e-6)
 //! then advances (so symmetric tips grow together) by `da` (or its own tip element's chord) in
-//! the direction theta_c from its current direction; the other tips stay. The run stops with
+//! the direction theta_c from its current direction (`xfem.kink_rule = "hoop"`, the default; or
+//! the predictor-corrector's direction, [`super::kink`]); the other tips stay. The run stops with
 //! [`GrowthStatus`] `a_stop_reached` once the next length `a` of a crack would exceed `a_stop`,
 //! `ligament_used_up` when a new tip would come closer to the plate boundary than
 //! [`MIN_TIP_CLEARANCE`] element lengths (the mesh no longer resolves the remaining ligament),
@@ -29,6 +30,7 @@
 use super::crack::{Crack, CRACKS_APART};
 use super::enrichment::TIPS_APART;
 use super::interaction_integral::{DomainSifs, MIN_HOLE_FREE_RADIUS};
+use super::kink::{corrected_angle, trial_angles, KinkRule};
 use super::model::XfemModel;
 use super::patch::DeformedPatch;
 use super::plate::{PlateProblem, PlateSolve, MIN_TIP_CLEARANCE};
@@ -223,10 +225,12 @@ struct Extension {
     ligament: bool,
 }
 
-/// Extends every tip with `grows` by `da` (or its tip element's chord) in its kink direction.
+/// Extends every tip with `grows` by `da` (or its tip element's chord) at the angle `kinks[t]`
+/// from its current direction.
 fn extend_tips(
     model: &XfemModel,
     st: &TipStates,
+    kinks: &[f64],
     grows: &[bool],
     da: Option<f64>,
     plate: &PlateProblem,
@@ -241,7 +245,7 @@ fn extend_tips(
         }
         let c = model.tip_crack[k];
         let da = da.unwrap_or_else(|| model.tip_element_length(k));
-        let (cs, sn) = (st.kinks[k].cos(), st.kinks[k].sin());
+        let (cs, sn) = (kinks[k].cos(), kinks[k].sin());
         let d = [
             tip.dir[0] * cs - tip.dir[1] * sn,
             tip.dir[0] * sn + tip.dir[1] * cs,
@@ -272,6 +276,46 @@ fn extend_tips(
         next_a,
         ligament,
     }
+}
+
+/// The extension angles of the growing tips under `xfem.kink_rule = "predictor_corrector"`
+/// ([`super::kink`]): the criterion's angles `st.kinks` (predictor) and their extension `trial`,
+/// one solve of the plate with the trial cracks ([`PlateProblem::solve`], the growth loop's solve; `step` names it in
+/// warnings), the criterion at the trial tips and [`corrected_angle`]. Where the trial cannot
+/// be built (a trial tip leaves the ligament, cracks meet) or a trial tip's SIFs cannot be
+/// evaluated, the predictor's angle stays (the loop's own checks then stop the run as under
+/// `hoop`).
+#[allow(clippy::too_many_arguments)]
+fn corrected_kinks(
+    model: &XfemModel,
+    st: &TipStates,
+    trial: Extension,
+    grows: &[bool],
+    r_i_factor: f64,
+    plate: &PlateProblem,
+    step: usize,
+    warnings: &mut Vec<Warning>,
+) -> Result<Vec<f64>> {
+    if trial.ligament {
+        return Ok(st.kinks.clone());
+    }
+    let Ok(trial_model) = model.with_cracks(trial.polylines) else {
+        return Ok(st.kinks.clone());
+    };
+    let what = format!("growth step {} (corrector trial)", step + 1);
+    let sol = plate.solve(&trial_model, &what)?;
+    warnings.extend(
+        sol.condition
+            .as_ref()
+            .and_then(|c| condition_warning(&what, c)),
+    );
+    let at_trial = trial_angles(&trial_model, &sol.u, grows, r_i_factor);
+    Ok(st
+        .kinks
+        .iter()
+        .zip(at_trial)
+        .map(|(&k0, k1)| k1.map_or(k0, |k1| corrected_angle(k0, k1)))
+        .collect())
 }
 
 impl Growth {
@@ -449,7 +493,26 @@ pub(super) fn grow(
             out.status = Some(GrowthStatus::Cancelled);
             break;
         }
-        let ext = extend_tips(&model, &st, &crit.grows, g.da, plate);
+        let hoop = extend_tips(&model, &st, &st.kinks, &crit.grows, g.da, plate);
+        // the lengths do not depend on the direction: no trial where the run stops anyway
+        let last =
+            hoop.next_a.iter().any(|&a| a > g.a_stop * (1.0 + 1e-12)) || step + 1 == g.max_steps;
+        let ext = match g.kink_rule {
+            KinkRule::PredictorCorrector if !last => {
+                let kinks = corrected_kinks(
+                    &model,
+                    &st,
+                    hoop,
+                    &crit.grows,
+                    r_i_factor,
+                    plate,
+                    step,
+                    &mut out.warnings,
+                )?;
+                extend_tips(&model, &st, &kinks, &crit.grows, g.da, plate)
+            }
+            _ => hoop,
+        };
         if ext.ligament {
             out.status = Some(GrowthStatus::LigamentUsedUp);
             break;

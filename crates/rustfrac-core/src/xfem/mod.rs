@@ -18,6 +18,9 @@
 //!   the q-function (eq. 29) and the boundary term of a clipped domain.
 //! * [`growth`]: the maximum circumferential stress criterion (kink angle, K_eq), the growth loop
 //!   and its stop statuses.
+//! * [`kink`]: the direction rule of growth (`xfem.kink_rule`): the criterion at the tip, or a
+//!   predictor-corrector that removes the zig-zag of curving paths.
+//! * [`paths`]: comparing grown paths (turning angles, deviation over a common length).
 //! * [`plate`]: the plate problem of the driver: the solve at the reference load, the smallest
 //!   tip clearance.
 //! * [`driver`]: [`XfemResult`] and the plate driver [`run`], which reads a
@@ -82,9 +85,11 @@ pub mod enrichment;
 pub mod growth;
 pub mod integration;
 pub mod interaction_integral;
+pub mod kink;
 pub mod model;
 pub mod opening;
 pub mod patch;
+pub mod paths;
 pub mod plate;
 
 pub use auxiliary::{williams_displacement, williams_gradient};
@@ -93,6 +98,7 @@ pub use driver::{run, RadiusSifs, XfemResult};
 pub use enrichment::{branch_functions, branch_functions_snapped, DEFAULT_AREA_THRESHOLD};
 pub use growth::{k_equivalent, kink_angle, GrowthStatus, GrowthStep, TipStep};
 pub use interaction_integral::{DomainIntegral, DomainSifs, MIN_HOLE_FREE_RADIUS};
+pub use kink::KinkRule;
 pub use model::{XfemModel, XfemOptions};
 pub use patch::{CutCells, DeformedPatch};
 pub use plate::MIN_TIP_CLEARANCE;

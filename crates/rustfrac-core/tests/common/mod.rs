@@ -217,6 +217,7 @@ impl XfemCase {
             max_steps: g.max_steps,
             da: g.da,
             a_stop: g.a_stop,
+            kink_rule: rustfrac_core::xfem::KinkRule::Hoop,
         });
         x.condition = self.condition;
         p
