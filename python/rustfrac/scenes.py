@@ -54,15 +54,16 @@ def edge_crack_plate(
             default "seam" for fem, else "edge".
         crack_y, crack_angle, crack_x: height of the crack (its centre for "center"), its angle
             in degrees from x1 (xfem only; 0 elsewhere), centre x1 of a "center" crack.
-        nsub, tip_nsub, r_I, fixed_area_radius, area_threshold, growth_steps, da, kink_rule,
-            a_stop: XFEM options (see :class:`~rustfrac.scene.XfemOptions`: sub-quads per
-            direction (4), in tip elements (0 = nsub), I-integral radius in element lengths
-            (2.5), fixed-area tip enrichment radius (0 = off), small-area threshold (1e-4),
-            growth steps (0 = the reference load only), extension per step (0 = one element
-            length), growth direction ("hoop": the maximum hoop stress criterion at the tip, one
-            solve per step; "predictor_corrector": a trial extension and the bisector of the
-            two hoop directions, two solves per step, no zig-zag on curving paths), stop length
+        nsub, tip_nsub, r_I, fixed_area_radius, area_threshold, growth_steps, da, a_stop: XFEM
+            options (see :class:`~rustfrac.scene.XfemOptions`: sub-quads per direction (4), in
+            tip elements (0 = nsub), I-integral radius in element lengths (2.5), fixed-area tip
+            enrichment radius (0 = off), small-area threshold (1e-4), growth steps (0 = the
+            reference load only), extension per step (0 = one element length), stop length
             (0 = 0.7 width)). Growth uses ``G0``.
+        kink_rule: XFEM growth direction: "hoop" (the maximum hoop stress criterion at the tip,
+            one solve per step; the default) or "predictor_corrector" (a trial extension and the
+            bisector of the two hoop directions, two solves per step, no zig-zag on curving
+            paths).
         dx, m, pd_center, pd_size, sla_steps: PD grid spacing, horizon factor (delta = m dx),
             PD rectangle of the CCM-PD model (pure PD covers the plate), and SLA steps.
         fem_grading, fem_coarse: CCM-PD graded FEM grid: growth ratio away from the PD
