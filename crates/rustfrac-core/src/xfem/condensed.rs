@@ -48,6 +48,11 @@ use std::collections::HashMap;
 
 const NONE: usize = usize::MAX;
 
+/// Free standard unknowns from which the path solves and products of a step run in parallel
+/// (below, the work is a few milliseconds and threads cost more than they save on a loaded
+/// machine).
+const PARALLEL_MIN_UNKNOWNS: usize = 100_000;
+
 /// The part of the system fixed for the whole growth: K_SS factorised, r_S and A^-1 r_S.
 struct Fixed {
     /// the standard part of the Dirichlet mask, prescribed values and forces it was built for
@@ -332,17 +337,19 @@ fn update_cache(cache: &mut ColumnCache, fx: &Fixed, cols: &[Vec<(usize, f64)>])
     }
     cache.retain(&keep);
     let new: Vec<usize> = (0..cols.len()).filter(|&j| slots[j] == NONE).collect();
-    // blocked path solves, in two halves (the new columns share most of their paths: they
-    // belong to the elements around the tips)
-    let half = new.len().div_ceil(2).max(1);
-    let ws: Vec<SparseColumn> = new
-        .par_chunks(half)
-        .map(|part| {
-            let bs: Vec<Vec<(usize, f64)>> = part.iter().map(|&j| cols[j].clone()).collect();
-            fx.tree.solve_many(&fx.chol, &bs, &mut fx.tree.work())
-        })
-        .flatten()
-        .collect();
+    // blocked path solves, in two halves on a large factor (the new columns share most of their
+    // paths: they belong to the elements around the tips)
+    let parallel = fx.y.len() >= PARALLEL_MIN_UNKNOWNS;
+    let solve_part = |part: &[usize]| {
+        let bs: Vec<Vec<(usize, f64)>> = part.iter().map(|&j| cols[j].clone()).collect();
+        fx.tree.solve_many(&fx.chol, &bs, &mut fx.tree.work())
+    };
+    let ws: Vec<SparseColumn> = if parallel {
+        let half = new.len().div_ceil(2).max(1);
+        new.par_chunks(half).map(solve_part).flatten().collect()
+    } else {
+        solve_part(&new)
+    };
     let mut new_slots = Vec::with_capacity(new.len());
     for (&j, w) in new.iter().zip(ws) {
         // two columns with the same content share a slot
@@ -360,18 +367,20 @@ fn update_cache(cache: &mut ColumnCache, fx: &Fixed, cols: &[Vec<(usize, f64)>])
     live.sort_unstable();
     live.dedup();
     let w_of = |s: usize| cache.cols[s].as_ref().map(|c| &c.1);
-    let rows: Vec<Vec<f64>> = new_slots
-        .par_iter()
-        .map(|&sn| {
-            let wn = w_of(sn);
-            live.iter()
-                .map(|&sl| match (wn, w_of(sl)) {
-                    (Some(a), Some(b)) => a.dot(b),
-                    _ => 0.0,
-                })
-                .collect()
-        })
-        .collect();
+    let row = |&sn: &usize| -> Vec<f64> {
+        let wn = w_of(sn);
+        live.iter()
+            .map(|&sl| match (wn, w_of(sl)) {
+                (Some(a), Some(b)) => a.dot(b),
+                _ => 0.0,
+            })
+            .collect()
+    };
+    let rows: Vec<Vec<f64>> = if parallel {
+        new_slots.par_iter().map(row).collect()
+    } else {
+        new_slots.iter().map(row).collect()
+    };
     let cap = cache.cap;
     for (&sn, row) in new_slots.iter().zip(rows) {
         for (&sl, v) in live.iter().zip(row) {
