@@ -18,10 +18,13 @@
 //! value bits): an enriched dof whose K_SE column did not change since the last step (a Heaviside
 //! dof of elements the crack crossed before) keeps its w and its products with the other cached
 //! columns, and only the new columns (the tip dofs and the Heaviside dofs near the tip) are solved
-//! and multiplied. A^-1 r_S is fixed (one solve for the growth). Per step: the enriched element
-//! blocks, the new columns' path solves and products, the dense Cholesky of the equilibrated S_E
-//! (|E| ~ 10^2-10^3) and one solve with A for u_S. The reference path, a full factorisation per
-//! step ([`crate::xfem::plate`]), stays the oracle (`xfem::run_reference`, tests/xfem_growth_reuse.rs).
+//! and multiplied (blocked, [`crate::la::SparseForward::solve_many`]). A^-1 r_S and
+//! L^-1 P S r_S are fixed (once for the growth). Per step: the enriched element blocks, the new
+//! columns' path solves and products, the dense Cholesky of the equilibrated S_E (|E| ~
+//! 10^2-10^3) and, for u_S = S P^T L^-T (L^-1 P S r_S - sum_j u_Ej w_j), one dense backward
+//! half-solve, which bounds the step on large meshes (benches/RESULTS.md). The reference path, a
+//! full factorisation per step ([`crate::xfem::plate`]), stays the oracle
+//! (`xfem::run_reference`, tests/xfem_growth_reuse.rs).
 //!
 //! Checks: the pivots of A and of the equilibrated S_E (the pivots of the LDL^T factorisation of
 //! the equilibrated K with E eliminated last) below [`PIVOT_TOL`] are a singular system, and
