@@ -2,7 +2,8 @@
 //! critical states (0: the whole growth), `cargo run --release --example xfem_growth -- [NX NY
 //! [STATES]]`. Prints the time, the number of states, the last state's load factor, K_I and CMOD,
 //! and a checksum of the history (for comparing two builds).
-use rustfrac_core::problem::{Growth, Problem};
+use rustfrac_core::problem::value::{Table, Value};
+use rustfrac_core::problem::{Method, Problem};
 use rustfrac_core::xfem::run;
 use std::time::Instant;
 
@@ -16,16 +17,33 @@ fn main() {
         a.get(1).copied().unwrap_or(83),
     );
     let states = a.get(2).copied().unwrap_or(0);
+    // the growth options of a parsed scene (the defaults of every option not set here)
+    let scene: Table = [
+        ("method".to_string(), Value::Str("xfem".into())),
+        (
+            "xfem".to_string(),
+            Value::Table(
+                [("growth_steps".to_string(), Value::Int(1))]
+                    .into_iter()
+                    .collect(),
+            ),
+        ),
+    ]
+    .into_iter()
+    .collect();
+    let Method::Xfem(parsed) = Problem::from_scene(&scene).unwrap().method else {
+        unreachable!("an XFEM scene")
+    };
+    let mut g = parsed.growth.unwrap();
+    g.da = None;
+    g.a_stop = 0.7 * 11.0;
+    g.max_steps = if states == 0 { 100_000 } else { states };
     let mut p = Problem::paper("xfem");
     let x = p.xfem_mut();
     x.grid.nx = nx;
     x.grid.ny = ny;
     x.extra_radii = vec![];
-    x.growth = Some(Growth {
-        da: None,
-        a_stop: 0.7 * 11.0,
-        max_steps: if states == 0 { 100_000 } else { states },
-    });
+    x.growth = Some(g);
     let t = Instant::now();
     let r = run(&p, &|_, _| true).unwrap();
     let last = r.history.last().unwrap();

@@ -137,16 +137,31 @@ fn problem(case: &XfemCase) -> Problem {
     case.problem()
 }
 
+/// Growth options with `max_steps` and `a_stop`, the rest the scene defaults (taken from a
+/// parsed scene, so that options added later keep their defaults).
+fn growth(max_steps: usize, a_stop: f64) -> Growth {
+    let scene: Table = [
+        ("method".to_string(), s("xfem")),
+        ("xfem".to_string(), tbl(&[("growth_steps", i(1))])),
+    ]
+    .into_iter()
+    .collect();
+    let Method::Xfem(x) = Problem::from_scene(&scene).unwrap().method else {
+        panic!("an XFEM scene")
+    };
+    let mut g = x.growth.unwrap();
+    g.max_steps = max_steps;
+    g.a_stop = a_stop;
+    g.da = None;
+    g
+}
+
 #[test]
 fn paper_edge_crack_growth_matches_the_reference() {
     let mut p = Problem::paper("xfem");
     let x = p.xfem_mut();
     x.extra_radii = vec![];
-    x.growth = Some(Growth {
-        da: None,
-        a_stop: 0.7 * 11.0,
-        max_steps: 1000,
-    });
+    x.growth = Some(growth(1000, 0.7 * 11.0));
     compare("paper 44 x 83", &p, 20);
 }
 
@@ -179,11 +194,7 @@ fn growth_towards_a_hole_matches_the_reference() {
     });
     if let Method::Xfem(x) = &mut p.method {
         x.extra_radii = vec![];
-        x.growth = Some(Growth {
-            max_steps: 40,
-            da: None,
-            a_stop: 8.0,
-        });
+        x.growth = Some(growth(40, 8.0));
     }
     compare("hole", &p, 3);
 }
