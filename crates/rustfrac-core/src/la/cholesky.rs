@@ -52,9 +52,9 @@ fn pow2_inv_sqrt(d: f64) -> f64 {
 /// Sparse Cholesky L L^T of a symmetric positive definite matrix (lower triangle is read).
 pub struct Cholesky {
     pub(super) n: usize,
-    symbolic: SymbolicCholesky<usize>,
+    pub(super) symbolic: SymbolicCholesky<usize>,
     /// factor of the scaled matrix S A S (see the module doc)
-    values: Vec<f64>,
+    pub(super) values: Vec<f64>,
     /// S = diag(2^k_i), k_i = round(-log2(A_ii) / 2)
     pub(super) scale: Vec<f64>,
     pub(super) factorised: bool,

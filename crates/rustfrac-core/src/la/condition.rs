@@ -172,6 +172,12 @@ impl Cholesky {
 
     /// [`ConditionEstimate::pivot_ratio`] alone (free: no solve), given s = D^-1/2.
     fn pivot_ratio_scaled(&self, s: &[f64]) -> f64 {
+        let (dmin, dmax) = self.pivot_range_scaled(s);
+        dmax / dmin
+    }
+
+    /// Smallest and largest LDL^T pivot of A^ = D^-1/2 A D^-1/2, given s = D^-1/2.
+    fn pivot_range_scaled(&self, s: &[f64]) -> (f64, f64) {
         // pivots of A^: d_i / A_ii
         let piv = self.pivots();
         let (mut dmin, mut dmax) = (f64::INFINITY, 0.0f64);
@@ -180,7 +186,35 @@ impl Cholesky {
             dmin = dmin.min(dh);
             dmax = dmax.max(dh);
         }
-        dmax / dmin
+        (dmin, dmax)
+    }
+
+    /// Smallest and largest LDL^T pivot of the equilibrated matrix A^ = D^-1/2 A D^-1/2 (the
+    /// diagonal of A is `diag`), e.g. to combine them with the pivots of a Schur complement.
+    pub fn pivot_range(&self, diag: &[f64]) -> Result<(f64, f64)> {
+        let s = equilibration(diag)?;
+        Ok(self.pivot_range_scaled(&s))
+    }
+
+    /// Hager-Higham estimate of ||A^^-1||_1 of the equilibrated matrix (diagonal of A: `diag`),
+    /// with [`CONDITION_ITERATIONS`] steps (2 solves): the inverse-norm half of
+    /// [`Cholesky::condition_estimate`].
+    pub fn inverse_norm_estimate(&self, diag: &[f64]) -> Result<f64> {
+        let s = equilibration(diag)?;
+        hager_higham(
+            self.n,
+            CONDITION_ITERATIONS,
+            |x: &mut [f64]| -> Result<()> {
+                for (v, si) in x.iter_mut().zip(&s) {
+                    *v /= si;
+                }
+                self.solve_in_place(x)?;
+                for (v, si) in x.iter_mut().zip(&s) {
+                    *v /= si;
+                }
+                Ok(())
+            },
+        )
     }
 
     /// [`ConditionEstimate::pivot_ratio`] of the factorised matrix (a guaranteed lower bound of
@@ -278,7 +312,7 @@ fn equilibration(diag: &[f64]) -> Result<Vec<f64>> {
 
 /// Hager-Higham estimate of ||B||_1 of a symmetric n x n matrix B (n > 0) given as `apply`
 /// (x <- B x), with at most `iterations` of Hager's steps (Higham 1988, LAPACK xLACN2).
-fn hager_higham(
+pub(crate) fn hager_higham(
     n: usize,
     iterations: usize,
     mut apply: impl FnMut(&mut [f64]) -> Result<()>,

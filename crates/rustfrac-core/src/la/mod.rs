@@ -2,7 +2,8 @@
 //! once with race-free parallel assembly ([`pattern`]), the Dirichlet elimination on the matrix
 //! level ([`reduction`]), the geometric nested-dissection ordering ([`ordering`]), the direct
 //! solvers on top of faer, supernodal Cholesky for the SPD FEM/XFEM systems ([`cholesky`]), the
-//! block of the inverse at a few interface unknowns from one factorisation ([`schur`]), and
+//! block of the inverse at a few interface unknowns from one factorisation ([`schur`]), the
+//! forward solve with a sparse right-hand side along the elimination tree ([`sparse_forward`]), and
 //! sparse LU for the non-symmetric splice-coupled CCM-PD systems ([`lu`], DESIGN.md section 4),
 //! and the condition estimate with its thresholds ([`condition`]).
 //!
@@ -18,6 +19,7 @@ pub mod ordering;
 pub mod pattern;
 pub mod reduction;
 pub mod schur;
+pub mod sparse_forward;
 
 pub use cholesky::{Cholesky, PIVOT_TOL};
 pub use condition::{
@@ -29,3 +31,4 @@ pub use lu::Lu;
 pub use pattern::Pattern;
 pub use reduction::Reduction;
 pub use schur::InterfaceCholesky;
+pub use sparse_forward::{ForwardWork, SparseColumn, SparseForward};

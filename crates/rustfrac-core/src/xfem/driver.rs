@@ -2,6 +2,7 @@
 //! cracks and [`XfemMethod`]), builds the model, solves at the reference load, reports the SIFs,
 //! and optionally grows the cracks ([`crate::xfem::growth`]).
 
+use super::condensed::CondensedSolver;
 use super::growth::{grow, shrunk_warning, GrowthStatus, GrowthStep, TipStep};
 use super::interaction_integral::DomainSifs;
 use super::model::XfemModel;
@@ -120,8 +121,32 @@ pub fn run(
     problem: &Problem,
     progress: &(dyn Fn(usize, usize) -> bool + Sync),
 ) -> Result<XfemResult> {
+    run_with(problem, progress, false)
+}
+
+/// [`run`] with the growth's reference solves: the initial solve and every growth step assemble
+/// and factorise the whole system instead of condensing onto the enriched dofs
+/// ([`crate::xfem::condensed`]); the oracle of the condensed growth (tests, benchmarks). Without
+/// growth, the same as [`run`] (a single solve is never condensed).
+pub fn run_reference(
+    problem: &Problem,
+    progress: &(dyn Fn(usize, usize) -> bool + Sync),
+) -> Result<XfemResult> {
+    run_with(problem, progress, true)
+}
+
+fn run_with(
+    problem: &Problem,
+    progress: &(dyn Fn(usize, usize) -> bool + Sync),
+    reference: bool,
+) -> Result<XfemResult> {
     let (x, model, plate) = build(problem)?;
-    let first = plate.solve(&model, "initial solve")?;
+    // a growth run condenses every solve onto the enriched dofs, the initial one included
+    let mut condensed = (x.growth.is_some() && !reference).then(CondensedSolver::default);
+    let first = match condensed.as_mut() {
+        Some(c) => c.solve(&plate, &model, "initial solve")?,
+        None => plate.solve(&model, "initial solve")?,
+    };
     let mut res = initial_result(problem, x, &model, &first)?;
     let Some(g) = x.growth else {
         let _ = progress(1, 1);
@@ -135,6 +160,7 @@ pub fn run(
         (&g, g0),
         (x.r_i, x.tip_tie_tol),
         progress,
+        condensed,
     )?;
     res.history = growth.history;
     res.response_history = growth.responses;

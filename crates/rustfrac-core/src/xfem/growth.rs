@@ -27,6 +27,7 @@
 //! [`MIN_HOLE_FREE_RADIUS`] element sizes (or a new tip comes closer to the hole than
 //! [`MIN_TIP_CLEARANCE`] element lengths).
 
+use super::condensed::CondensedSolver;
 use super::crack::{Crack, CRACKS_APART};
 use super::enrichment::TIPS_APART;
 use super::interaction_integral::{DomainSifs, MIN_HOLE_FREE_RADIUS};
@@ -433,7 +434,9 @@ pub(super) fn shrunk_warning(
 /// The growth loop (see the module documentation) from the initial model and its solve `first`
 /// at the reference load of `plate`, with the fracture energy `g0` (K_Ic = sqrt(G0 E'));
 /// `progress(step, max_steps)` is called after each step; `false` stops the growth
-/// ([`GrowthStatus::Cancelled`]).
+/// ([`GrowthStatus::Cancelled`]). Each step's solve condenses onto the enriched dofs with one
+/// factorisation for the whole growth (`condensed`, [`crate::xfem::condensed`], which solved
+/// `first`), or without it factorises the whole system ([`PlateProblem::solve`], the oracle).
 pub(super) fn grow(
     mut model: XfemModel,
     first: PlateSolve,
@@ -441,6 +444,7 @@ pub(super) fn grow(
     (g, g0): (&GrowthOptions, f64),
     (r_i_factor, tie): (f64, f64),
     progress: &(dyn Fn(usize, usize) -> bool + Sync),
+    mut condensed: Option<CondensedSolver>,
 ) -> Result<Growth> {
     let kic = (g0 * model.material.e_prime()).sqrt();
     // the history's u0 and traction columns: the grips' reference values, or (regions) the
@@ -457,7 +461,10 @@ pub(super) fn grow(
     for step in 0..g.max_steps {
         if step > 0 {
             let what = format!("growth step {step}");
-            sol = plate.solve(&model, &what)?;
+            sol = match condensed.as_mut() {
+                Some(c) => c.solve(plate, &model, &what)?,
+                None => plate.solve(&model, &what)?,
+            };
             out.warnings.extend(
                 sol.condition
                     .as_ref()

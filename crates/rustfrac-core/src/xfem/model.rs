@@ -535,8 +535,29 @@ impl XfemModel {
 
     /// Element stiffness block (row-major, dofs of [`Self::element_dofs`]), eqs. (25)-(26), (34).
     pub fn element_block(&self, e: usize, out: &mut Vec<f64>) {
+        self.block_of(e, self.enriched(e), out);
+    }
+
+    /// The standard block of element `e` as if it carried no enrichment (its 8 standard dofs):
+    /// the block of the uncracked plate, equal to the standard-standard part of an enriched
+    /// element's block up to round-off (the same polynomial integrand, integrated exactly by
+    /// either rule, [`crate::xfem::integration`]).
+    pub(super) fn plain_block(&self, e: usize, out: &mut Vec<f64>) {
+        self.block_of(e, None, out);
+    }
+
+    /// The elements carrying enriched functions (increasing element order) with their basis.
+    pub(super) fn enriched_elements(&self) -> impl Iterator<Item = (usize, &EnrElement)> {
+        self.enr_index
+            .iter()
+            .enumerate()
+            .filter(|(_, &k)| k != NONE)
+            .map(|(e, &k)| (e, &self.enr[k as usize]))
+    }
+
+    /// The block of element `e` with the enrichment `en` (None: the plain block).
+    fn block_of(&self, e: usize, en: Option<&EnrElement>, out: &mut Vec<f64>) {
         out.clear();
-        let en = self.enriched(e);
         let kind = self.fictitious.as_ref().map(|fd| fd.kind(e));
         if en.is_none() && kind.is_none_or(|k| k == ElementKind::Material) {
             out.extend_from_slice(self.std.of(e));

@@ -27,6 +27,16 @@ pub(super) struct PlateProblem {
     pub(super) probes: Vec<Probe>,
 }
 
+/// The conditions of one model at the reference load ([`PlateProblem::conditions`]).
+pub(super) struct PlateConditions {
+    /// Dirichlet conditions, holes' removed nodes included
+    pub(super) bc: crate::fe::dirichlet::Dirichlet,
+    /// forces at the reference load (all dofs)
+    pub(super) f: Vec<f64>,
+    pub(super) anchor: usize,
+    pub(super) regions: Option<crate::fe::regions::RegionConditions>,
+}
+
 /// One solve of a plate model at the reference load.
 pub(super) struct PlateSolve {
     pub(super) u: Vec<f64>,
@@ -41,8 +51,20 @@ pub(super) struct PlateSolve {
 impl PlateProblem {
     /// One solve at the reference load: the rigid-mode check of the Dirichlet set (standard dofs;
     /// the enrichment has no rigid modes), factorisation, the condition check (with the estimate
-    /// when `condition`; `what` names the solve) and the solve.
+    /// when `condition`; `what` names the solve) and the solve. The reference path of the growth
+    /// ([`crate::xfem::condensed`] reuses one factorisation instead).
     pub(super) fn solve(&self, model: &XfemModel, what: &str) -> Result<PlateSolve> {
+        let c = self.conditions(model)?;
+        let sys =
+            LinearSystem::with_positions(model.stiffness()?, &c.bc, Some(&model.dof_positions()))?;
+        let condition = sys.checked_condition(what, self.condition)?;
+        let sol = sys.solve(&c.f, 1.0)?;
+        self.finish(model, &c, sol.u, &sol.reactions, condition)
+    }
+
+    /// The Dirichlet conditions (checked for rigid modes, holes' removed nodes prescribed) and
+    /// the forces of `model` at the reference load.
+    pub(super) fn conditions(&self, model: &XfemModel) -> Result<PlateConditions> {
         let (edges, load) = (&self.edges, &self.load);
         let t = model.material.thickness;
         let active = model
@@ -68,30 +90,45 @@ impl PlateProblem {
             }
         };
         let bc = model.constrain(bc, &mut f)?;
-        let sys =
-            LinearSystem::with_positions(model.stiffness()?, &bc, Some(&model.dof_positions()))?;
-        let condition = sys.checked_condition(what, self.condition)?;
-        let sol = sys.solve(&f, 1.0)?;
-        let (s22, mut responses) = match &regions {
+        Ok(PlateConditions {
+            bc,
+            f,
+            anchor,
+            regions,
+        })
+    }
+
+    /// The solve's responses from the displacements `u` and reactions K u - f (sigma22, supports,
+    /// loads, probes, CMOD).
+    pub(super) fn finish(
+        &self,
+        model: &XfemModel,
+        c: &PlateConditions,
+        u: Vec<f64>,
+        reactions: &[f64],
+        condition: Option<ConditionEstimate>,
+    ) -> Result<PlateSolve> {
+        let t = model.material.thickness;
+        let (s22, mut responses) = match &c.regions {
             None => (
-                sigma22(edges, &sol.reactions, &f, self.width, t),
+                sigma22(&self.edges, reactions, &c.f, self.width, t),
                 SceneResponses {
-                    load_displacement: load.u0,
+                    load_displacement: self.load.u0,
                     ..SceneResponses::default()
                 },
             ),
             Some(rc) => (
-                rc.primary_response(&sol.u, &sol.reactions, &f, t).0,
-                rc.responses(&sol.u, &sol.reactions, t),
+                rc.primary_response(&u, reactions, &c.f, t).0,
+                rc.responses(&u, reactions, t),
             ),
         };
-        responses.probes = self.probe_values(model, &sol.u)?;
-        let cmod = model.cmod(&sol.u)?;
+        responses.probes = self.probe_values(model, &u)?;
+        let cmod = model.cmod(&u)?;
         Ok(PlateSolve {
-            u: sol.u,
+            u,
             sigma22: s22,
             cmod,
-            anchor,
+            anchor: c.anchor,
             condition,
             responses,
         })
