@@ -174,6 +174,18 @@ fn inclined_edge_crack_growth_matches_the_reference() {
 }
 
 #[test]
+fn predictor_corrector_growth_matches_the_reference() {
+    // the corrector's trial solve goes through the same condensed solver (xfem.kink_rule)
+    let mut c = tall_strip(vec![[0.0, 2.0], [0.3 * 0.866, 2.0 + 0.3 * 0.5]], 30, 121);
+    c.growth = Some(paper_growth(0.6, 8));
+    let mut p = problem(&c);
+    if let Method::Xfem(x) = &mut p.method {
+        x.growth.as_mut().unwrap().kink_rule = rustfrac_core::xfem::KinkRule::PredictorCorrector;
+    }
+    compare("inclined edge crack, predictor-corrector", &p, 8);
+}
+
+#[test]
 fn two_crack_growth_matches_the_reference() {
     // a longer and a shorter edge crack: the longer one grows first, then both
     let mut c = tall_strip(vec![[0.0, 2.0], [0.15, 2.0]], 30, 121);

@@ -281,7 +281,7 @@ fn extend_tips(
 
 /// The extension angles of the growing tips under `xfem.kink_rule = "predictor_corrector"`
 /// ([`super::kink`]): the criterion's angles `st.kinks` (predictor) and their extension `trial`,
-/// one solve of the plate with the trial cracks ([`PlateProblem::solve`], the growth loop's solve; `step` names it in
+/// one solve of the plate with the trial cracks (the growth loop's solve: the condensed one when the run has it, else [`PlateProblem::solve`]; `step` names it in
 /// warnings), the criterion at the trial tips and [`corrected_angle`]. Where the trial cannot
 /// be built (a trial tip leaves the ligament, cracks meet) or a trial tip's SIFs cannot be
 /// evaluated, the predictor's angle stays (the loop's own checks then stop the run as under
@@ -294,6 +294,7 @@ fn corrected_kinks(
     grows: &[bool],
     r_i_factor: f64,
     plate: &PlateProblem,
+    condensed: Option<&mut CondensedSolver>,
     step: usize,
     warnings: &mut Vec<Warning>,
 ) -> Result<Vec<f64>> {
@@ -304,7 +305,10 @@ fn corrected_kinks(
         return Ok(st.kinks.clone());
     };
     let what = format!("growth step {} (corrector trial)", step + 1);
-    let sol = plate.solve(&trial_model, &what)?;
+    let sol = match condensed {
+        Some(c) => c.solve(plate, &trial_model, &what)?,
+        None => plate.solve(&trial_model, &what)?,
+    };
     warnings.extend(
         sol.condition
             .as_ref()
@@ -513,6 +517,7 @@ pub(super) fn grow(
                     &crit.grows,
                     r_i_factor,
                     plate,
+                    condensed.as_mut(),
                     step,
                     &mut out.warnings,
                 )?;
