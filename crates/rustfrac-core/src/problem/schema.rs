@@ -85,6 +85,8 @@ pub const LIST_SECTIONS: [(&str, &str); 5] = [
 pub const SHAPES: [&str; 3] = ["circle", "rect", "polygon"];
 /// `pd.hole_volumes`: the volume of a PD node whose cell a hole cuts ([`super::HoleVolumes`]).
 pub const HOLE_VOLUMES: [&str; 2] = ["centre", "exact"];
+/// `pd.engine`: the SLA solver ([`super::SlaEngine`]).
+pub const SLA_ENGINES: [&str; 4] = ["auto", "dense", "sparse", "oracle"];
 /// Regions of supports (loads: all but "box").
 pub const REGIONS: [&str; 4] = ["edge", "edge_part", "point", "box"];
 /// Probe kinds.
@@ -418,6 +420,11 @@ fn build() -> Vec<KeySpec> {
         k("pd", "fast", Bool, Val::Bool(true), "true or false",
           "condensation + Sherman-Morrison-Woodbury; false runs the refactorise-every-step \
            oracle", |_| true),
+        k("pd", "engine", Str, Val::Str("auto".into()), &choice(&SLA_ENGINES),
+          "SLA solver when fast = true: 'auto' (the cheaper of dense and sparse by the cost \
+           model, reported in the result's solver), 'dense' (condensed PD system inverted), \
+           'sparse' (sparse factor of it + Sherman-Morrison-Woodbury) or 'oracle' (refactorise \
+           every step, as fast = false)", |v| SLA_ENGINES.contains(&v.s())),
         k("pd", "stop_crack_length", Float, Val::Float(0.0),
           "a finite number >= 0 (0 = no stop; else in [1e-30, 1e30])",
           "stop the SLA once the crack is this long", |v| nonneg(v.f())),

@@ -34,6 +34,7 @@
 //! the checkpoint format depends on them and not on the driver.
 
 pub mod checkpoint;
+mod cost;
 mod driver;
 mod engine;
 mod fast;
@@ -43,6 +44,7 @@ mod oracle;
 mod params;
 mod result;
 
+pub use cost::{factor_nnz_guess, CostEstimate, EngineKind, HORIZON_STEPS};
 pub use driver::{run, run_model};
 pub use grounding::DEBRIS_LIMIT;
 pub use memory::peak_memory_bytes;

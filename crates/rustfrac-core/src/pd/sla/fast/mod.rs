@@ -12,20 +12,31 @@
 //! [`super::auto_refactor_every`]) bounds the stored update vectors, so a run of any length keeps
 //! its memory at O(bonds + n_P^2).
 
+mod base;
 mod condensation;
 mod smw;
+
+pub(super) use base::SparseFactor;
+pub(super) use condensation::schur_pattern;
 
 use super::engine::{separated, Engine, State, Update};
 use crate::error::Result;
 use crate::la::Cholesky;
 use crate::la::{CscMatrix, Reduction};
 use crate::pd::splice::{SpliceModel, Spring};
-use faer::Mat;
+use base::Base;
 
 /// Dof classes of the condensation.
 const CLS_FIXED: u8 = 0;
 const CLS_F: u8 = 1;
 const CLS_P: u8 = 2;
+
+/// The form of the base condensed system S_0 (`base.rs`): a dense inverse or a sparse factor.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum SchurKind {
+    Dense,
+    Sparse,
+}
 
 /// Condensation onto the PD dofs + Sherman-Morrison-Woodbury.
 pub(super) struct Fast<'a> {
@@ -50,8 +61,12 @@ pub(super) struct Fast<'a> {
     sig_coef: Vec<f64>,
     cmod_const: f64,
     cmod_coef: Vec<f64>,
-    /// inverse of the base condensed matrix, n_P x n_P
-    sinv: Mat<f64>,
+    /// the base condensed matrix S_0: its dense inverse or its sparse factor (`base.rs`)
+    base: Base,
+    /// which form of S_0 to build at each condensation
+    kind: SchurKind,
+    /// positions of the P dofs (nested dissection of the sparse Cholesky)
+    p_xy: Vec<[f64; 2]>,
     x0: Vec<f64>,
     v: Vec<f64>,
     // SMW state
