@@ -412,7 +412,8 @@ fn build() -> Vec<KeySpec> {
            (0 = one bond per step)", |v| v.f() >= 0.0 && v.f() < 1.0),
         k("pd", "refactor_every", Int, Val::Int(0),
           &format!("an integer >= 0 (at most {MAX_STEPS})"),
-          "fast solver: re-condense after this many breaks (0 = automatic, n_P / 2)",
+          "fast solver: re-condense after this many breaks (0 = automatic: n_P / 2 dense, from \
+           the cost model sparse)",
           |v| (0..=MAX_STEPS as i64).contains(&v.i())),
         k("pd", "hole_volumes", Str, Val::Str("centre".into()), &choice(&HOLE_VOLUMES),
           "volume of a node whose cell a hole cuts: 'centre' (the full cell, the centre rule) \

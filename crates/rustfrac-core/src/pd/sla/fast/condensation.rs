@@ -553,22 +553,70 @@ fn schur_sparse(
             }
         }
     }
-    let mut trip: Vec<(usize, usize, f64)> = Vec::with_capacity(k.nnz() / 2 + rows.len() * npc);
+    // column by column: the P rows of K's column (ascending, as P indices follow the dofs) merged
+    // with the block's rows (ascending) where the column is one of `pc`
+    let mut pc_pos = vec![usize::MAX; np];
+    for (t, &p) in cp.pc.iter().enumerate() {
+        pc_pos[p] = t;
+    }
+    let mut order: Vec<usize> = (0..rows.len()).collect();
+    order.sort_unstable_by_key(|&ri| rows[ri]);
+    let mut col_ptr = Vec::with_capacity(np + 1);
+    col_ptr.push(0);
+    let mut row_idx = Vec::with_capacity(k.nnz() + rows.len() * npc);
+    let mut val = Vec::with_capacity(row_idx.capacity());
+    let mut kcol: Vec<(usize, f64)> = Vec::new();
     for (pcol, &c) in p_dofs.iter().enumerate() {
+        kcol.clear();
         for kk in k.col_ptr[c]..k.col_ptr[c + 1] {
             let r = k.row_idx[kk];
             if cls[r] == CLS_P {
                 let v = if z_ring.is_some() { k.val[kk] } else { 0.0 };
-                trip.push((idx[r], pcol, v));
+                kcol.push((idx[r], v));
             }
         }
-    }
-    for (ri, &pr) in rows.iter().enumerate() {
-        for (t, &pcol) in cp.pc.iter().enumerate() {
-            trip.push((pr, pcol, block[ri * npc + t]));
+        let t = pc_pos[pcol];
+        let brow = |i: usize| {
+            let ri = order[i];
+            (rows[ri], block[ri * npc + t])
+        };
+        let nb = if t == usize::MAX { 0 } else { order.len() };
+        let (mut i, mut j) = (0, 0);
+        while i < kcol.len() || j < nb {
+            let a = kcol.get(i).copied();
+            let b = (j < nb).then(|| brow(j));
+            let (r, v) = match (a, b) {
+                (Some(a), Some(b)) if a.0 == b.0 => {
+                    i += 1;
+                    j += 1;
+                    (a.0, a.1 + b.1)
+                }
+                (Some(a), Some(b)) if a.0 < b.0 => {
+                    i += 1;
+                    a
+                }
+                (Some(a), None) => {
+                    i += 1;
+                    a
+                }
+                (_, Some(b)) => {
+                    j += 1;
+                    b
+                }
+                (None, None) => unreachable!("the loop condition"),
+            };
+            row_idx.push(r);
+            val.push(v);
         }
+        col_ptr.push(row_idx.len());
     }
-    CscMatrix::from_triplets(np, np, &trip).expect("indices of the P block are in range")
+    CscMatrix {
+        nrows: np,
+        ncols: np,
+        col_ptr,
+        row_idx,
+        val,
+    }
 }
 
 /// The pattern of the sparse S (values 0; [`schur_sparse`]), whether it is symmetric (pure PD:

@@ -4,7 +4,8 @@
 //! y = y0 - Z x where Z = K_FF^{-1} K_FP, and S x = g with S = K_PP - K_PF Z, dense and small
 //! (2 x PD nodes): `condensation.rs`. K_FP and K_PF touch only a thin interface I of FEM dofs, so
 //! S needs only (K_FF^{-1})_II: one sparse Cholesky of the SPD FEM block with I ordered last
-//! gives it from the factor's dense trailing block ([`crate::la::InterfaceCholesky`]). S is inverted once; a broken bond is a rank-1
+//! gives it from the factor's dense trailing block ([`crate::la::InterfaceCholesky`]). S is inverted once
+//! (or, for large PD regions, factorised sparse: `base.rs`, chosen by `super::cost`); a broken bond is a rank-1
 //! change of S and g (a on the PD rows of its ends), handled by Sherman-Morrison-Woodbury with the
 //! capacitance inverse grown by bordering (O(k^2) per break): `smw.rs`. The Schur pivot of the
 //! bordering is the ratio det(S_k+1)/det(S_k): when it vanishes the body has separated (status
