@@ -128,15 +128,21 @@ fn engine_for<'a>(
     let t0 = Instant::now();
     let (pattern, symmetric, xy) = schur_pattern(model, k0, probe_dofs);
     // nnz(L) of the sparse form: its own analysis for the symmetric (pure PD) S, reused by the
-    // engine; of the symmetrised pattern for the LU (L and U: twice that)
-    let (analysed, factor_nnz) = if symmetric {
-        let f = SparseFactor::analyze(&pattern, true, &xy)?;
-        let nnz = f.factor_nnz().unwrap_or(0) as f64;
-        (Some(f), nnz)
+    // engine; of the symmetrised pattern for the LU (L and U: twice that). A failed analysis
+    // leaves the dense form (infinite sparse estimate), or reports the error when sparse is forced.
+    let analysis = if symmetric {
+        SparseFactor::analyze(&pattern, true, &xy).map(|f| {
+            let nnz = f.factor_nnz().unwrap_or(0) as f64;
+            (Some(f), nnz)
+        })
     } else {
-        let sym = symmetrised(&pattern);
-        let nnz = Cholesky::analyze_with(&sym, Some(&xy))?.factor_nnz() as f64;
-        (None, 2.0 * nnz)
+        Cholesky::analyze_with(&symmetrised(&pattern), Some(&xy))
+            .map(|c| (None, 2.0 * c.factor_nnz() as f64))
+    };
+    let (analysed, factor_nnz) = match analysis {
+        Ok(a) => a,
+        Err(e) if sla.engine == SlaEngine::Sparse => return Err(e),
+        Err(_) => (None, f64::INFINITY),
     };
     timing("engine: cost model (symbolic analysis of the sparse S)", t0);
     let est = CostEstimate::new(pattern.nrows, factor_nnz, sla.refactor_every);
