@@ -194,7 +194,7 @@ def test_a_pd_rectangle_beyond_the_fast_engine_is_refused_unless_allowed() -> No
     gp = np.array([[0.87, 4.6], [2.0, 5.0]])
     with pytest.raises(rf.InvalidParameterError) as e:
         compare.place(p, gp, gp[-1])
-    assert e.value.param == "pd.dx" and str(compare.PD_DENSE_LIMIT) in str(e.value)
+    assert e.value.param == "pd.dx" and str(compare.PD_DOFS_BUDGET) in str(e.value)
     p = compare.plan(TINY_INCLINED, dx=1.0 / 64.0, m=4, allow_slow=True)
     scene = compare.place(p, gp, gp[-1])
     assert scene.pd.dx == 1.0 / 64.0 and any("allowed" in n for n in p.notes)
@@ -210,11 +210,11 @@ def test_an_automatic_dx_is_coarsened_to_fit_the_fast_engine() -> None:
     assert dx > 4.0 / 128 and any("coarsened" in n for n in p.notes)
     (cx, cy), (sx, sy) = scene.pd.center, scene.pd.size
     box = (cx - sx / 2, cy - sy / 2, cx + sx / 2, cy + sy / 2)
-    assert pd_region.pd_dofs(box, dx) <= compare.PD_DENSE_LIMIT
+    assert pd_region.pd_dofs(box, dx) <= compare.PD_DOFS_BUDGET
     # the next finer spacing that fits the plate would not have fitted the engine
     finer = [v for v in compare._fitting_spacings(4.0, 8.0, 4.0 / 128) if v < dx * (1 - 1e-12)]
     box2 = pd_region.pd_region(gp, (4.0, 8.0), finer[-1], 4, held=["top", "bottom"])
-    assert pd_region.pd_dofs(box2, finer[-1]) > compare.PD_DENSE_LIMIT
+    assert pd_region.pd_dofs(box2, finer[-1]) > compare.PD_DOFS_BUDGET
 
 
 # ---------------------------------------------------------------------------------------------

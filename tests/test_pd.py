@@ -202,6 +202,23 @@ def test_fast_sla_matches_oracle() -> None:
     assert worst < 1e-8
 
 
+def test_sparse_engine_matches_oracle() -> None:
+    """pd.engine = "sparse" (sparse factor of the condensed PD system + SMW) against the oracle:
+    same bonds, load factors within 1e-8; the choice and the cost estimates reach meta."""
+    n = 30
+    sparse = rf.run(coarse(n, engine="sparse", refactor_every=10))
+    oracle = rf.run(coarse(n, engine="oracle"))
+    auto = rf.run(coarse(n))
+    assert sparse.meta["solver"].startswith("fast, sparse"), sparse.meta["solver"]
+    assert "estimated" in sparse.meta["solver"] and "oracle" in oracle.meta["solver"]
+    assert "auto" in auto.meta["solver"]
+    assert sparse.meta["n_refactorisations"] >= 3
+    np.testing.assert_array_equal(sparse.history["bond"], oracle.history["bond"])
+    for k in ("load_factor", "sigma22", "cmod"):
+        a, b = sparse.history[k][1:], oracle.history[k][1:]
+        assert float(np.max(np.abs(a - b) / np.abs(b))) < 1e-8, k
+
+
 def test_history_starts_at_the_origin(small: rf.Result) -> None:
     h = small.history
     assert set(HISTORY_KEYS) <= set(h)
@@ -294,6 +311,7 @@ def test_separated_strip_is_a_status_without_nan(tmp_path: Path) -> None:
         ({"method": "pd", "tie_tol": 1.0}, "pd.tie_tol", "0 <= tie_tol < 1"),
         ({"method": "pd", "tie_tol": -1e-3}, "pd.tie_tol", "0 <= tie_tol < 1"),
         ({"method": "pd", "refactor_every": -1}, "pd.refactor_every", ">= 0"),
+        ({"method": "pd", "engine": "cholesky"}, "pd.engine", "sparse"),
         ({"method": "pd", "stop_crack_length": -1.0}, "pd.stop_crack_length", ">= 0"),
         ({"method": "pd", "damage_at_steps": [0]}, "pd.damage_at_steps", ">= 1"),
         ({"method": "pd", "plane": "stress"}, "material.plane", "strain"),

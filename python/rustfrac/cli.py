@@ -156,7 +156,7 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument(
         "--dx", type=float, default=None,
         help="PD grid spacing (default: a PD scene's, else the XFEM element size, coarsened to "
-        "keep the fast SLA engine)",
+        "keep the PD rectangle within the comparison's budget)",
     )
     c.add_argument("--m", type=int, default=None, help="PD horizon factor (default: the scene's, else 4)")
     c.add_argument(
@@ -172,7 +172,7 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("--sla-steps", type=int, default=None, help="most SLA steps (bond breaks)")
     c.add_argument(
         "--allow-slow", action="store_true",
-        help="run even when the PD rectangle exceeds the fast SLA engine's free-dof limit",
+        help="run even when the PD rectangle exceeds the comparison's budget of free PD dofs",
     )
     c.add_argument("--vtu", action="store_true", help="also write the ParaView files of both results")
     c.add_argument("--quiet", "-q", action="store_true", help="print nothing but errors")

@@ -16,9 +16,9 @@ load, holes and pre-crack, and runs them:
 Both use nu = 1/4 in plane strain, the only material bond-based PD represents (the scene's
 values are replaced, as :mod:`rustfrac.specimens` does; the summary says so). The PD grid
 spacing dx is the scene's (a PD scene), ``dx``, or by default the XFEM element size, made
-coarser when the rectangle would exceed the fast SLA engine's limit of ``PD_DENSE_LIMIT`` free
-PD dofs (the core's constant): above it the slow refactorise-every-step oracle runs, so a
-``dx`` or ``region`` the user gave that exceeds it is refused unless ``allow_slow``.
+coarser when the rectangle would exceed the comparison's budget of ``PD_DOFS_BUDGET`` free
+PD dofs (a cost budget: the SLA runs any size, but larger regions cost minutes), so a ``dx`` or
+``region`` the user gave that exceeds it is refused unless ``allow_slow``.
 
 Compared (written into ``out`` as one unit, ``rustfrac._folder``):
 
@@ -93,8 +93,10 @@ RIDGE_WINDOW_SPACINGS = 2.0
 #: SLA steps allowed per grid spacing of crack advance, per m^3 (a crack front of m = 3 breaks
 #: about 25 bonds per dx, measured on the edge crack under shear), before stop_crack_length
 SLA_STEPS_PER_SPACING_M3 = 2.0
-#: the most free PD dofs of the fast SLA engine (the core's rule)
-PD_DENSE_LIMIT: int = int(_CONST["PD_DENSE_LIMIT"])
+#: the comparison's cost budget: most free PD dofs of the fixed rectangle (the core's SLA runs any
+#: size, its engine chosen by cost, `pd.engine`; past this a step costs more than the whole XFEM
+#: growth of a typical scene, so larger rectangles need ``allow_slow``)
+PD_DOFS_BUDGET = 6000
 
 #: the files of a compare folder (the result folders xfem/ and ccm_pd/ besides)
 FILES = ("compare.png", "curves.png", "curves.csv", "path.csv", "summary.md", "summary.json")
@@ -119,7 +121,7 @@ class Plan:
     h: float  # XFEM element size (the smallest)
     dx: float
     m: int
-    dx_auto: bool  # dx chosen here (may be coarsened to fit the fast SLA engine)
+    dx_auto: bool  # dx chosen here (may be coarsened to fit the budget PD_DOFS_BUDGET)
     region_given: Box | None
     allow_slow: bool
     margin_horizons: float
@@ -317,8 +319,8 @@ def plan(
 def place(p: Plan, xfem_path: np.ndarray, final_tip: Sequence[float] | None) -> Scene:
     """The CCM-PD scene of plan ``p`` with its rectangle (the stated one, or
     :func:`~rustfrac.pd_region.pd_region` around ``xfem_path``), its SLA steps and its stop length.
-    Coarsens an automatic dx to keep the fast SLA engine; refuses a given dx / rectangle beyond it
-    unless ``p.allow_slow``."""
+    Coarsens an automatic dx to keep the budget ``PD_DOFS_BUDGET``; refuses a given dx / rectangle
+    beyond it unless ``p.allow_slow``."""
     w, hgt = p.source.plate.width, p.source.plate.height
     holes = p.pd.get("hole", [])
     cands = [p.dx]
@@ -335,13 +337,13 @@ def place(p: Plan, xfem_path: np.ndarray, final_tip: Sequence[float] | None) -> 
             held=sorted(held_sides(p.pd)),
             margin_horizons=p.margin_horizons,
         )
-        if pd_dofs(box, dx) <= PD_DENSE_LIMIT:
+        if pd_dofs(box, dx) <= PD_DOFS_BUDGET:
             break
     n = pd_dofs(box, dx)
     if dx != p.dx:
         p.notes.append(
             f"PD grid coarsened from dx = {p.dx:.6g} (the XFEM element size) to {dx:.6g} to keep "
-            f"the rectangle under the fast SLA engine's {PD_DENSE_LIMIT} free PD dofs"
+            f"the rectangle under the comparison's budget of {PD_DOFS_BUDGET} free PD dofs"
         )
         p.dx = dx
         p.pd["pd"]["dx"] = dx
@@ -350,11 +352,11 @@ def place(p: Plan, xfem_path: np.ndarray, final_tip: Sequence[float] | None) -> 
         if tmp["crack"] != p.xfem.crack.to_dict():
             p.pd["crack"] = tmp["crack"]
             p.notes.append(f"PD pre-crack moved by dx/2 = {dx / 2:g} off a node row (XFEM's not)")
-    if n > PD_DENSE_LIMIT:
+    if n > PD_DOFS_BUDGET:
         msg = (
             f"the PD rectangle {_fmt_box(box)} at dx = {dx:.6g} holds about {n} free PD dofs, "
-            f"above the fast SLA engine's {PD_DENSE_LIMIT}: the slow refactorise-every-step "
-            "oracle would run"
+            f"above the comparison's budget of {PD_DOFS_BUDGET} (compare.PD_DOFS_BUDGET): the SLA "
+            "would take minutes"
         )
         if not p.allow_slow:
             param = "pd.dx" if p.region_given is None else "pd.size"
@@ -518,7 +520,7 @@ def compare(
     Args:
         quick: fewer XFEM growth steps when the scene sets none (4 instead of 24).
         dx: PD grid spacing (default: a PD scene's, else the XFEM element size, coarsened to
-            stay under the fast SLA engine).
+            stay within PD_DOFS_BUDGET).
         m: PD horizon factor (default: a PD scene's, else 4).
         margin_horizons: margin of the PD rectangle around the XFEM path, in horizons.
         growth_steps: XFEM growth steps (default: the scene's, else 24, 4 with ``quick``).
@@ -527,7 +529,7 @@ def compare(
         region: the PD rectangle (x0, y0, x1, y1); "auto":
             :func:`~rustfrac.pd_region.pd_region` around the XFEM path; None (default): a CCM-PD
             scene's own rectangle if it states one, else "auto". allow_slow: run even when the PD
-            rectangle exceeds the fast SLA engine's limit.
+            rectangle exceeds the budget ``PD_DOFS_BUDGET``.
         vtu: also write the ParaView files of the two result folders.
         log: line logger (None: silent).
         progress: factory ``progress(name)`` of a progress callback for each run, or None.

@@ -68,7 +68,7 @@ def edge_crack_plate(
             PD rectangle of the CCM-PD model (pure PD covers the plate), and SLA steps.
         fem_grading, fem_coarse: CCM-PD graded FEM grid: growth ratio away from the PD
             rectangle (1 = uniform dx, the default) and largest element in dx (8).
-        tie_tol, refactor_every, fast, stop_crack_length: SLA options (see
+        tie_tol, refactor_every, fast, engine, stop_crack_length: SLA options (see
             :class:`~rustfrac.scene.PdOptions`).
         damage_at_steps, checkpoint_every, checkpoint_path, resume_from: SLA outputs and
             checkpoints (see :class:`~rustfrac.scene.PdOptions`).

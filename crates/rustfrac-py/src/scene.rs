@@ -48,7 +48,6 @@ pub fn scene_constants(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     d.set_item("MAX_STEPS", schema::MAX_STEPS)?;
     d.set_item("DEFAULT_A_STOP_FRACTION", schema::DEFAULT_A_STOP_FRACTION)?;
     d.set_item("PD_NU", schema::PD_NU)?;
-    d.set_item("PD_DENSE_LIMIT", rustfrac_core::pd::DENSE_LIMIT)?;
     d.set_item("XFEM_EXTRA_RADII", schema::XFEM_EXTRA_RADII.to_vec())?;
     Ok(d)
 }

@@ -18,7 +18,3 @@ pub mod splice;
 pub use bonds::{damage, find_bonds, find_bonds_where, Bond, Grid, BYTES_PER_BOND};
 pub use constants::{check_material, gamma, PdConstants};
 pub use partial_volume::{cell_fraction, family_stencil, rect_disc_area, StencilEntry};
-
-/// Most free PD dofs for which the fast SLA solver's dense condensed system is used; above, the
-/// oracle runs (`sla`), and the memory estimate of a model follows the same rule (`splice`).
-pub const DENSE_LIMIT: usize = 6000;

@@ -376,6 +376,40 @@ pub enum HoleVolumes {
     Exact,
 }
 
+/// The SLA solver (scene key `pd.engine`, [`schema::SLA_ENGINES`]; `crate::pd::sla`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SlaEngine {
+    /// the cheaper of dense and sparse by the cost model
+    Auto,
+    /// condensed PD system, dense inverse
+    Dense,
+    /// condensed PD system, sparse factor
+    Sparse,
+    /// refactorise every step
+    Oracle,
+}
+
+impl SlaEngine {
+    /// From the scene key's value (one of [`schema::SLA_ENGINES`]; anything else is `Auto`).
+    pub fn from_name(s: &str) -> Self {
+        match s {
+            "dense" => Self::Dense,
+            "sparse" => Self::Sparse,
+            "oracle" => Self::Oracle,
+            _ => Self::Auto,
+        }
+    }
+    /// The scene key's value.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Auto => "auto",
+            Self::Dense => "dense",
+            Self::Sparse => "sparse",
+            Self::Oracle => "oracle",
+        }
+    }
+}
+
 /// Options of the sequentially linear analysis (paper section 3). Defaults and ranges are the
 /// scene's `[pd]` keys ([`schema`]); a hand-built problem meets them in [`validate::problem`].
 #[derive(Debug, Clone, PartialEq)]
@@ -391,6 +425,8 @@ pub struct SlaParams {
     pub refactor_every: usize,
     /// condensation + Sherman-Morrison-Woodbury (true) or refactorise every step (false, oracle)
     pub fast: bool,
+    /// the solver when `fast` (`pd.engine`; `fast = false` is the oracle whatever this says)
+    pub engine: SlaEngine,
     /// steps after which the damage field is stored (besides the final one)
     pub damage_at_steps: Vec<usize>,
     /// write a checkpoint to `checkpoint_path` after every this many steps (0 = never); a
@@ -414,6 +450,7 @@ impl Default for SlaParams {
             tie_tol: d("tie_tol").f(),
             refactor_every: d("refactor_every").i() as usize,
             fast: d("fast").b(),
+            engine: SlaEngine::Auto,
             damage_at_steps: Vec::new(),
             checkpoint_every: d("checkpoint_every").i() as usize,
             checkpoint_path: None,

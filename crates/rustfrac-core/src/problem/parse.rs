@@ -780,6 +780,7 @@ fn pd_method(pd: &Section, ccm: bool) -> PdMethod {
             tie_tol: pd["tie_tol"].f(),
             refactor_every: pd["refactor_every"].i() as usize,
             fast: pd["fast"].b(),
+            engine: super::SlaEngine::from_name(pd["engine"].s()),
             damage_at_steps: pd["damage_at_steps"]
                 .ints()
                 .iter()

@@ -87,6 +87,8 @@ pub const SHAPES: [&str; 3] = ["circle", "rect", "polygon"];
 pub const HOLE_VOLUMES: [&str; 2] = ["centre", "exact"];
 /// `xfem.kink_rule`: the direction rule of XFEM growth ([`crate::xfem::KinkRule`]).
 pub const KINK_RULES: [&str; 2] = ["hoop", "predictor_corrector"];
+/// `pd.engine`: the SLA solver ([`super::SlaEngine`]).
+pub const SLA_ENGINES: [&str; 4] = ["auto", "dense", "sparse", "oracle"];
 /// Regions of supports (loads: all but "box").
 pub const REGIONS: [&str; 4] = ["edge", "edge_part", "point", "box"];
 /// Probe kinds.
@@ -418,7 +420,8 @@ fn build() -> Vec<KeySpec> {
            (0 = one bond per step)", |v| v.f() >= 0.0 && v.f() < 1.0),
         k("pd", "refactor_every", Int, Val::Int(0),
           &format!("an integer >= 0 (at most {MAX_STEPS})"),
-          "fast solver: re-condense after this many breaks (0 = automatic, n_P / 2)",
+          "fast solver: re-condense after this many breaks (0 = automatic: n_P / 2 dense, from \
+           the cost model sparse)",
           |v| (0..=MAX_STEPS as i64).contains(&v.i())),
         k("pd", "hole_volumes", Str, Val::Str("centre".into()), &choice(&HOLE_VOLUMES),
           "volume of a node whose cell a hole cuts: 'centre' (the full cell, the centre rule) \
@@ -426,6 +429,11 @@ fn build() -> Vec<KeySpec> {
         k("pd", "fast", Bool, Val::Bool(true), "true or false",
           "condensation + Sherman-Morrison-Woodbury; false runs the refactorise-every-step \
            oracle", |_| true),
+        k("pd", "engine", Str, Val::Str("auto".into()), &choice(&SLA_ENGINES),
+          "SLA solver when fast = true: 'auto' (the cheaper of dense and sparse by the cost \
+           model, reported in the result's solver), 'dense' (condensed PD system inverted), \
+           'sparse' (sparse factor of it + Sherman-Morrison-Woodbury) or 'oracle' (refactorise \
+           every step, as fast = false)", |v| SLA_ENGINES.contains(&v.s())),
         k("pd", "stop_crack_length", Float, Val::Float(0.0),
           "a finite number >= 0 (0 = no stop; else in [1e-30, 1e30])",
           "stop the SLA once the crack is this long", |v| nonneg(v.f())),

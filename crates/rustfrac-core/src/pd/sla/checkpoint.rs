@@ -108,6 +108,10 @@ pub fn fingerprint(p: &Problem, precrack: &[[f64; 2]], n_dofs: usize, n_bonds: u
     h.f64(traction);
     h.u64(sla.fast as u64);
     h.u64(sla.refactor_every as u64);
+    // the solver form when forced (nothing is hashed for "auto", so existing fingerprints stay)
+    if sla.engine != crate::problem::SlaEngine::Auto {
+        h.str(sla.engine.name());
+    }
     h.f64(sla.tie_tol);
     h.u64(n_dofs as u64);
     h.u64(n_bonds as u64);

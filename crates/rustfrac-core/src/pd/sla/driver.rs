@@ -10,17 +10,18 @@
 //! breaks, its end nodes are grounded where they need it (`grounding.rs`).
 
 use super::checkpoint;
+use super::cost::{CostEstimate, EngineKind};
 use super::engine::{timing, Engine, Update};
-use super::fast::Fast;
+use super::fast::{schur_pattern, Fast, SchurKind, SparseFactor};
 use super::grounding::{Grounding, DEBRIS_LIMIT};
 use super::memory::{keep_large_blocks_mmapped, peak_memory_bytes};
 use super::oracle::Oracle;
 use super::result::{CcmPdResult, SlaStatus, SlaStep};
 use crate::error::{Error, Result};
-use crate::la::CscMatrix;
+use crate::la::{Cholesky, CscMatrix};
 use crate::pd::splice::{ProbeFunctional, SpliceModel, Spring, StaticSolution};
-use crate::pd::{damage, BYTES_PER_BOND, DENSE_LIMIT};
-use crate::problem::{validate, Problem, SlaParams};
+use crate::pd::{damage, BYTES_PER_BOND};
+use crate::problem::{validate, Problem, SlaEngine, SlaParams};
 use crate::warning::{Warning, WarningKind};
 use std::path::Path;
 use std::time::Instant;
@@ -105,9 +106,10 @@ fn run_from(
     Ok(r)
 }
 
-/// The solver: the fast one when asked for and its dense condensed system fits
-/// ([`DENSE_LIMIT`] free PD dofs), the oracle otherwise. Returns it, its description and the
-/// re-condensation interval (0 for the oracle).
+/// The solver ([`choose`]): the oracle when `fast = false` or `pd.engine = "oracle"`, else the
+/// condensation with the form of the condensed system (dense inverse or sparse factor) the scene
+/// asks for or, for `"auto"`, the cheaper by the cost model ([`CostEstimate`]). Returns it, its
+/// description (the choice and the estimates) and the re-condensation interval (0 for the oracle).
 fn engine_for<'a>(
     model: &'a SpliceModel,
     sla: &SlaParams,
@@ -115,34 +117,82 @@ fn engine_for<'a>(
     (broken, springs0): (&[bool], &[Spring]),
     probe_dofs: &[usize],
 ) -> Result<(Box<dyn Engine + 'a>, String, usize)> {
-    let n_pd_free = (0..model.n_dofs())
-        .filter(|&d| !model.mask[d] && model.is_pd[d / 2])
-        .count();
-    let mut solver = String::new();
-    let mut refactor_interval = 0;
-    let engine: Box<dyn Engine + 'a> = if sla.fast && n_pd_free <= DENSE_LIMIT {
-        solver.push_str(
-            "fast (FEM condensed by Cholesky, dense PD system + Sherman-Morrison-Woodbury)",
-        );
-        let f = Fast::new(
-            model,
-            k0,
-            (broken, springs0),
-            probe_dofs,
-            sla.refactor_every,
-        )?;
-        refactor_interval = f.refactor_every;
-        Box::new(f)
+    if !sla.fast || sla.engine == SlaEngine::Oracle {
+        let solver = "oracle (sparse LU refactorised every step)".to_string();
+        return Ok((
+            Box::new(Oracle::new(model, broken, springs0, k0)?),
+            solver,
+            0,
+        ));
+    }
+    let t0 = Instant::now();
+    let (pattern, symmetric, xy) = schur_pattern(model, k0, probe_dofs);
+    // nnz(L) of the sparse form: its own analysis for the symmetric (pure PD) S, reused by the
+    // engine; of the symmetrised pattern for the LU (L and U: twice that). A failed analysis
+    // leaves the dense form (infinite sparse estimate), or reports the error when sparse is forced.
+    let analysis = if symmetric {
+        SparseFactor::analyze(&pattern, true, &xy).map(|f| {
+            let nnz = f.factor_nnz().unwrap_or(0) as f64;
+            (Some(f), nnz)
+        })
     } else {
-        solver.push_str("oracle (sparse LU refactorised every step)");
-        if sla.fast {
-            solver.push_str(&format!(
-                "; fast path not applicable ({n_pd_free} free PD dofs > dense limit {DENSE_LIMIT})"
-            ));
-        }
-        Box::new(Oracle::new(model, broken, springs0, k0)?)
+        Cholesky::analyze_with(&symmetrised(&pattern), Some(&xy))
+            .map(|c| (None, 2.0 * c.factor_nnz() as f64))
     };
-    Ok((engine, solver, refactor_interval))
+    let (analysed, factor_nnz) = match analysis {
+        Ok(a) => a,
+        Err(e) if sla.engine == SlaEngine::Sparse => return Err(e),
+        Err(_) => (None, f64::INFINITY),
+    };
+    timing("engine: cost model (symbolic analysis of the sparse S)", t0);
+    let est = CostEstimate::new(pattern.nrows, factor_nnz, sla.refactor_every);
+    let (kind, why) = match sla.engine {
+        SlaEngine::Dense => (EngineKind::Dense, "pd.engine = \"dense\""),
+        SlaEngine::Sparse => (EngineKind::Sparse, "pd.engine = \"sparse\""),
+        _ => (est.choice(), "auto: the cheaper estimate"),
+    };
+    let (schur, analysed, interval, name) = match kind {
+        EngineKind::Dense => (
+            SchurKind::Dense,
+            None,
+            sla.refactor_every,
+            "fast (FEM condensed by Cholesky, dense PD system + Sherman-Morrison-Woodbury)",
+        ),
+        EngineKind::Sparse => (
+            SchurKind::Sparse,
+            analysed,
+            est.sparse_interval,
+            if symmetric {
+                "fast, sparse (PD system by sparse Cholesky + Sherman-Morrison-Woodbury)"
+            } else {
+                "fast, sparse (FEM condensed by Cholesky, PD system by sparse LU + \
+                 Sherman-Morrison-Woodbury)"
+            },
+        ),
+    };
+    let f = Fast::new(
+        model,
+        k0,
+        (broken, springs0),
+        probe_dofs,
+        interval,
+        (schur, analysed),
+    )?;
+    let solver = format!("{name}; {why}; {}", est.describe());
+    let refactor_interval = f.refactor_every;
+    Ok((Box::new(f), solver, refactor_interval))
+}
+
+/// The pattern of A + A^T (values 0), for a symmetric analysis of a non-symmetric pattern.
+fn symmetrised(a: &CscMatrix) -> CscMatrix {
+    let mut trip = Vec::with_capacity(2 * a.nnz());
+    for c in 0..a.ncols {
+        for &r in &a.row_idx[a.col_ptr[c]..a.col_ptr[c + 1]] {
+            trip.push((r, c, 0.0));
+            trip.push((c, r, 0.0));
+        }
+    }
+    CscMatrix::from_triplets(a.nrows, a.ncols, &trip).expect("indices of a square matrix")
 }
 
 /// The evolving state of a run: the broken bonds (pre-crack included), the groundings, the

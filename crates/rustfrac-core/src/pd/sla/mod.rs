@@ -4,13 +4,19 @@
 //! Each step solves the current (linear) model once at the reference load, breaks the bond with
 //! the smallest load factor lambda = s0 / s and records the response at that load (`driver.rs`).
 //! Two solvers behind one interface (`engine.rs`):
-//! * **oracle** (`fast = false`, `oracle.rs`): reassemble the splice matrix and refactorise it
-//!   (sparse LU, symbolic analysis reused) at every step.
+//! * **oracle** (`fast = false` or `pd.engine = "oracle"`, `oracle.rs`): reassemble the splice
+//!   matrix and refactorise it (sparse LU, symbolic analysis reused) at every step.
 //! * **fast** (default, `fast/`): condense once onto the PD unknowns (`fast/condensation.rs`);
 //!   a broken bond is a rank-1 change of the condensed system, handled by Sherman-Morrison-
-//!   Woodbury (`fast/smw.rs`); periodic re-condensation ([`auto_refactor_every`]) bounds the
-//!   stored update vectors, so a run of any length keeps its memory at O(bonds + n_P^2): per step
-//!   only the history row (about 100 bytes) is kept (`memory.rs`).
+//!   Woodbury (`fast/smw.rs`) on a base condensed system S_0 kept in one of two forms
+//!   (`fast/base.rs`): its dense inverse (`pd.engine = "dense"`) or a sparse factor of it
+//!   (`"sparse"`: K_PP plus a dense block on the FEM interface; sparse Cholesky for pure PD,
+//!   sparse LU for CCM-PD; one sparse solve per step). `"auto"` takes the form the cost model
+//!   (`cost.rs`: dense O(n_P^3) per condensation vs sparse factorisation + solves, for 500 steps)
+//!   estimates cheaper; the choice and both estimates are in the result's `solver`. Periodic
+//!   re-condensation ([`auto_refactor_every`] dense, the cost model's interval sparse) bounds the
+//!   stored update vectors, so a run of any length keeps its memory bounded: per step only the
+//!   history row (about 100 bytes) is kept (`memory.rs`).
 //!
 //! **Detached nodes** (`grounding.rs`): a PD node whose intact bonds give no stiffness along some
 //! direction is grounded there by a spring before the break that needs it; every grounding is
@@ -34,6 +40,7 @@
 //! the checkpoint format depends on them and not on the driver.
 
 pub mod checkpoint;
+mod cost;
 mod driver;
 mod engine;
 mod fast;
@@ -43,6 +50,7 @@ mod oracle;
 mod params;
 mod result;
 
+pub use cost::{factor_nnz_guess, CostEstimate, EngineKind, HORIZON_STEPS};
 pub use driver::{run, run_model};
 pub use grounding::DEBRIS_LIMIT;
 pub use memory::peak_memory_bytes;

@@ -14,9 +14,9 @@ use crate::fe::q4::element_stiffness;
 use crate::fe::quadrature::{subquad_rule, QPoint};
 use crate::la::Pattern;
 use crate::memory;
+use crate::pd::sla::{factor_nnz_guess, CostEstimate};
 use crate::pd::{
     family_stencil, find_bonds, find_bonds_where, Bond, Grid, PdConstants, BYTES_PER_BOND,
-    DENSE_LIMIT,
 };
 use crate::problem::{validate, Method, PdMethod, Problem};
 use crate::warning::{Warning, WarningKind};
@@ -124,19 +124,17 @@ impl SpliceModel {
 /// An upper bound of the bytes a model and its SLA need: at most `m`'s family of bonds per PD
 /// node, each with its matrix blocks (8 + 8 indices, 16 entries of the pattern), incidence and
 /// SLA state (about 400 bytes besides the bond itself); the FEM part's factor
-/// ([`memory::BYTES_PER_DOF`] per unknown); and the fast solver's dense condensed system (three
-/// n x n matrices of the 2 n_PD unknowns) or, above [`DENSE_LIMIT`], the oracle's sparse LU
-/// (about 20 times the matrix entries).
+/// ([`memory::BYTES_PER_DOF`] per unknown); and the SLA solver the cost model would choose
+/// ([`CostEstimate`], with nnz(L) guessed from the bond count, [`factor_nnz_guess`]): the dense
+/// condensed system (three n x n matrices of the 2 n_PD unknowns) or the sparse factor and its
+/// update vectors.
 fn memory_estimate(n_nodes: usize, n_pd: usize, m: usize) -> f64 {
     let bonds = n_pd as f64 * family_stencil(m).len() as f64;
     let per_bond = BYTES_PER_BOND as f64 + 400.0;
     let fem = 2.0 * n_nodes as f64 * memory::BYTES_PER_DOF;
-    let n_p = 2.0 * n_pd as f64;
-    let solver = if n_p <= DENSE_LIMIT as f64 {
-        3.0 * 8.0 * n_p * n_p
-    } else {
-        bonds * 16.0 * 20.0 * 12.0
-    };
+    let n_p = 2 * n_pd;
+    let est = CostEstimate::new(n_p, factor_nnz_guess(n_p, bonds / 2.0), 0);
+    let solver = est.solver_bytes(est.choice());
     bonds * per_bond + fem + solver
 }
 

@@ -13,7 +13,8 @@
 //! parts by one adjoint solve: q_F . Z = (K_FF^{-1} q_F) . K_FP. [`Fast::new`] runs these phases;
 //! `condense` builds and inverts S (also at every re-condensation).
 
-use super::{Fast, CLS_F, CLS_FIXED, CLS_P};
+use super::base::{Base, SparseFactor};
+use super::{Fast, SchurKind, CLS_F, CLS_FIXED, CLS_P};
 use crate::error::{Error, Result};
 use crate::la::{CscMatrix, InterfaceCholesky, Reduction};
 use crate::pd::sla::engine::{separated, timing};
@@ -67,6 +68,7 @@ impl<'a> Fast<'a> {
         (broken, springs): (&[bool], &[Spring]),
         probe_dofs: &[usize],
         refactor_every: usize,
+        (kind, analysed): (SchurKind, Option<SparseFactor>),
     ) -> Result<Self> {
         let dc = dof_classes(model);
         let np = dc.p_dofs.len();
@@ -93,7 +95,9 @@ impl<'a> Fast<'a> {
             sig_coef: fun.sig_coef,
             cmod_const: fun.cmod_const,
             cmod_coef: fun.cmod_coef,
-            sinv: Mat::zeros(0, 0),
+            base: analysed.map_or(Base::None, |f| Base::Sparse(Box::new(f))),
+            kind,
+            p_xy: Vec::new(),
             x0: Vec::new(),
             v: Vec::new(),
             w: Vec::new(),
@@ -122,6 +126,9 @@ impl<'a> Fast<'a> {
             },
         };
         timing("fast: Z = K_FF^-1 K_FP", t0);
+        if kind == SchurKind::Sparse {
+            me.p_xy = me.p_dofs.iter().map(|&d| model.grid.xy(d / 2)).collect();
+        }
         me.condense(&k)?;
         timing("fast: condensed and inverted", t0);
         me.k0 = k;
@@ -131,9 +138,6 @@ impl<'a> Fast<'a> {
     /// Builds S = K_PP - K_PF Z and g from the current matrix, inverts S, resets the SMW state.
     pub(super) fn condense(&mut self, k: &CscMatrix) -> Result<()> {
         let t0 = Instant::now();
-        let np = self.p_dofs.len();
-        let npc = self.pc.len();
-        let mut s = Mat::<f64>::zeros(np, np);
         // particular vector: prescribed values, y0 at F
         let mut w0 = self.model.prescribed.clone();
         for (d, w) in w0.iter_mut().enumerate() {
@@ -149,6 +153,55 @@ impl<'a> Fast<'a> {
             .iter()
             .map(|&d| self.model.f[d] - kw[d])
             .collect();
+        match self.kind {
+            SchurKind::Dense => self.condense_dense(k, t0)?,
+            SchurKind::Sparse => self.condense_sparse(k, t0)?,
+        }
+        let x0 = self.base.solve(&g)?;
+        if x0.iter().any(|v| !v.is_finite()) {
+            return Err(separated("non-finite condensed solution".into()));
+        }
+        self.v = x0.clone();
+        self.x0 = x0;
+        self.w.clear();
+        self.bt.clear();
+        self.n_fact += 1;
+        Ok(())
+    }
+
+    /// S = K_PP - K_PF Z as a sparse matrix ([`schur_sparse`]), factorised (symbolic analysis at
+    /// the first condensation only).
+    fn condense_sparse(&mut self, k: &CscMatrix, t0: Instant) -> Result<()> {
+        let cp = CouplingRef {
+            pc: &self.pc,
+            ring: &self.ring,
+            ring_pos: &self.ring_pos,
+        };
+        let s = schur_sparse(
+            k,
+            &self.cls,
+            &self.idx,
+            &self.p_dofs,
+            &cp,
+            Some(&self.z_ring),
+        );
+        timing("fast: sparse S = K_PP - K_PF Z built", t0);
+        if !matches!(self.base, Base::Sparse(_)) {
+            let symmetric = self.chol.is_none();
+            self.base = Base::Sparse(Box::new(SparseFactor::analyze(&s, symmetric, &self.p_xy)?));
+        }
+        if let Base::Sparse(f) = &mut self.base {
+            f.factorize(&s)?;
+        }
+        timing("fast: sparse S factorised", t0);
+        Ok(())
+    }
+
+    /// S = K_PP - K_PF Z dense, inverted.
+    fn condense_dense(&mut self, k: &CscMatrix, t0: Instant) -> Result<()> {
+        let np = self.p_dofs.len();
+        let npc = self.pc.len();
+        let mut s = Mat::<f64>::zeros(np, np);
         for (pcol, &c) in self.p_dofs.iter().enumerate() {
             let col = s.col_as_slice_mut(pcol);
             for kk in k.col_ptr[c]..k.col_ptr[c + 1] {
@@ -188,24 +241,8 @@ impl<'a> Fast<'a> {
                 dmin / dmax
             )));
         }
-        self.sinv = lu.inverse();
+        self.base = Base::Dense(lu.inverse());
         timing("fast: S inverted", t0);
-        let mut x0 = vec![0.0; np];
-        for (j, &gj) in g.iter().enumerate() {
-            if gj != 0.0 {
-                for (x, &a) in x0.iter_mut().zip(self.sinv.col_as_slice(j)) {
-                    *x += a * gj;
-                }
-            }
-        }
-        if x0.iter().any(|v| !v.is_finite()) {
-            return Err(separated("non-finite condensed solution".into()));
-        }
-        self.v = x0.clone();
-        self.x0 = x0;
-        self.w.clear();
-        self.bt.clear();
-        self.n_fact += 1;
         Ok(())
     }
 }
@@ -464,4 +501,140 @@ fn z_ring(
         }
     }
     Ok(z_ring)
+}
+
+/// The coupling sets, borrowed (from a [`Coupling`] or from a [`Fast`]).
+struct CouplingRef<'c> {
+    pc: &'c [usize],
+    ring: &'c [usize],
+    ring_pos: &'c [usize],
+}
+
+/// S = K_PP - K_PF Z as a sparse matrix on the P indices: the P x P entries of `k` plus the block
+/// (rows R = the P rows with an entry in a ring column) x (columns `pc`), -K_{R,ring} Z_ring,
+/// stored whole (zeros included) so that the pattern is that of every state. `z_ring` None: the
+/// pattern only (values 0). Pure PD has no ring: S = K_PP.
+fn schur_sparse(
+    k: &CscMatrix,
+    cls: &[u8],
+    idx: &[usize],
+    p_dofs: &[usize],
+    cp: &CouplingRef<'_>,
+    z_ring: Option<&[f64]>,
+) -> CscMatrix {
+    let np = p_dofs.len();
+    let npc = cp.pc.len();
+    // block rows and their accumulated -K_{R,ring} Z_ring (row-major |R| x npc)
+    let mut rpos = vec![usize::MAX; np];
+    let mut rows: Vec<usize> = Vec::new();
+    let mut block: Vec<f64> = Vec::new();
+    for &fd in cp.ring {
+        let rp = cp.ring_pos[fd];
+        for kk in k.col_ptr[fd]..k.col_ptr[fd + 1] {
+            let r = k.row_idx[kk];
+            if cls[r] != CLS_P {
+                continue;
+            }
+            let pr = idx[r];
+            if rpos[pr] == usize::MAX {
+                rpos[pr] = rows.len();
+                rows.push(pr);
+                block.extend(std::iter::repeat_n(0.0, npc));
+            }
+            if let Some(z) = z_ring {
+                let v = k.val[kk];
+                if v != 0.0 {
+                    let zrow = &z[rp * npc..(rp + 1) * npc];
+                    let brow = &mut block[rpos[pr] * npc..(rpos[pr] + 1) * npc];
+                    for (b, &zz) in brow.iter_mut().zip(zrow) {
+                        *b -= v * zz;
+                    }
+                }
+            }
+        }
+    }
+    // column by column: the P rows of K's column (ascending, as P indices follow the dofs) merged
+    // with the block's rows (ascending) where the column is one of `pc`
+    let mut pc_pos = vec![usize::MAX; np];
+    for (t, &p) in cp.pc.iter().enumerate() {
+        pc_pos[p] = t;
+    }
+    let mut order: Vec<usize> = (0..rows.len()).collect();
+    order.sort_unstable_by_key(|&ri| rows[ri]);
+    let mut col_ptr = Vec::with_capacity(np + 1);
+    col_ptr.push(0);
+    let mut row_idx = Vec::with_capacity(k.nnz() + rows.len() * npc);
+    let mut val = Vec::with_capacity(row_idx.capacity());
+    let mut kcol: Vec<(usize, f64)> = Vec::new();
+    for (pcol, &c) in p_dofs.iter().enumerate() {
+        kcol.clear();
+        for kk in k.col_ptr[c]..k.col_ptr[c + 1] {
+            let r = k.row_idx[kk];
+            if cls[r] == CLS_P {
+                let v = if z_ring.is_some() { k.val[kk] } else { 0.0 };
+                kcol.push((idx[r], v));
+            }
+        }
+        let t = pc_pos[pcol];
+        let brow = |i: usize| {
+            let ri = order[i];
+            (rows[ri], block[ri * npc + t])
+        };
+        let nb = if t == usize::MAX { 0 } else { order.len() };
+        let (mut i, mut j) = (0, 0);
+        while i < kcol.len() || j < nb {
+            let a = kcol.get(i).copied();
+            let b = (j < nb).then(|| brow(j));
+            let (r, v) = match (a, b) {
+                (Some(a), Some(b)) if a.0 == b.0 => {
+                    i += 1;
+                    j += 1;
+                    (a.0, a.1 + b.1)
+                }
+                (Some(a), Some(b)) if a.0 < b.0 => {
+                    i += 1;
+                    a
+                }
+                (Some(a), None) => {
+                    i += 1;
+                    a
+                }
+                (_, Some(b)) => {
+                    j += 1;
+                    b
+                }
+                (None, None) => unreachable!("the loop condition"),
+            };
+            row_idx.push(r);
+            val.push(v);
+        }
+        col_ptr.push(row_idx.len());
+    }
+    CscMatrix {
+        nrows: np,
+        ncols: np,
+        col_ptr,
+        row_idx,
+        val,
+    }
+}
+
+/// The pattern of the sparse S (values 0; [`schur_sparse`]), whether it is symmetric (pure PD:
+/// no free FEM dofs) and the positions of its unknowns, for the engine's cost estimate and the
+/// symbolic analysis.
+pub(in crate::pd::sla) fn schur_pattern(
+    model: &SpliceModel,
+    k: &CscMatrix,
+    probe_dofs: &[usize],
+) -> (CscMatrix, bool, Vec<[f64; 2]>) {
+    let dc = dof_classes(model);
+    let cp = coupling_sets(model, k, &dc, probe_dofs);
+    let cr = CouplingRef {
+        pc: &cp.pc,
+        ring: &cp.ring,
+        ring_pos: &cp.ring_pos,
+    };
+    let s = schur_sparse(k, &dc.cls, &dc.idx, &dc.p_dofs, &cr, None);
+    let xy = dc.p_dofs.iter().map(|&d| model.grid.xy(d / 2)).collect();
+    (s, dc.nf == 0, xy)
 }

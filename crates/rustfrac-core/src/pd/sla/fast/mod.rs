@@ -4,7 +4,8 @@
 //! y = y0 - Z x where Z = K_FF^{-1} K_FP, and S x = g with S = K_PP - K_PF Z, dense and small
 //! (2 x PD nodes): `condensation.rs`. K_FP and K_PF touch only a thin interface I of FEM dofs, so
 //! S needs only (K_FF^{-1})_II: one sparse Cholesky of the SPD FEM block with I ordered last
-//! gives it from the factor's dense trailing block ([`crate::la::InterfaceCholesky`]). S is inverted once; a broken bond is a rank-1
+//! gives it from the factor's dense trailing block ([`crate::la::InterfaceCholesky`]). S is inverted once
+//! (or, for large PD regions, factorised sparse: `base.rs`, chosen by `super::cost`); a broken bond is a rank-1
 //! change of S and g (a on the PD rows of its ends), handled by Sherman-Morrison-Woodbury with the
 //! capacitance inverse grown by bordering (O(k^2) per break): `smw.rs`. The Schur pivot of the
 //! bordering is the ratio det(S_k+1)/det(S_k): when it vanishes the body has separated (status
@@ -12,20 +13,31 @@
 //! [`super::auto_refactor_every`]) bounds the stored update vectors, so a run of any length keeps
 //! its memory at O(bonds + n_P^2).
 
+mod base;
 mod condensation;
 mod smw;
+
+pub(super) use base::SparseFactor;
+pub(super) use condensation::schur_pattern;
 
 use super::engine::{separated, Engine, State, Update};
 use crate::error::Result;
 use crate::la::Cholesky;
 use crate::la::{CscMatrix, Reduction};
 use crate::pd::splice::{SpliceModel, Spring};
-use faer::Mat;
+use base::Base;
 
 /// Dof classes of the condensation.
 const CLS_FIXED: u8 = 0;
 const CLS_F: u8 = 1;
 const CLS_P: u8 = 2;
+
+/// The form of the base condensed system S_0 (`base.rs`): a dense inverse or a sparse factor.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum SchurKind {
+    Dense,
+    Sparse,
+}
 
 /// Condensation onto the PD dofs + Sherman-Morrison-Woodbury.
 pub(super) struct Fast<'a> {
@@ -50,8 +62,12 @@ pub(super) struct Fast<'a> {
     sig_coef: Vec<f64>,
     cmod_const: f64,
     cmod_coef: Vec<f64>,
-    /// inverse of the base condensed matrix, n_P x n_P
-    sinv: Mat<f64>,
+    /// the base condensed matrix S_0: its dense inverse or its sparse factor (`base.rs`)
+    base: Base,
+    /// which form of S_0 to build at each condensation
+    kind: SchurKind,
+    /// positions of the P dofs (nested dissection of the sparse Cholesky)
+    p_xy: Vec<[f64; 2]>,
     x0: Vec<f64>,
     v: Vec<f64>,
     // SMW state

@@ -148,12 +148,7 @@ impl Fast<'_> {
     ) -> Result<()> {
         let np = self.p_dofs.len();
         // w = S0^{-1} a
-        let mut w = vec![0.0; np];
-        for &(p, val) in &a {
-            for (wi, &s) in w.iter_mut().zip(self.sinv.col_as_slice(p)) {
-                *wi += s * val;
-            }
-        }
+        let w = self.base.solve_sparse(&a, np)?;
         // bordering of the capacitance C = I - B^T W
         let k = self.w.len();
         let col: Vec<f64> = self

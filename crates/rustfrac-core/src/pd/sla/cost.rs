@@ -1,0 +1,149 @@
+//! The engine's cost model: which form of the condensed PD system (dense inverse or sparse
+//! factor, `fast/base.rs`) runs the SLA, from estimated times, and the re-factorisation interval
+//! of the sparse form.
+//!
+//! With n = n_P condensed unknowns, N the re-condensation interval and k <= N stored updates, the
+//! SLA costs per step O(k n) for the updates (`fast/smw.rs`: x = v + W y) plus:
+//! * dense: one condensation = LU + inverse, 2 n^3 flops at [`DENSE_FLOPS`]; N = n / 2
+//!   ([`super::auto_refactor_every`]); the step's solve is a few columns of S^{-1} (O(n)).
+//! * sparse: one factorisation, about nnz(L)^2 / n flops (exact for a dense band; the supernodal
+//!   factor of the 2D grids here measured within a factor 2 of it) at [`SPARSE_FLOPS`], and
+//!   a solve per step, 4 nnz(L) flops at [`SOLVE_FLOPS`] (memory bound). nnz(L) comes from the
+//!   symbolic Cholesky analysis of the pattern of S (for the non-symmetric CCM-PD S, of its
+//!   symmetrised pattern: LU stores L and U, so twice that). The interval minimising
+//!   t_fact / N + t_solve + N n / [`UPDATE_FLOPS`] is N = sqrt(t_fact [`UPDATE_FLOPS`] / n).
+//!
+//! The estimates are for [`HORIZON_STEPS`] steps whatever the run's `sla_steps`, so a resumed run
+//! (checkpoint) picks the same engine as the run that wrote it. The rates are measured on the
+//! development machine (2 cores; benches/RESULTS.md, "Large PD regions"); only their ratios
+//! matter for the choice.
+
+/// Dense LU + inverse rate (flop/s).
+pub(super) const DENSE_FLOPS: f64 = 2.0e10;
+/// Sparse supernodal factorisation rate (flop/s).
+pub(super) const SPARSE_FLOPS: f64 = 8.0e9;
+/// Sparse triangular solve rate with one right-hand side (flop/s; memory bound).
+pub(super) const SOLVE_FLOPS: f64 = 2.0e9;
+/// Rate of the O(k n) update work per step (flop/s; memory bound).
+pub(super) const UPDATE_FLOPS: f64 = 2.0e9;
+/// Steps the estimates are made for.
+pub const HORIZON_STEPS: usize = 500;
+/// Bounds of the sparse re-factorisation interval.
+const SPARSE_INTERVAL: (usize, usize) = (16, 4096);
+
+/// The form of the condensed system.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum EngineKind {
+    Dense,
+    Sparse,
+}
+
+/// Estimated seconds of both forms for [`HORIZON_STEPS`] steps, and the interval of each.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CostEstimate {
+    pub n_p: usize,
+    pub factor_nnz: f64,
+    pub dense_seconds: f64,
+    pub dense_interval: usize,
+    pub sparse_seconds: f64,
+    pub sparse_interval: usize,
+}
+
+impl CostEstimate {
+    /// Estimates for `n_p` unknowns whose sparse factor has `factor_nnz` stored values;
+    /// `refactor_every` > 0 fixes both intervals (the scene's `pd.refactor_every`).
+    pub fn new(n_p: usize, factor_nnz: f64, refactor_every: usize) -> Self {
+        let n = n_p.max(1) as f64;
+        let steps = HORIZON_STEPS as f64;
+        let per_update = n / UPDATE_FLOPS;
+        let dense_interval = if refactor_every > 0 {
+            refactor_every
+        } else {
+            super::auto_refactor_every(n_p)
+        };
+        let t_cond = 2.0 * n * n * n / DENSE_FLOPS;
+        let dense_seconds = cycle_cost(steps, dense_interval, t_cond, 0.0, per_update);
+        let t_fact = factor_nnz * factor_nnz / n / SPARSE_FLOPS;
+        let t_solve = 4.0 * factor_nnz / SOLVE_FLOPS;
+        let sparse_interval = if refactor_every > 0 {
+            refactor_every
+        } else {
+            let (lo, hi) = SPARSE_INTERVAL;
+            ((t_fact / per_update).sqrt().round() as usize).clamp(lo, hi)
+        };
+        let sparse_seconds = cycle_cost(steps, sparse_interval, t_fact, t_solve, per_update);
+        Self {
+            n_p,
+            factor_nnz,
+            dense_seconds,
+            dense_interval,
+            sparse_seconds,
+            sparse_interval,
+        }
+    }
+
+    /// The cheaper form (dense on a tie).
+    pub fn choice(&self) -> EngineKind {
+        if self.sparse_seconds < self.dense_seconds {
+            EngineKind::Sparse
+        } else {
+            EngineKind::Dense
+        }
+    }
+
+    /// Bytes the solver of form `kind` keeps: the dense form three n x n matrices, the sparse
+    /// form its factor (values and indices, 12 bytes a value) and N update vectors.
+    pub fn solver_bytes(&self, kind: EngineKind) -> f64 {
+        let n = self.n_p as f64;
+        match kind {
+            EngineKind::Dense => 3.0 * 8.0 * n * n,
+            EngineKind::Sparse => 12.0 * self.factor_nnz + 8.0 * n * self.sparse_interval as f64,
+        }
+    }
+
+    /// One line for the result's `solver` string.
+    pub fn describe(&self) -> String {
+        format!(
+            "estimated {HORIZON_STEPS} steps: dense {:.3e} s (re-condense every {}), sparse {:.3e} s \
+             (nnz(L) {:.3e}, refactorise every {})",
+            self.dense_seconds,
+            self.dense_interval,
+            self.sparse_seconds,
+            self.factor_nnz,
+            self.sparse_interval
+        )
+    }
+}
+
+/// Seconds of `steps` steps with a (re)factorisation of `t_fact` every `interval` updates, a
+/// solve of `t_solve` per step and `per_update` seconds per stored update per step (k grows
+/// from 0 to the interval: on average interval / 2).
+fn cycle_cost(steps: f64, interval: usize, t_fact: f64, t_solve: f64, per_update: f64) -> f64 {
+    let n_fact = 1.0 + (steps / interval.max(1) as f64).floor();
+    n_fact * t_fact + steps * (t_solve + 0.5 * interval as f64 * per_update)
+}
+
+/// An estimate of nnz(L) before the model exists (the memory estimate of
+/// [`crate::pd::splice`]): nested dissection of the PD grid measured nnz(L) = 0.37 nnz(K_PP)
+/// log2(n_P) on the paper's pure PD grid (n_P = 103 583, nnz(K_PP) = 1.40e7, nnz(L) = 8.56e7),
+/// with nnz(K_PP) = 4 (2 bonds per node + 1) per node.
+pub fn factor_nnz_guess(n_p: usize, n_bonds: f64) -> f64 {
+    let n = n_p.max(2) as f64;
+    let nnz_k = 4.0 * (2.0 * n_bonds + 0.5 * n);
+    0.37 * nnz_k * n.log2()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn small_systems_stay_dense_large_go_sparse() {
+        // the paper's CCM-PD (n_P = 2080): dense; its pure PD (n_P = 103 583): sparse
+        let small = CostEstimate::new(2080, factor_nnz_guess(2080, 2080.0 * 24.0), 0);
+        assert_eq!(small.choice(), EngineKind::Dense, "{small:?}");
+        let big = CostEstimate::new(103_583, 8.56e7, 0);
+        assert_eq!(big.choice(), EngineKind::Sparse, "{big:?}");
+        assert!(big.sparse_interval >= 16 && big.sparse_interval <= 4096);
+    }
+}
