@@ -198,13 +198,13 @@ def test_summary_carries_the_energy_audit(fast_run: tuple[Path, dict]) -> None:
 
 
 def test_summary_splits_the_job_time(fast_run: tuple[Path, dict]) -> None:
-    """issue 15 item 3: the job's own time split (computation, figures, files) in summary.json
-    and summary.md; the parts add up to the total."""
+    """issue 15 item 3: the job's own time split (computation, figures, summaries) in
+    summary.json and summary.md; the parts add up to the total."""
     out, summary = fast_run
     t = summary["time_split_s"]
-    assert set(t) == {"compute", "figures", "files", "other", "total"}
+    assert set(t) == {"compute", "figures", "summaries", "other", "total"}
     assert all(v >= 0.0 for v in t.values())
-    parts = t["compute"] + t["figures"] + t["files"] + t["other"]
+    parts = t["compute"] + t["figures"] + t["summaries"] + t["other"]
     assert parts == pytest.approx(t["total"], rel=1e-9, abs=1e-9)
     assert t["compute"] >= sum(summary["times_s"].values()) - 1e-9  # the runs are inside it
     assert "Job time: computation" in (out / "summary.md").read_text()
