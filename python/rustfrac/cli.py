@@ -475,25 +475,12 @@ def _cmd_fig7(args: argparse.Namespace) -> int:
         return 2
     log = None if args.quiet else (lambda s: print(s, flush=True))
     bars: list[ProgressBar] = []
-
-    def progress(name: str) -> ProgressBar | None:
-        if args.quiet:
-            return None
-        for b in bars:
-            b.close()
-        bars.append(ProgressBar())
-        return bars[-1]
+    progress = _bar_per_run(bars, args.quiet)
 
     try:
         fig7(args.out, preset=args.preset, bc=args.bc, log=log, progress=progress)
     except Fig7Interrupted as e:
-        missing = e.summary["missing"]
-        print(
-            f"rustfrac: interrupted; the finished parts were written to {args.out}/"
-            + (f"; missing: {', '.join(missing)}" if missing else ""),
-            file=sys.stderr,
-        )
-        return 130
+        return _interrupted(args.out, e.summary["missing"])
     except KeyboardInterrupt:
         print(
             f"rustfrac: interrupted while writing {args.out}/: it may hold parts of two runs "
@@ -534,14 +521,7 @@ def _cmd_compare(args: argparse.Namespace) -> int:
         return 2
     log = None if args.quiet else (lambda s: print(s, flush=True))
     bars: list[ProgressBar] = []
-
-    def progress(name: str) -> ProgressBar | None:
-        if args.quiet:
-            return None
-        for b in bars:
-            b.close()
-        bars.append(ProgressBar())
-        return bars[-1]
+    progress = _bar_per_run(bars, args.quiet)
 
     try:
         compare(
@@ -551,17 +531,38 @@ def _cmd_compare(args: argparse.Namespace) -> int:
             allow_slow=args.allow_slow, vtu=args.vtu, log=log, progress=progress,
         )  # fmt: skip
     except CompareInterrupted as e:
-        missing = e.summary["missing"]
-        print(
-            f"rustfrac: interrupted; the finished parts were written to {args.out}/"
-            + (f"; missing: {', '.join(missing)}" if missing else ""),
-            file=sys.stderr,
-        )
-        return 130
+        return _interrupted(args.out, e.summary["missing"])
     finally:
         for b in bars:
             b.close()
     return 0
+
+
+def _bar_per_run(
+    bars: list[ProgressBar], quiet: bool
+) -> Callable[[str], ProgressBar | None]:
+    """The progress factory of a job of several runs (fig7, compare): a fresh text bar per run,
+    the previous one closed; kept in ``bars`` so the command closes the last one."""
+
+    def progress(name: str) -> ProgressBar | None:
+        if quiet:
+            return None
+        for b in bars:
+            b.close()
+        bars.append(ProgressBar())
+        return bars[-1]
+
+    return progress
+
+
+def _interrupted(out: Path, missing: list[str]) -> int:
+    """Says that a job was interrupted and what it wrote; the exit status of a Ctrl-C (130)."""
+    print(
+        f"rustfrac: interrupted; the finished parts were written to {out}/"
+        + (f"; missing: {', '.join(missing)}" if missing else ""),
+        file=sys.stderr,
+    )
+    return 130
 
 
 def _read_scene(path: Path) -> _Scene | None:

@@ -58,10 +58,9 @@ from . import agreement, energy, figures, paths
 from ._folder import check_writable, with_fallback, writing
 from ._log import logger
 from .errors import InvalidParameterError, PlotDataError
-from .fig7 import _json_default, _machine, _write_text
+from .fig7 import _json_default, _machine, _write_text, run_logged
 from .pd_region import DEFAULT_MARGIN_HORIZONS, Box, held_sides, pd_dofs, pd_region
 from .result import OWNED_NAMES, Result
-from .runner import run
 from .scene import _CONST, METHODS, PdOptions, Scene
 from .specimens import _pd_layout
 
@@ -558,13 +557,7 @@ def compare(
                 else:  # pragma: no cover (XFEM failed before)
                     gp, tip = np.asarray(p.xfem.crack_polylines()[0])[-1:], None
                 scenes["ccm_pd"] = place(p, gp, tip)
-            sc = scenes[name]
-            say(f"run     {name}: {sc.describe()}")
-            t0 = time.perf_counter()
-            res = run(sc, progress=progress(name) if progress else None)
-            times[name] = time.perf_counter() - t0
-            results[name] = res
-            say(f"        {_built(res)}; {times[name]:.2f} s")
+            results[name], times[name] = run_logged(name, scenes[name], progress, say, _built)
     except KeyboardInterrupt:
         interrupted = True
         say("interrupted: writing what finished")

@@ -188,12 +188,7 @@ def fig7(
     t_all = time.perf_counter()
     try:
         for name, scene in scenes.items():
-            say(f"run     {name}: {scene.describe()}")
-            t0 = time.perf_counter()
-            res = run(scene, progress=progress(name) if progress else None)
-            times[name] = time.perf_counter() - t0
-            results[name] = res
-            say(f"        {_built(res)}; {times[name]:.2f} s")
+            results[name], times[name] = run_logged(name, scene, progress, say, _built)
     except KeyboardInterrupt:
         interrupted = True
         say("interrupted: writing what finished")
@@ -210,6 +205,24 @@ def fig7(
     if summary["interrupted"]:
         raise Fig7Interrupted(summary)
     return summary
+
+
+def run_logged(
+    name: str,
+    scene: Scene,
+    progress: Callable[[str], Callable[[int, int, str], Any] | None] | None,
+    say: Log,
+    built: Callable[[Result], str],
+) -> tuple[Result, float]:
+    """One run of a job (fig7, compare): logged before and after (``built`` describes the
+    result), with its progress callback from the factory ``progress(name)``; returns the result
+    and its wall time."""
+    say(f"run     {name}: {scene.describe()}")
+    t0 = time.perf_counter()
+    res = run(scene, progress=progress(name) if progress else None)
+    seconds = time.perf_counter() - t0
+    say(f"        {built(res)}; {seconds:.2f} s")
+    return res, seconds
 
 
 class Fig7Interrupted(KeyboardInterrupt):
