@@ -7,61 +7,12 @@
 mod common;
 
 use common::rel;
+use common::scene_values::{edge_shear, f, floats, i, pair, s, scene, tbl};
 use rustfrac_core::fem_driver;
 use rustfrac_core::problem::value::{Table, Value};
 use rustfrac_core::problem::Problem;
 use rustfrac_core::xfem;
 use rustfrac_core::Error;
-
-fn f(x: f64) -> Value {
-    Value::Float(x)
-}
-fn s(x: &str) -> Value {
-    Value::Str(x.into())
-}
-fn i(x: i64) -> Value {
-    Value::Int(x)
-}
-fn pair(a: f64, b: f64) -> Value {
-    Value::List(vec![f(a), f(b)])
-}
-fn floats(v: &[f64]) -> Value {
-    Value::List(v.iter().map(|&x| f(x)).collect())
-}
-fn tbl(kv: &[(&str, Value)]) -> Value {
-    Value::Table(kv.iter().map(|(k, v)| (k.to_string(), v.clone())).collect())
-}
-fn scene(kv: &[(&str, Value)]) -> Table {
-    kv.iter().map(|(k, v)| (k.to_string(), v.clone())).collect()
-}
-
-/// The edge crack under shear (Moes et al. 1999, fig. 13): a 7 x 16 plate, an edge crack of
-/// length 3.5 at mid-height, the bottom edge fixed, a unit shear traction on the top edge,
-/// E = 3e7, nu = 0.25, plane strain.
-fn edge_shear(nx: i64, ny: i64) -> Table {
-    scene(&[
-        ("method", s("xfem")),
-        ("plate", tbl(&[("width", f(7.0)), ("height", f(16.0))])),
-        ("material", tbl(&[("E", f(3e7)), ("nu", f(0.25))])),
-        (
-            "crack",
-            tbl(&[("kind", s("edge")), ("a0", f(3.5)), ("y", f(8.0))]),
-        ),
-        ("mesh", tbl(&[("nx", i(nx)), ("ny", i(ny))])),
-        (
-            "support",
-            Value::List(vec![tbl(&[("region", s("edge")), ("side", s("bottom"))])]),
-        ),
-        (
-            "load",
-            Value::List(vec![tbl(&[
-                ("region", s("edge")),
-                ("side", s("top")),
-                ("shear", f(1.0)),
-            ])]),
-        ),
-    ])
-}
 
 #[test]
 fn edge_crack_under_shear_matches_the_literature() {

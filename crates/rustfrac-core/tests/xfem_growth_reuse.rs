@@ -7,6 +7,7 @@
 
 mod common;
 
+use common::scene_values::{edge_shear, f, i, s, tbl};
 use common::{paper_growth, quiet, tall_strip, XfemCase};
 use rustfrac_core::problem::value::{Table, Value};
 use rustfrac_core::problem::{Growth, Hole, Method, Problem, Shape};
@@ -211,58 +212,22 @@ fn growth_towards_a_hole_matches_the_reference() {
     compare("hole", &p, 3);
 }
 
-fn f(x: f64) -> Value {
-    Value::Float(x)
-}
-fn s(x: &str) -> Value {
-    Value::Str(x.into())
-}
-fn i(x: i64) -> Value {
-    Value::Int(x)
-}
-fn tbl(kv: &[(&str, Value)]) -> Value {
-    Value::Table(kv.iter().map(|(k, v)| (k.to_string(), v.clone())).collect())
-}
-
 /// The edge crack under shear (Moes et al. 1999) on a grid graded towards the crack, supports
 /// and loads on regions: the crack kinks.
 #[test]
 fn graded_regions_growth_matches_the_reference() {
-    let scene: Table = [
-        ("method", s("xfem")),
-        ("plate", tbl(&[("width", f(7.0)), ("height", f(16.0))])),
-        ("material", tbl(&[("E", f(3e7)), ("nu", f(0.25))])),
-        (
-            "crack",
-            tbl(&[("kind", s("edge")), ("a0", f(3.5)), ("y", f(8.0))]),
-        ),
-        (
-            "mesh",
-            tbl(&[
-                ("nx", i(14)),
-                ("ny", i(32)),
-                ("refine", Value::List(vec![f(2.5), f(6.5), f(5.5), f(9.5)])),
-                ("refine_h", f(0.125)),
-                ("grading", f(1.2)),
-            ]),
-        ),
-        (
-            "support",
-            Value::List(vec![tbl(&[("region", s("edge")), ("side", s("bottom"))])]),
-        ),
-        (
-            "load",
-            Value::List(vec![tbl(&[
-                ("region", s("edge")),
-                ("side", s("top")),
-                ("shear", f(1.0)),
-            ])]),
-        ),
-        ("xfem", tbl(&[("growth_steps", i(6))])),
-    ]
-    .iter()
-    .map(|(k, v)| (k.to_string(), v.clone()))
-    .collect();
+    let mut scene = edge_shear(14, 32);
+    scene.insert(
+        "mesh".into(),
+        tbl(&[
+            ("nx", i(14)),
+            ("ny", i(32)),
+            ("refine", Value::List(vec![f(2.5), f(6.5), f(5.5), f(9.5)])),
+            ("refine_h", f(0.125)),
+            ("grading", f(1.2)),
+        ]),
+    );
+    scene.insert("xfem".into(), tbl(&[("growth_steps", i(6))]));
     let p = Problem::from_scene(&scene).unwrap();
     compare("graded, regions, shear", &p, 5);
 }

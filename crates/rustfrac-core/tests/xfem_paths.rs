@@ -7,24 +7,12 @@
 
 mod common;
 
+use common::scene_values::{edge_shear as shear_scene, f, i, s, tbl};
 use rustfrac_core::problem::value::{Table, Value};
 use rustfrac_core::problem::Problem;
 use rustfrac_core::xfem::paths::{path_deviation, turning_angles};
 use rustfrac_core::xfem::{self, XfemResult};
 use rustfrac_core::Error;
-
-fn f(x: f64) -> Value {
-    Value::Float(x)
-}
-fn s(x: &str) -> Value {
-    Value::Str(x.into())
-}
-fn i(x: i64) -> Value {
-    Value::Int(x)
-}
-fn tbl(kv: &[(&str, Value)]) -> Value {
-    Value::Table(kv.iter().map(|(k, v)| (k.to_string(), v.clone())).collect())
-}
 
 /// The paper's plate (11 x 21, free grips, u0 = 0.01) with a 30-degree edge crack of length 1.1
 /// at mid-height on `n` times the paper's 44 x 83 mesh (h = 0.25 / n), grown by `da` up to the
@@ -141,40 +129,16 @@ fn coarse_path_lies_near_the_fine_reference() {
 /// The edge crack under shear (`rustfrac.specimens.edge_shear`: 7 x 16, crack 3.5 at mid-height,
 /// bottom fixed, unit shear on the top edge) on 28 x 64, grown by da = h = 0.25 to a = 5.5.
 fn edge_shear(rule: &str) -> XfemResult {
-    let t: Table = [
-        ("method", s("xfem")),
-        ("plate", tbl(&[("width", f(7.0)), ("height", f(16.0))])),
-        ("material", tbl(&[("E", f(3e7)), ("nu", f(0.25))])),
-        (
-            "crack",
-            tbl(&[("kind", s("edge")), ("a0", f(3.5)), ("y", f(8.0))]),
-        ),
-        ("mesh", tbl(&[("nx", i(28)), ("ny", i(64))])),
-        (
-            "support",
-            Value::List(vec![tbl(&[("region", s("edge")), ("side", s("bottom"))])]),
-        ),
-        (
-            "load",
-            Value::List(vec![tbl(&[
-                ("region", s("edge")),
-                ("side", s("top")),
-                ("shear", f(1.0)),
-            ])]),
-        ),
-        (
-            "xfem",
-            tbl(&[
-                ("growth_steps", i(100)),
-                ("da", f(0.25)),
-                ("a_stop", f(5.5)),
-                ("kink_rule", s(rule)),
-            ]),
-        ),
-    ]
-    .into_iter()
-    .map(|(k, v)| (k.to_string(), v))
-    .collect();
+    let mut t = shear_scene(28, 64);
+    t.insert(
+        "xfem".into(),
+        tbl(&[
+            ("growth_steps", i(100)),
+            ("da", f(0.25)),
+            ("a_stop", f(5.5)),
+            ("kink_rule", s(rule)),
+        ]),
+    );
     xfem::run(&Problem::from_scene(&t).unwrap(), &common::quiet).unwrap()
 }
 

@@ -131,6 +131,27 @@ struct Node<'a> {
     vals: &'a [f64],
 }
 
+/// The forward elimination of one supernode's columns in x (x[begin..begin + ncols] become the
+/// solution's entries; the rows below the supernode are updated): the kernel of every forward
+/// solve here, dense or along the elimination-tree paths.
+fn eliminate(nd: &Node<'_>, x: &mut [f64]) {
+    let (b0, nc, nr) = (nd.begin, nd.ncols, nd.nrows);
+    for j in 0..nc {
+        let col = &nd.vals[j * nr..(j + 1) * nr];
+        let xj = x[b0 + j] / col[j];
+        x[b0 + j] = xj;
+        if xj == 0.0 {
+            continue;
+        }
+        for i in j + 1..nc {
+            x[b0 + i] -= col[i] * xj;
+        }
+        for (p, &r) in nd.rows.iter().enumerate() {
+            x[r] -= col[nc + p] * xj;
+        }
+    }
+}
+
 fn n_nodes(chol: &Cholesky) -> usize {
     match chol.symbolic.raw() {
         SymbolicCholeskyRaw::Supernodal(sn) => sn.n_supernodes(),
@@ -233,21 +254,8 @@ impl SparseForward {
         for &s in &nodes {
             mark[s as usize] = false;
             let nd = node(chol, s as usize);
-            let (b0, nc, nr) = (nd.begin, nd.ncols, nd.nrows);
-            for j in 0..nc {
-                let col = &nd.vals[j * nr..(j + 1) * nr];
-                let xj = x[b0 + j] / col[j];
-                x[b0 + j] = xj;
-                if xj == 0.0 {
-                    continue;
-                }
-                for i in j + 1..nc {
-                    x[b0 + i] -= col[i] * xj;
-                }
-                for (p, &r) in nd.rows.iter().enumerate() {
-                    x[r] -= col[nc + p] * xj;
-                }
-            }
+            eliminate(&nd, x);
+            let (b0, nc) = (nd.begin, nd.ncols);
             out.push(b0, &x[b0..b0 + nc]);
             x[b0..b0 + nc].fill(0.0);
         }
@@ -264,22 +272,7 @@ impl SparseForward {
             x[self.inv[i]] = v * chol.scale[i];
         }
         for s in 0..self.parent.len() {
-            let nd = node(chol, s);
-            let (b0, nc, nr) = (nd.begin, nd.ncols, nd.nrows);
-            for j in 0..nc {
-                let col = &nd.vals[j * nr..(j + 1) * nr];
-                let xj = x[b0 + j] / col[j];
-                x[b0 + j] = xj;
-                if xj == 0.0 {
-                    continue;
-                }
-                for i in j + 1..nc {
-                    x[b0 + i] -= col[i] * xj;
-                }
-                for (p, &r) in nd.rows.iter().enumerate() {
-                    x[r] -= col[nc + p] * xj;
-                }
-            }
+            eliminate(&node(chol, s), &mut x);
         }
         x
     }

@@ -294,3 +294,58 @@ pub fn run(
 ) -> rustfrac_core::Result<rustfrac_core::xfem::XfemResult> {
     rustfrac_core::xfem::run(&case.problem(), progress)
 }
+
+/// Scene tables built in Rust, as a TOML file would state them (`Problem::from_scene`).
+pub mod scene_values {
+    use rustfrac_core::problem::value::{Table, Value};
+
+    pub fn f(x: f64) -> Value {
+        Value::Float(x)
+    }
+    pub fn s(x: &str) -> Value {
+        Value::Str(x.into())
+    }
+    pub fn i(x: i64) -> Value {
+        Value::Int(x)
+    }
+    pub fn pair(a: f64, b: f64) -> Value {
+        Value::List(vec![f(a), f(b)])
+    }
+    pub fn floats(v: &[f64]) -> Value {
+        Value::List(v.iter().map(|&x| f(x)).collect())
+    }
+    pub fn tbl(kv: &[(&str, Value)]) -> Value {
+        Value::Table(kv.iter().map(|(k, v)| (k.to_string(), v.clone())).collect())
+    }
+    pub fn scene(kv: &[(&str, Value)]) -> Table {
+        kv.iter().map(|(k, v)| (k.to_string(), v.clone())).collect()
+    }
+
+    /// The edge crack under shear (Moes et al. 1999, fig. 13): a 7 x 16 plate, an edge crack of
+    /// length 3.5 at mid-height, the bottom edge fixed, a unit shear traction on the top edge,
+    /// E = 3e7, nu = 0.25, plane strain.
+    pub fn edge_shear(nx: i64, ny: i64) -> Table {
+        scene(&[
+            ("method", s("xfem")),
+            ("plate", tbl(&[("width", f(7.0)), ("height", f(16.0))])),
+            ("material", tbl(&[("E", f(3e7)), ("nu", f(0.25))])),
+            (
+                "crack",
+                tbl(&[("kind", s("edge")), ("a0", f(3.5)), ("y", f(8.0))]),
+            ),
+            ("mesh", tbl(&[("nx", i(nx)), ("ny", i(ny))])),
+            (
+                "support",
+                Value::List(vec![tbl(&[("region", s("edge")), ("side", s("bottom"))])]),
+            ),
+            (
+                "load",
+                Value::List(vec![tbl(&[
+                    ("region", s("edge")),
+                    ("side", s("top")),
+                    ("shear", f(1.0)),
+                ])]),
+            ),
+        ])
+    }
+}
