@@ -189,7 +189,7 @@ def test_pd_region_covers_the_path_and_keeps_off_loaded_edges() -> None:
         assert abs(v / dx - 0.5 - round(v / dx - 0.5)) < 1e-9 or v in (0.0, 8.0)
 
 
-def test_a_pd_rectangle_beyond_the_fast_engine_is_refused_unless_allowed() -> None:
+def test_a_pd_rectangle_beyond_the_budget_is_refused_unless_allowed() -> None:
     p = compare.plan(TINY_INCLINED, dx=1.0 / 64.0, m=4)
     gp = np.array([[0.87, 4.6], [2.0, 5.0]])
     with pytest.raises(rf.InvalidParameterError) as e:
@@ -200,7 +200,7 @@ def test_a_pd_rectangle_beyond_the_fast_engine_is_refused_unless_allowed() -> No
     assert scene.pd.dx == 1.0 / 64.0 and any("allowed" in n for n in p.notes)
 
 
-def test_an_automatic_dx_is_coarsened_to_fit_the_fast_engine() -> None:
+def test_an_automatic_dx_is_coarsened_to_fit_the_budget() -> None:
     d = {**TINY_INCLINED, "mesh": {"nx": 128, "ny": 256}}
     p = compare.plan(d, m=4)
     assert p.dx == 4.0 / 128 and p.dx_auto
@@ -286,3 +286,15 @@ def test_an_interrupted_compare_writes_what_finished(tmp_path: Path) -> None:
     assert "run ccm_pd" in s["missing"] and "ccm_pd/" in s["missing"]
     assert rf.load(out / "xfem").method == "xfem" and not (out / "ccm_pd").exists()
     assert (out / "compare.png").is_file() and "curves.png" in s["missing"]
+
+
+def test_bad_spacing_and_zero_growth_are_refused_by_name() -> None:
+    """A NaN or non-fitting dx is refused with the core's rule for pd.dx (not a failure inside
+    the layout); a comparison without XFEM growth is refused naming xfem.growth_steps."""
+    for dx in (float("nan"), -1.0, 0.3):
+        with pytest.raises(rf.InvalidParameterError) as e:
+            compare.plan(TINY_INCLINED, dx=dx, m=4)
+        assert e.value.param == "pd.dx", (dx, e.value)
+    with pytest.raises(rf.InvalidParameterError) as e:
+        compare.plan(TINY_INCLINED, growth_steps=0)
+    assert e.value.param == "xfem.growth_steps"

@@ -82,8 +82,9 @@ __all__ = [
 #: XFEM growth steps when the scene sets none (full run, ``quick``)
 DEFAULT_GROWTH_STEPS = {False: 24, True: 4}
 #: XFEM edge cracks grow up to this fraction of the plate's width (height for bottom / top
-#: cracks) when the scene sets no xfem.a_stop
-DEFAULT_A_STOP_FRACTION = 0.9
+#: cracks) when the scene sets no xfem.a_stop (the comparison's own stop, beyond the core's 0.7 W
+#: default for a single run: the two methods are compared along a long path)
+COMPARE_A_STOP_FRACTION = 0.9
 #: half-width of the ridge's strip across the XFEM path, in horizons (bonds farther away are
 #: counted as off the path)
 RIDGE_HALF_WIDTH_HORIZONS = 3.0
@@ -249,6 +250,12 @@ def plan(
             f"represents no other; the scene had nu = {mat.get('nu')}, plane "
             f"{mat.get('plane', 'strain')})"
         )
+    # dx and m against the core's ranges and the plate's grid rule first (a clear error naming
+    # pd.dx / pd.m, not a failure in the layout below)
+    Scene.from_dict(
+        {"method": "pd", "plate": common.get("plate", {}), "pd": {"dx": dx, "m": m},
+         "crack": {"kind": "none"}}
+    )  # fmt: skip
     tmp = {"method": "pd", "pd": {"dx": dx, "m": m}, "material": dict(mat), "crack": dict(crack)}
     _pd_layout(tmp)  # nu, plane, and the crack moved off a PD node row (specimens' rule)
     if tmp["crack"] != crack:
@@ -266,14 +273,20 @@ def plan(
         if growth_steps is not None
         else (xf.get("growth_steps") or DEFAULT_GROWTH_STEPS[quick])
     )
+    if not gs or int(gs) < 1:
+        raise InvalidParameterError(
+            f"invalid xfem.growth_steps: expected at least 1 for a comparison (the paths are "
+            f"compared along the growth), got {gs!r}",
+            "xfem.growth_steps",
+        )
     xf["growth_steps"] = int(gs)
     if not xf.get("a_stop") and crack.get("kind") == "edge":
         # the path, not the core's 0.7 W default, sets how far to grow: the tip stops itself
         # 2 elements from the boundary ("ligament_used_up")
         side = width if crack.get("side", "left") in ("left", "right") else height
-        xf["a_stop"] = DEFAULT_A_STOP_FRACTION * side
+        xf["a_stop"] = COMPARE_A_STOP_FRACTION * side
         notes.append(
-            f"XFEM growth up to a = {xf['a_stop']:g} ({DEFAULT_A_STOP_FRACTION:g} of the plate)"
+            f"XFEM growth up to a = {xf['a_stop']:g} ({COMPARE_A_STOP_FRACTION:g} of the plate)"
         )
     xd["xfem"] = xf
     pd_opts = {k: v for k, v in pd_in.items() if k not in ("center", "size")}
