@@ -34,6 +34,7 @@ logger = logging.getLogger(__name__)
 COSTLY: dict[str, str] = {
     "paper_ccm_pd.toml": "pd_coarse.toml",
     "paper_ccm_pd_clamped.toml": "pd_coarse.toml",
+    "paper_ccm_pd_adaptive.toml": "pd_coarse.toml",
 }
 #: where the gallery's figures go, relative to the documentation's source directory
 GENERATED = Path("_generated") / "gallery"

@@ -14,7 +14,7 @@ use crate::progress::Progress;
 use crate::shaped::Shaped;
 use numpy::PyArray1;
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PyList};
 use rustfrac_core::error::Error as CoreError;
 use rustfrac_core::pd::sla::{self, CcmPdResult, SlaStep};
 use rustfrac_core::problem::{Method, Problem};
@@ -157,10 +157,35 @@ fn meta(s: &Shaped<'_>, r: &CcmPdResult, p: &Problem, wall: f64) -> PyResult<()>
     m.set_item("status", r.status.name())?;
     m.set_item("solver", &r.solver)?;
     m.set_item("sla_steps_done", r.history.len())?;
-    match pd.regions.is_empty() {
-        false => m.set_item("pd_regions", pd.regions.clone())?,
+    match r.regions.is_empty() {
+        false => m.set_item("pd_regions", r.regions.clone())?,
         true => m.set_item("pd_regions", "the whole plate")?,
     }
+    // the adaptive region: where it started, its growths, and the closest approach of a broken
+    // bond to the FEM part (every CCM-PD run)
+    m.set_item(
+        "pd_region",
+        if pd.adaptive.is_some() {
+            "adaptive"
+        } else {
+            "fixed"
+        },
+    )?;
+    if pd.adaptive.is_some() {
+        m.set_item("pd_regions_initial", pd.regions.clone())?;
+    }
+    let switches = PyList::empty(py);
+    for sw in &r.switches {
+        let d = PyDict::new(py);
+        d.set_item("step", sw.step)?;
+        d.set_item("n_regions", sw.regions.len())?;
+        d.set_item("n_pd_nodes", sw.n_pd_nodes)?;
+        d.set_item("n_dofs", sw.n_dofs)?;
+        d.set_item("seconds", sw.seconds)?;
+        switches.append(d)?;
+    }
+    m.set_item("region_switches", switches)?;
+    m.set_item("interface_distance_min", r.interface_distance_min)?;
     m.set_item("precrack", p.pd_precrack())?;
     m.set_item("out_of_balance", r.out_of_balance.to_vec())?;
     m.set_item("n_refactorisations", r.n_refactorisations)?;
@@ -189,6 +214,10 @@ fn meta(s: &Shaped<'_>, r: &CcmPdResult, p: &Problem, wall: f64) -> PyResult<()>
     t.set_item("rust_s", wall)?;
     t.set_item("setup_s", r.setup_seconds)?;
     t.set_item("sla_s", r.sla_seconds)?;
+    t.set_item(
+        "region_switch_s",
+        r.switches.iter().map(|s| s.seconds).sum::<f64>(),
+    )?;
     m.set_item("timings", t)?;
     Ok(())
 }

@@ -15,6 +15,7 @@
 
 pub mod general;
 pub mod parse;
+pub mod pd_region;
 pub mod regions;
 pub mod schema;
 pub mod validate;
@@ -355,6 +356,9 @@ pub struct PdMethod {
     /// CCM-PD: the PD rectangles [x0, y0, x1, y1] (a scene states one, by `pd.center` and
     /// `pd.size`); pure PD: none (the whole plate)
     pub regions: Vec<[f64; 4]>,
+    /// CCM-PD with `pd.region = "adaptive"`: `regions` is where the run starts and grows by
+    /// this rule ([`pd_region`]); None: the rectangles stay fixed
+    pub adaptive: Option<pd_region::AdaptiveRegion>,
     /// CCM-PD: ratio of neighbouring FEM element sizes away from the PD rectangles (1: one
     /// uniform dx grid, the paper's; > 1: a graded FEM grid, `pd::splice::graded`)
     pub fem_grading: f64,

@@ -6,6 +6,7 @@
 // the negated comparisons are deliberate: they refuse NaN too
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+use super::pd_region::{self, AdaptiveRegion};
 use super::schema::{self, Kind, Val};
 use super::value::{Table, Value};
 use super::{
@@ -772,6 +773,10 @@ fn pd_method(pd: &Section, ccm: bool) -> PdMethod {
             .then_some([cx - sx / 2.0, cy - sy / 2.0, cx + sx / 2.0, cy + sy / 2.0])
             .into_iter()
             .collect(),
+        adaptive: (ccm && pd["region"].s() == "adaptive").then(|| AdaptiveRegion {
+            margin: pd["adapt_margin"].f(),
+            size: pd["adapt_size"].f(),
+        }),
         fem_grading: pd["fem_grading"].f(),
         fem_coarse: pd["fem_coarse"].f(),
         sla: SlaParams {
@@ -819,7 +824,7 @@ pub fn from_checked(c: &Checked) -> Problem {
         "pd" => Method::Pd(pd_method(&s["pd"], false)),
         _ => Method::CcmPd(pd_method(&s["pd"], true)),
     };
-    Problem {
+    let mut p = Problem {
         name: c.name.clone(),
         domain,
         material: Material {
@@ -830,7 +835,15 @@ pub fn from_checked(c: &Checked) -> Problem {
         cracks: c.cracks.iter().filter_map(crack).collect(),
         probes: probes(c),
         method,
+    };
+    // the adaptive region starts around the crack tips (its rule: `pd_region`)
+    if let Method::CcmPd(pm) = &p.method {
+        if let Some(a) = pm.adaptive {
+            let regions = pd_region::initial(&p, pm.dx, pm.m, &a);
+            p.pd_mut().regions = regions;
+        }
     }
+    p
 }
 
 /// Kinds, ranges and defaults of a scene tree, read into a [`Problem`] (not yet

@@ -89,6 +89,11 @@ pub const HOLE_VOLUMES: [&str; 2] = ["centre", "exact"];
 pub const KINK_RULES: [&str; 2] = ["hoop", "predictor_corrector"];
 /// `pd.engine`: the SLA solver ([`super::SlaEngine`]).
 pub const SLA_ENGINES: [&str; 4] = ["auto", "dense", "sparse", "oracle"];
+/// `pd.region`: the CCM-PD region fixed (`pd.center`, `pd.size`) or adaptive
+/// ([`super::pd_region`]).
+pub const PD_REGIONS: [&str; 2] = ["fixed", "adaptive"];
+/// Largest `pd.adapt_margin` and `pd.adapt_size` (horizons).
+pub const MAX_ADAPT_HORIZONS: f64 = 50.0;
 /// Regions of supports (loads: all but "box").
 pub const REGIONS: [&str; 4] = ["edge", "edge_part", "point", "box"];
 /// Probe kinds.
@@ -402,6 +407,20 @@ fn build() -> Vec<KeySpec> {
         k("pd", "size", Pair, Val::Pair([2.73, 1.67]), "two finite numbers in [1e-30, 1e30]",
           "size of the CCM-PD rectangle along x1 and x2",
           |v| v.pair().iter().all(|&x| positive(x))),
+        k("pd", "region", Str, Val::Str("fixed".into()), &choice(&PD_REGIONS),
+          "CCM-PD: 'fixed' (the rectangle pd.center, pd.size) or 'adaptive' (squares of \
+           pd.adapt_size horizons around the crack tips, grown before any bond within \
+           pd.adapt_margin horizons of the FEM part breaks; pd.center and pd.size unused)",
+          |v| PD_REGIONS.contains(&v.s())),
+        k("pd", "adapt_margin", Float, Val::Float(2.0),
+          &format!("0 < adapt_margin <= {MAX_ADAPT_HORIZONS}"),
+          "adaptive region: no bond breaks within this many horizons of a FEM node (the \
+           region grows first)", |v| v.f() > 0.0 && v.f() <= MAX_ADAPT_HORIZONS),
+        k("pd", "adapt_size", Float, Val::Float(4.0),
+          &format!("adapt_margin + 1 <= adapt_size <= {MAX_ADAPT_HORIZONS}"),
+          "adaptive region: half-side, in horizons, of the squares it starts with (around \
+           each crack tip) and grows by (around the bond about to break)",
+          |v| v.f() >= 1.0 && v.f() <= MAX_ADAPT_HORIZONS),
         k("pd", "fem_grading", Float, Val::Float(1.0),
           &format!("1 <= fem_grading <= {MAX_GRADING} (> 1 for method 'ccm_pd' only)"),
           "CCM-PD: 1 = one uniform dx grid (the paper's); > 1 = a graded FEM grid: uniform dx \

@@ -154,6 +154,22 @@ fn pd_ranges(pd: &PdMethod, int: &dyn Fn(usize) -> Val) -> Result<()> {
     }
     in_range("pd", "pd", "tie_tol", Val::Float(sla.tie_tol))?;
     in_range("pd", "pd", "fem_grading", Val::Float(pd.fem_grading))?;
+    if let Some(a) = &pd.adaptive {
+        in_range("pd", "pd", "adapt_margin", Val::Float(a.margin))?;
+        in_range("pd", "pd", "adapt_size", Val::Float(a.size))?;
+        // the square around the bond about to break must clear the margin (`pd_region`)
+        if a.size < a.margin + 1.0 {
+            return Err(Error::invalid(
+                "pd.adapt_size",
+                &format!(
+                    "adapt_size >= adapt_margin + 1 = {} (the square grown around a bond must \
+                     hold every node within adapt_margin horizons of its ends)",
+                    a.margin + 1.0
+                ),
+                a.size,
+            ));
+        }
+    }
     in_range("pd", "pd", "fem_coarse", Val::Float(pd.fem_coarse))?;
     let stop = sla.stop_crack_length.unwrap_or(0.0);
     in_range("pd", "pd", "stop_crack_length", Val::Float(stop))?;
@@ -494,6 +510,14 @@ fn peridynamics(p: &Problem, pd: &PdMethod) -> Result<()> {
             ))
         }
         _ => {}
+    }
+    if pd.adaptive.is_some() && matches!(p.method, Method::Pd(_)) {
+        return Err(Error::invalid(
+            "pd.region",
+            "'fixed' for method 'pd' (PD covers the whole plate; an adaptive region needs \
+             method 'ccm_pd')",
+            "'adaptive'",
+        ));
     }
     if pd.fem_grading != 1.0 && matches!(p.method, Method::Pd(_)) {
         return Err(Error::invalid(

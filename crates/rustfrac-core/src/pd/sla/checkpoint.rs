@@ -11,7 +11,9 @@
 //! Format (little endian, no external serialiser): magic `RFSLACK\0`, version (u32), model
 //! fingerprint (u64), step count (u64), then per step: step, lambda, sigma22, cmod, u0,
 //! crack_length, node_i, node_j (u64 / f64 bits), the broken bonds and the detached nodes (each a
-//! u64 count and u64 values), the probes (a u64 count and two f64 each; version 2); finally an
+//! u64 count and u64 values), the probes (a u64 count and two f64 each; version 2); then the
+//! adaptive region's switches (version 3): a u64 count, per switch its first step (u64) and the
+//! midpoints of the bonds that grew the region (a u64 count and two f64 each); finally an
 //! FNV-1a checksum (u64) of everything before it.
 //!
 //! Writing: the file goes to a temporary name beside it, created exclusively under a random name
@@ -31,8 +33,13 @@ use std::path::Path;
 
 const MAGIC: &[u8; 8] = b"RFSLACK\0";
 /// Format version of the checkpoint files written (version 1, without the probes, is still
-/// read for scenes without probes).
-pub const VERSION: u32 = 2;
+/// read for scenes without probes; versions 1 and 2 have no region switches).
+pub const VERSION: u32 = 3;
+
+/// A growth of the adaptive region as a checkpoint stores it: the first step solved on the
+/// grown region and the midpoints of the bonds that grew it ([`crate::problem::pd_region`]
+/// gives the rectangles again).
+pub(crate) type Switch = (usize, Vec<[f64; 2]>);
 /// Version of the fingerprint's field sequence (unchanged by format versions that only add
 /// recorded values, so older checkpoints of the same model keep resuming).
 const FINGERPRINT_SCHEME: u64 = 1;
@@ -125,6 +132,12 @@ pub fn fingerprint(p: &Problem, precrack: &[[f64; 2]], n_dofs: usize, n_bonds: u
         h.f64(pd.fem_grading);
         h.f64(pd.fem_coarse);
     }
+    // the adaptive region's rule (nothing is hashed for a fixed region)
+    if let Some(a) = &pd.adaptive {
+        h.str("adaptive");
+        h.f64(a.margin);
+        h.f64(a.size);
+    }
     if let crate::problem::Boundary::Regions { supports, loads } = &p.boundary {
         h.str(&format!("{supports:?}{loads:?}"));
     }
@@ -139,7 +152,12 @@ fn io_err(path: &Path, what: &str, e: std::io::Error) -> Error {
 }
 
 /// Writes a checkpoint of `steps` atomically (temporary file + rename).
-pub(crate) fn write(path: &Path, fingerprint: u64, steps: &[SlaStep]) -> Result<()> {
+pub(crate) fn write(
+    path: &Path,
+    fingerprint: u64,
+    steps: &[SlaStep],
+    switches: &[Switch],
+) -> Result<()> {
     let mut buf = Vec::with_capacity(64 + steps.len() * 96);
     buf.extend_from_slice(MAGIC);
     buf.extend_from_slice(&VERSION.to_le_bytes());
@@ -161,6 +179,14 @@ pub(crate) fn write(path: &Path, fingerprint: u64, steps: &[SlaStep]) -> Result<
         }
         put(&mut buf, s.probes.len() as u64);
         for v in s.probes.iter().flatten() {
+            put(&mut buf, v.to_bits());
+        }
+    }
+    put(&mut buf, switches.len() as u64);
+    for (step, centres) in switches {
+        put(&mut buf, *step as u64);
+        put(&mut buf, centres.len() as u64);
+        for v in centres.iter().flatten() {
             put(&mut buf, v.to_bits());
         }
     }
@@ -284,11 +310,13 @@ impl Reader<'_> {
 
 /// The largest checkpoint of a model with `n_bonds` bonds, `n_nodes` nodes and `n_probes`
 /// probes: the header, at most [`crate::problem::schema::MAX_STEPS`] steps of 12 words and two
-/// per probe, every bond once and every node grounded at most twice (one word each).
+/// per probe (and two for a region switch), every bond once (and its midpoint once as a
+/// switch's) and every node grounded at most twice (one word each).
 fn size_limit(n_bonds: usize, n_nodes: usize, n_probes: usize) -> u64 {
-    let per_step = 12 + 2 * n_probes as u64;
-    let words =
-        per_step * crate::problem::schema::MAX_STEPS as u64 + n_bonds as u64 + 2 * n_nodes as u64;
+    let per_step = 14 + 2 * n_probes as u64;
+    let words = per_step * crate::problem::schema::MAX_STEPS as u64
+        + 3 * n_bonds as u64
+        + 2 * n_nodes as u64;
     36 + 8 * words
 }
 
@@ -335,7 +363,7 @@ pub(crate) fn read(
     path: &Path,
     fingerprint: u64,
     (n_bonds, n_nodes, n_probes): (usize, usize, usize),
-) -> Result<Vec<SlaStep>> {
+) -> Result<(Vec<SlaStep>, Vec<Switch>)> {
     let bad = |what: &str, got: String| Error::invalid("pd.resume_from", what, got);
     let b = read_bounded(path, (n_bonds, n_nodes, n_probes))?;
     if b.len() < 36 || &b[..8] != MAGIC {
@@ -452,11 +480,36 @@ pub(crate) fn read(
             probes,
         });
     }
+    let mut switches = Vec::new();
+    if version >= 3 {
+        let ns = r.u64()?;
+        let mut last = 0;
+        for _ in 0..ns {
+            let step = r.u64()? as usize;
+            if step <= last || step > n + 1 {
+                return Err(bad(
+                    &format!("region switches at increasing steps in 1..={}", n + 1),
+                    format!("a switch at step {step}"),
+                ));
+            }
+            last = step;
+            let nc = r.index(n_bonds + 1, "switch bond count")?;
+            let mut centres = Vec::with_capacity(nc);
+            for _ in 0..nc {
+                let c = [f64::from_bits(r.u64()?), f64::from_bits(r.u64()?)];
+                if !c.iter().all(|x| x.is_finite()) {
+                    return Err(bad("finite switch midpoints", format!("{c:?}")));
+                }
+                centres.push(c);
+            }
+            switches.push((step, centres));
+        }
+    }
     if r.pos != body.len() {
         return Err(bad(
             "no data after the last step",
             format!("{} extra bytes", body.len() - r.pos),
         ));
     }
-    Ok(steps)
+    Ok((steps, switches))
 }

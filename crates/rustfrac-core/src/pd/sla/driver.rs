@@ -9,6 +9,9 @@
 //! goes first, so two solvers that agree to round-off produce the same sequence. Before a bond
 //! breaks, its end nodes are grounded where they need it (`grounding.rs`).
 
+use super::adaptive::{
+    bond_interface_distance, bond_key, bond_midpoint, node_key, Index, Keys, NodeKey, StepKeys,
+};
 use super::checkpoint;
 use super::cost::{CostEstimate, EngineKind};
 use super::engine::{timing, Engine, Update};
@@ -16,14 +19,13 @@ use super::fast::{schur_pattern, Fast, SchurKind, SparseFactor};
 use super::grounding::{Grounding, DEBRIS_LIMIT};
 use super::memory::{keep_large_blocks_mmapped, peak_memory_bytes};
 use super::oracle::Oracle;
-use super::result::{CcmPdResult, SlaStatus, SlaStep};
+use super::result::{CcmPdResult, RegionSwitch, SlaStatus, SlaStep};
 use crate::error::{Error, Result};
 use crate::la::{Cholesky, CscMatrix};
 use crate::pd::splice::{ProbeFunctional, SpliceModel, Spring, StaticSolution};
 use crate::pd::{damage, BYTES_PER_BOND};
-use crate::problem::{validate, Problem, SlaEngine, SlaParams};
+use crate::problem::{pd_region, validate, Problem, SlaEngine, SlaParams};
 use crate::warning::{Warning, WarningKind};
-use std::path::Path;
 use std::time::Instant;
 
 /// Runs a CCM-PD (or pure PD) problem: linear solution at the reference load, then the SLA.
@@ -50,60 +52,161 @@ pub fn run_model(
 }
 
 fn run_from(
-    model: &SpliceModel,
+    model0: &SpliceModel,
     t0: Instant,
     progress: &(dyn Fn(usize, usize) -> bool + Sync),
 ) -> Result<CcmPdResult> {
-    let sla = &model.pd_method().sla;
-    let mut st = RunState::new(model);
-    let springs0 = st.ground_precrack(model);
-    let k0 = model.assemble_with(&st.broken, &springs0);
-    st.probes = model.probe_functionals()?;
-    let probe_dofs: Vec<usize> = st.probes.iter().flat_map(|p| p.dofs()).collect();
-    let (mut engine, solver, refactor_interval) =
-        engine_for(model, sla, &k0, (&st.broken, &springs0), &probe_dofs)?;
-    timing("engine ready", t0);
-    // reference solution before breaking (u from the engine, reactions from the full matrix)
-    let u0_full = engine.full_u()?;
-    let sol0 = model.postprocess(&k0, u0_full, 0.0);
-    drop(k0);
-    let responses = model.scene_responses(&sol0.u, &sol0.reactions)?;
+    let sla = &model0.pd_method().sla;
+    let adaptive = model0.pd_method().adaptive;
+    let mut st = RunState::new(model0);
     let fp = checkpoint::fingerprint(
-        &model.problem,
-        &model.precrack,
-        model.n_dofs(),
-        model.bonds.len(),
+        &model0.problem,
+        &model0.precrack,
+        model0.n_dofs(),
+        model0.bonds.len(),
     );
-    // resume: replay the checkpoint's steps exactly
-    let mut resumed_steps = 0;
-    if let Some(path) = &sla.resume_from {
-        st.replay(sla, model, engine.as_mut(), path, fp)?;
-        resumed_steps = st.history.len();
+    // resume: the checkpoint's steps and region switches, replayed exactly
+    let mut replay = match &sla.resume_from {
+        Some(path) => {
+            let sizes = checkpoint_sizes(model0, adaptive.is_some())?;
+            let (steps, switches) = checkpoint::read(path, fp, sizes)?;
+            let steps: std::collections::VecDeque<SlaStep> =
+                steps.into_iter().take(sla.max_steps).collect();
+            // only the switches before a replayed step (a later one is found again live)
+            let last = steps.back().map_or(0, |s| s.step);
+            let switches = switches.into_iter().filter(|s| s.0 <= last).collect();
+            Some(Replay { steps, switches })
+        }
+        None => None,
+    };
+    let mut owned: Option<SpliceModel> = None;
+    let mut sol0: Option<(StaticSolution, crate::fe::regions::SceneResponses)> = None;
+    let mut info = RunInfo::default();
+    let mut live: Option<Instant> = None;
+    let mut switch_start: Option<Instant> = None;
+    let u_final = loop {
+        let model = owned.as_ref().unwrap_or(model0);
+        let springs = match sol0 {
+            None => st.ground_precrack(model),
+            Some(_) => st.ground_again(model),
+        };
+        let k = model.assemble_with(&st.broken, &springs);
+        st.probes = model.probe_functionals()?;
+        let probe_dofs: Vec<usize> = st.probes.iter().flat_map(|p| p.dofs()).collect();
+        let (mut engine, solver, refactor_interval) =
+            engine_for(model, sla, &k, (&st.broken, &springs), &probe_dofs)?;
+        timing("engine ready", t0);
+        if let (Some(ts), Some(sw)) = (switch_start.take(), st.switches.last_mut()) {
+            // a switch costs the new model and its solver
+            sw.seconds = ts.elapsed().as_secs_f64();
+        }
+        if sol0.is_none() {
+            // reference solution before breaking (u from the engine, reactions from the matrix)
+            let u0_full = engine.full_u()?;
+            let s = model.postprocess(&k, u0_full, 0.0);
+            let responses = model.scene_responses(&s.u, &s.reactions)?;
+            sol0 = Some((s, responses));
+        }
+        drop(k);
+        info.solver = solver;
+        info.refactor_interval = refactor_interval;
+        let sigma0 = sol0.as_ref().map_or(0.0, |s| s.0.sigma22);
+        // the replayed steps of this model; then the next switch, or the live steps
+        let grow = match replay.as_mut() {
+            Some(rp) => st.replay(sla, model, engine.as_mut(), rp)?,
+            None => None,
+        };
+        let grow = match grow {
+            Some(g) => Some(g),
+            None => {
+                if live.is_none() {
+                    // the set-up ends where the live steps begin (after any replay)
+                    replay = None;
+                    info.resumed_steps = st.history.len();
+                    info.setup_seconds = t0.elapsed().as_secs_f64();
+                    timing("setup done", t0);
+                    live = Some(Instant::now());
+                }
+                st.steps(sla, model, engine.as_mut(), fp, sigma0, progress)?
+            }
+        };
+        info.n_refactorisations += engine.n_refactorisations();
+        info.max_update_rank = info.max_update_rank.max(engine.max_update_rank());
+        let Some(centres) = grow else {
+            break if st.status == SlaStatus::Separated {
+                Vec::new()
+            } else {
+                engine.full_u()?
+            };
+        };
+        drop(engine);
+        // the adaptive region grows: the model with the new rectangles, the broken bonds found
+        // in it by their end nodes (`adaptive.rs`)
+        let ts = Instant::now();
+        switch_start = Some(ts);
+        let a = adaptive.expect("only an adaptive region grows");
+        let pm = model.pd_method();
+        let regions = pd_region::grown(
+            &model.problem.domain,
+            model.grid.dx,
+            model.pd.delta,
+            &a,
+            &pm.regions,
+            &centres,
+        );
+        let new = model.with_regions(regions.clone())?;
+        st.carry_over(model, &new)?;
+        let step = st.history.len() + 1;
+        st.switch_centres.push((step, centres));
+        st.switches.push(RegionSwitch {
+            step,
+            regions,
+            n_pd_nodes: new.pd_nodes.len(),
+            n_dofs: new.n_dofs(),
+            seconds: ts.elapsed().as_secs_f64(),
+        });
+        timing("adaptive region grown (model)", ts);
+        owned = Some(new);
+    };
+    let model = owned.as_ref().unwrap_or(model0);
+    info.sla_seconds = live.map_or(0.0, |t| t.elapsed().as_secs_f64());
+    info.n_checkpoints = st.n_checkpoints;
+    let (mut s0, responses) = sol0.expect("the reference solution of the first model");
+    if model.grid != model0.grid {
+        // a graded grid moved with the region: the reference field on the final grid
+        s0.u = reference_field(model)?;
     }
-    let setup_seconds = t0.elapsed().as_secs_f64();
-    timing("setup done", t0);
-
-    let t1 = Instant::now();
-    let n_checkpoints = st.steps(sla, model, engine.as_mut(), fp, sol0.sigma22, progress)?;
-    let u_final = if st.status == SlaStatus::Separated {
-        Vec::new()
-    } else {
-        engine.full_u()?
-    };
-    let sla_seconds = t1.elapsed().as_secs_f64();
-    let info = RunInfo {
-        solver,
-        refactor_interval,
-        n_refactorisations: engine.n_refactorisations(),
-        max_update_rank: engine.max_update_rank(),
-        resumed_steps,
-        n_checkpoints,
-        setup_seconds,
-        sla_seconds,
-    };
-    let mut r = results(model, st, sol0, u_final, info);
+    let mut r = results(model, st, s0, u_final, info)?;
     r.responses = responses;
     Ok(r)
+}
+
+/// The reference solution's displacements on `model` (pre-crack only, no SLA break).
+fn reference_field(model: &SpliceModel) -> Result<Vec<f64>> {
+    let mut st = RunState::new(model);
+    let springs = st.ground_precrack(model);
+    let k = model.assemble_with(&st.broken, &springs);
+    Oracle::new(model, &st.broken, &springs, &k)?.full_u()
+}
+
+/// The bounds a checkpoint of this run is read with (bonds, nodes, probes): the model's, or for
+/// an adaptive region the whole plate's (its region grows).
+fn checkpoint_sizes(model: &SpliceModel, adaptive: bool) -> Result<(usize, usize, usize)> {
+    let n_probes = model.probe_functionals()?.len();
+    if !adaptive {
+        return Ok((model.bonds.len(), model.grid.n_nodes(), n_probes));
+    }
+    let d = &model.problem.domain;
+    let nodes = ((d.width / model.grid.dx).round() as usize + 1)
+        * ((d.height / model.grid.dx).round() as usize + 1);
+    let fam = crate::pd::family_stencil(model.pd_method().m).len();
+    Ok((nodes * fam, nodes, n_probes))
+}
+
+/// The steps and switches of a checkpoint still to replay.
+struct Replay {
+    steps: std::collections::VecDeque<SlaStep>,
+    switches: Vec<checkpoint::Switch>,
 }
 
 /// The solver ([`choose`]): the oracle when `fast = false` or `pd.engine = "oracle"`, else the
@@ -196,7 +299,8 @@ fn symmetrised(a: &CscMatrix) -> CscMatrix {
 }
 
 /// The evolving state of a run: the broken bonds (pre-crack included), the groundings, the
-/// history and the status.
+/// history, the status and, for an adaptive region, its switches and the keys of what was
+/// recorded (`adaptive.rs`).
 struct RunState {
     broken: Vec<bool>,
     grounding: Grounding,
@@ -207,7 +311,21 @@ struct RunState {
     status: SlaStatus,
     /// the scene's probes, recorded at every step
     probes: Vec<ProbeFunctional>,
+    n_checkpoints: usize,
+    /// the adaptive region's growths (the result's) and as a checkpoint stores them
+    switches: Vec<RegionSwitch>,
+    switch_centres: Vec<checkpoint::Switch>,
+    /// the records by key, from the first switch on (None: one model, its own numbering)
+    keys: Option<Keys>,
+    /// the smallest interface distance of a broken bond so far (length; infinite: none)
+    closest: f64,
+    /// a bond broke within the margin because the region could not grow (warned once)
+    margin_violated: bool,
 }
+
+/// How far the interface distance of a broken bond is searched (horizons): beyond it the
+/// closest approach is reported as "none within".
+const INTERFACE_SEARCH: f64 = 10.0;
 
 impl RunState {
     fn new(model: &SpliceModel) -> Self {
@@ -219,50 +337,111 @@ impl RunState {
             damage_at: Vec::new(),
             status: SlaStatus::Completed,
             probes: Vec::new(),
+            n_checkpoints: 0,
+            switches: Vec::new(),
+            switch_centres: Vec::new(),
+            keys: None,
+            closest: f64::INFINITY,
+            margin_violated: false,
         }
     }
 
     /// The springs of the nodes the pre-crack already detaches (recorded as step 0).
     fn ground_precrack(&mut self, model: &SpliceModel) -> Vec<Spring> {
         let mut springs0 = Vec::new();
-        // only nodes with a broken bond can be loose (a fragment's nodes all lost a bond)
+        for (n, sp) in self.ground_touched(model) {
+            if !self.detached_nodes.contains(&(0, n)) {
+                self.detached_nodes.push((0, n));
+            }
+            springs0.push(sp);
+        }
+        springs0
+    }
+
+    /// The springs a grown region's model needs for the bonds broken so far (fresh groundings
+    /// on the new model; the nodes were recorded when they were first detached).
+    fn ground_again(&mut self, model: &SpliceModel) -> Vec<Spring> {
+        self.grounding = Grounding::new(model.grid.n_nodes());
+        self.ground_touched(model)
+            .into_iter()
+            .map(|(_, sp)| sp)
+            .collect()
+    }
+
+    /// The groundings of every PD node with a broken bond (only those can be loose: a
+    /// fragment's nodes all lost a bond).
+    fn ground_touched(&mut self, model: &SpliceModel) -> Vec<(usize, Spring)> {
         let touched: Vec<usize> = model
             .pd_nodes
             .iter()
             .copied()
             .filter(|&n| model.bonds_of(n).iter().any(|&b| self.broken[b as usize]))
             .collect();
+        let mut out = Vec::new();
         for n in touched {
-            for (m, sp) in self.grounding.springs(model, n, &self.broken) {
-                if !self.detached_nodes.contains(&(0, m)) {
-                    self.detached_nodes.push((0, m));
-                }
-                springs0.push(sp);
-            }
+            out.extend(self.grounding.springs(model, n, &self.broken));
         }
-        springs0
+        out
     }
 
-    /// Replays the steps of the checkpoint at `path` (at most `max_steps`): exactly the updates of
-    /// the run that wrote it, in the same order; the recorded numbers come from their stored bits.
+    /// Carries the broken bonds from `old` to the grown region's model `new` (by key), and
+    /// from the first switch on keeps the records by key.
+    fn carry_over(&mut self, old: &SpliceModel, new: &SpliceModel) -> Result<()> {
+        if self.keys.is_none() {
+            // everything so far ran on `old`, the first model
+            let keys = Keys {
+                steps: self.history.iter().map(|st| step_keys(old, st)).collect(),
+                detached: self
+                    .detached_nodes
+                    .iter()
+                    .map(|&(_, n)| node_key(old, n))
+                    .collect(),
+                damage_at: self
+                    .damage_at
+                    .iter()
+                    .map(|(_, d)| damage_keys(old, d))
+                    .collect(),
+            };
+            self.keys = Some(keys);
+        }
+        let index = Index::new(new);
+        let mut broken = new.precrack_broken.clone();
+        for b in (0..old.bonds.len()).filter(|&b| self.broken[b]) {
+            broken[index.bond(&bond_key(old, b))?] = true;
+        }
+        self.broken = broken;
+        Ok(())
+    }
+
+    /// Replays the checkpoint's steps on `model` (exactly the updates of the run that wrote it,
+    /// in the same order; the recorded numbers come from their stored bits) up to its next
+    /// region switch: returns the midpoints of the bonds that grew the region there, or None
+    /// when every step is replayed.
     fn replay(
         &mut self,
         sla: &SlaParams,
         model: &SpliceModel,
         engine: &mut dyn Engine,
-        path: &Path,
-        fp: u64,
-    ) -> Result<()> {
-        let sizes = (model.bonds.len(), model.grid.n_nodes(), self.probes.len());
-        let steps = checkpoint::read(path, fp, sizes)?;
-        for st in steps.into_iter().take(sla.max_steps) {
-            if st.bonds.iter().any(|&b| self.broken[b]) {
+        rp: &mut Replay,
+    ) -> Result<Option<Vec<[f64; 2]>>> {
+        loop {
+            if let Some(sw) = rp.switches.first() {
+                if sw.0 == self.history.len() + 1 {
+                    return Ok(Some(rp.switches.remove(0).1));
+                }
+            }
+            let Some(st) = rp.steps.pop_front() else {
+                return Ok(None);
+            };
+            let n_bonds = model.bonds.len();
+            if st.bonds.iter().any(|&b| b >= n_bonds || self.broken[b]) {
                 return Err(Error::invalid(
                     "pd.resume_from",
-                    "a checkpoint breaking every bond once",
-                    format!("step {} breaks a bond twice", st.step),
+                    "a checkpoint breaking every bond of the model once",
+                    format!("step {} breaks a bond twice or names no bond", st.step),
                 ));
             }
+            self.note_interface(model, &st.bonds);
             let (det, sep) = advance(
                 model,
                 engine,
@@ -272,19 +451,80 @@ impl RunState {
             )?;
             self.detached_nodes
                 .extend(det.iter().map(|&n| (st.step, n)));
-            self.record_damage(sla, model, st.step);
-            self.history.push(st);
+            self.record(model, sla, st);
             if sep {
                 self.status = SlaStatus::Separated;
-                break;
+                rp.steps.clear();
+                return Ok(None);
             }
         }
-        Ok(())
+    }
+
+    /// Appends a step to the history (its keys too, from the first switch on) and stores the
+    /// damage field after it when it is one of `damage_at_steps`.
+    fn record(&mut self, model: &SpliceModel, sla: &SlaParams, st: SlaStep) {
+        let step = st.step;
+        if let Some(k) = self.keys.as_mut() {
+            k.detached
+                .extend(st.detached.iter().map(|&n| node_key(model, n)));
+            k.steps.push(step_keys(model, &st));
+        }
+        self.history.push(st);
+        if sla.damage_at_steps.contains(&step) {
+            let d = damage(
+                model.grid.n_nodes(),
+                &model.bonds,
+                &self.broken,
+                &model.pd_nodes,
+            );
+            if let Some(k) = self.keys.as_mut() {
+                k.damage_at.push(damage_keys(model, &d));
+            }
+            self.damage_at.push((step, d));
+        }
+    }
+
+    /// Keeps the smallest interface distance of the bonds `sel` (CCM-PD; pure PD has none).
+    fn note_interface(&mut self, model: &SpliceModel, sel: &[usize]) {
+        if model.all_pd {
+            return;
+        }
+        let cap = INTERFACE_SEARCH * model.pd.delta;
+        for &b in sel {
+            self.closest = self.closest.min(bond_interface_distance(model, b, cap));
+        }
+    }
+
+    /// Whether the adaptive region must grow before the bonds `sel` break: the midpoints of
+    /// those within `pd.adapt_margin` horizons of the interface, when growing around them
+    /// changes the region (else they break where they are: the plate's edge or a hole stops
+    /// the growth, and the run warns).
+    fn growth(&mut self, model: &SpliceModel, sel: &[usize]) -> Option<Vec<[f64; 2]>> {
+        let pm = model.pd_method();
+        let a = pm.adaptive?;
+        let delta = model.pd.delta;
+        let margin = a.margin * delta * (1.0 - 1e-9);
+        let centres: Vec<[f64; 2]> = sel
+            .iter()
+            .filter(|&&b| bond_interface_distance(model, b, margin) < margin)
+            .map(|&b| bond_midpoint(model, b))
+            .collect();
+        if centres.is_empty() {
+            return None;
+        }
+        let d = &model.problem.domain;
+        let grown = pd_region::grown(d, model.grid.dx, delta, &a, &pm.regions, &centres);
+        if grown == pm.regions {
+            self.margin_violated = true;
+            return None;
+        }
+        Some(centres)
     }
 
     /// The SLA steps after the replayed ones, up to `max_steps` or until the run ends (separated,
-    /// no bond in tension, cancelled, crack length reached). `sigma0` is the reference sigma22 of
-    /// the intact model. Returns the number of checkpoints written.
+    /// no bond in tension, cancelled, crack length reached) or the adaptive region must grow
+    /// (then the midpoints of the bonds that grow it; the step is not taken). `sigma0` is the
+    /// reference sigma22 of the intact model.
     fn steps(
         &mut self,
         sla: &SlaParams,
@@ -293,11 +533,10 @@ impl RunState {
         fp: u64,
         sigma0: f64,
         progress: &(dyn Fn(usize, usize) -> bool + Sync),
-    ) -> Result<usize> {
+    ) -> Result<Option<Vec<[f64; 2]>>> {
         let s0 = model.pd.s0;
         let load = model.problem.boundary.plate_load();
         let max_steps = sla.max_steps;
-        let mut n_checkpoints = 0;
         let mut lam = vec![f64::INFINITY; model.bonds.len()];
         let first_step = self.history.len() + 1;
         for step in first_step..=max_steps {
@@ -325,6 +564,10 @@ impl RunState {
                 self.status = SlaStatus::NoBondInTension;
                 break;
             };
+            if let Some(centres) = self.growth(model, &sel) {
+                return Ok(Some(centres));
+            }
+            self.note_interface(model, &sel);
             // the load displacement at the reference load (before the break changes u)
             let u0_ref = model
                 .response
@@ -337,7 +580,7 @@ impl RunState {
                 .extend(detached.iter().map(|&n| (step, n)));
             let cl = crack_length(model, &self.broken);
             let bf = &model.bonds[first];
-            self.history.push(SlaStep {
+            let row = SlaStep {
                 step,
                 lambda: lmin,
                 sigma22: lmin * st.sigma22,
@@ -348,11 +591,11 @@ impl RunState {
                 detached,
                 crack_length: cl,
                 probes: st_probes(&self.probes, engine.u(), lmin),
-            });
-            self.record_damage(sla, model, step);
+            };
+            self.record(model, sla, row);
             let every = sla.checkpoint_every;
             if every > 0 && step % every == 0 {
-                self.checkpoint(sla, fp, &mut n_checkpoints)?;
+                self.checkpoint(sla, fp)?;
             }
             let go_on = progress(step, max_steps);
             if sep {
@@ -361,7 +604,7 @@ impl RunState {
             }
             if !go_on {
                 self.status = SlaStatus::Cancelled;
-                self.checkpoint(sla, fp, &mut n_checkpoints)?;
+                self.checkpoint(sla, fp)?;
                 break;
             }
             if let Some(l) = sla.stop_crack_length {
@@ -371,32 +614,37 @@ impl RunState {
                 }
             }
         }
-        Ok(n_checkpoints)
+        Ok(None)
     }
 
-    /// Stores the damage field after `step` when it is one of `damage_at_steps`.
-    fn record_damage(&mut self, sla: &SlaParams, model: &SpliceModel, step: usize) {
-        if sla.damage_at_steps.contains(&step) {
-            self.damage_at.push((
-                step,
-                damage(
-                    model.grid.n_nodes(),
-                    &model.bonds,
-                    &self.broken,
-                    &model.pd_nodes,
-                ),
-            ));
-        }
-    }
-
-    /// Writes the history so far to `checkpoint_path` (when set) and counts it in `n`.
-    fn checkpoint(&self, sla: &SlaParams, fp: u64, n: &mut usize) -> Result<()> {
+    /// Writes the history so far (and the region switches) to `checkpoint_path` when set.
+    fn checkpoint(&mut self, sla: &SlaParams, fp: u64) -> Result<()> {
         if let Some(path) = &sla.checkpoint_path {
-            checkpoint::write(path, fp, &self.history)?;
-            *n += 1;
+            checkpoint::write(path, fp, &self.history, &self.switch_centres)?;
+            self.n_checkpoints += 1;
         }
         Ok(())
     }
+}
+
+/// The keys of a step's records on the model it ran on.
+fn step_keys(model: &SpliceModel, st: &SlaStep) -> StepKeys {
+    StepKeys {
+        bonds: st.bonds.iter().map(|&b| bond_key(model, b)).collect(),
+        nodes: st.nodes.map(|n| node_key(model, n)),
+        detached: st.detached.iter().map(|&n| node_key(model, n)).collect(),
+    }
+}
+
+/// The damaged PD nodes of a damage field (order of the model's `pd_nodes`) by key.
+fn damage_keys(model: &SpliceModel, d: &[f64]) -> Vec<(NodeKey, f64)> {
+    model
+        .pd_nodes
+        .iter()
+        .zip(d)
+        .filter(|(_, &v)| v != 0.0)
+        .map(|(&n, &v)| (node_key(model, n), v))
+        .collect()
 }
 
 /// The bonds to break in the state with displacements `u`: lambda_b = s0 / s_b for every intact
@@ -500,6 +748,7 @@ fn crack_length(model: &SpliceModel, broken: &[bool]) -> f64 {
 }
 
 /// What the driver knows of a run besides its state: the solver, its counters and the timings.
+#[derive(Default)]
 struct RunInfo {
     solver: String,
     refactor_interval: usize,
@@ -519,8 +768,23 @@ fn results(
     sol0: StaticSolution,
     u_final: Vec<f64>,
     info: RunInfo,
-) -> CcmPdResult {
+) -> Result<CcmPdResult> {
+    let mut st = st;
+    if let Some(keys) = st.keys.take() {
+        in_final_numbering(model, &mut st, &keys)?;
+    }
     let mut warnings = model.warnings.clone();
+    if st.margin_violated {
+        let a = model.pd_method().adaptive.map_or(0.0, |a| a.margin);
+        warnings.push(Warning::new(
+            WarningKind::Discretisation,
+            format!(
+                "the adaptive PD region could not grow (the plate's edge): bonds broke within \
+                 pd.adapt_margin = {a} horizons of the FEM part (closest approach: \
+                 interface_distance_min)"
+            ),
+        ));
+    }
     let detached_nodes = st.detached_nodes;
     if !detached_nodes.is_empty() {
         let n_pre = detached_nodes.iter().filter(|d| d.0 == 0).count();
@@ -537,7 +801,7 @@ fn results(
     }
     let broken = st.broken;
     let nn = model.grid.n_nodes();
-    CcmPdResult {
+    Ok(CcmPdResult {
         method: model.problem.method.name().into(),
         grip: model.problem.boundary.name().into(),
         solver: info.solver,
@@ -584,7 +848,48 @@ fn results(
         setup_seconds: info.setup_seconds,
         sla_seconds: info.sla_seconds,
         peak_memory_bytes: peak_memory_bytes(),
+        regions: model.pd_method().regions.clone(),
+        switches: st.switches,
+        interface_distance_min: st.closest.is_finite().then(|| st.closest / model.pd.delta),
+    })
+}
+
+/// The records of a run whose region switched, in the final model's numbering (by key).
+fn in_final_numbering(model: &SpliceModel, st: &mut RunState, keys: &Keys) -> Result<()> {
+    let index = Index::new(model);
+    for (row, k) in st.history.iter_mut().zip(&keys.steps) {
+        row.bonds = k
+            .bonds
+            .iter()
+            .map(|b| index.bond(b))
+            .collect::<Result<_>>()?;
+        row.nodes = [index.node(&k.nodes[0])?, index.node(&k.nodes[1])?];
+        row.detached = k
+            .detached
+            .iter()
+            .map(|n| index.node(n))
+            .collect::<Result<_>>()?;
     }
+    for (d, k) in st.detached_nodes.iter_mut().zip(&keys.detached) {
+        d.1 = index.node(k)?;
+    }
+    let slot: std::collections::HashMap<usize, usize> = model
+        .pd_nodes
+        .iter()
+        .enumerate()
+        .map(|(s, &n)| (n, s))
+        .collect();
+    for ((_, d), k) in st.damage_at.iter_mut().zip(&keys.damage_at) {
+        let mut full = vec![0.0; model.pd_nodes.len()];
+        for (key, v) in k {
+            let n = index.node(key)?;
+            if let Some(&s) = slot.get(&n) {
+                full[s] = *v;
+            }
+        }
+        *d = full;
+    }
+    Ok(())
 }
 
 /// The probes at the step's load lambda (the engine's u is at the reference load; it holds every

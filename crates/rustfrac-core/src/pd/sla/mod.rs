@@ -39,6 +39,7 @@
 //! The records (`result.rs`: [`SlaStep`], [`SlaStatus`], [`CcmPdResult`]) are a leaf module, so
 //! the checkpoint format depends on them and not on the driver.
 
+mod adaptive;
 pub mod checkpoint;
 mod cost;
 mod driver;
@@ -55,4 +56,4 @@ pub use driver::{run, run_model};
 pub use grounding::DEBRIS_LIMIT;
 pub use memory::peak_memory_bytes;
 pub use params::auto_refactor_every;
-pub use result::{CcmPdResult, SlaStatus, SlaStep};
+pub use result::{CcmPdResult, RegionSwitch, SlaStatus, SlaStep};

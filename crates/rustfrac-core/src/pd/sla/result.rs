@@ -49,6 +49,20 @@ impl SlaStep {
     }
 }
 
+/// One growth of an adaptive PD region (`pd.region = "adaptive"`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct RegionSwitch {
+    /// the first step solved on the grown region
+    pub step: usize,
+    /// the PD rectangles from then on
+    pub regions: Vec<[f64; 4]>,
+    /// PD nodes and unknowns of the new model
+    pub n_pd_nodes: usize,
+    pub n_dofs: usize,
+    /// seconds to build the new model and its solver (part of the run's `sla_seconds`)
+    pub seconds: f64,
+}
+
 /// How an SLA run ended.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum SlaStatus {
@@ -152,6 +166,13 @@ pub struct CcmPdResult {
     pub sla_seconds: f64,
     /// peak resident memory of the process (VmHWM), if the OS reports it
     pub peak_memory_bytes: Option<u64>,
+    /// the PD rectangles at the end (the problem's, or the adaptive region grown)
+    pub regions: Vec<[f64; 4]>,
+    /// the adaptive region's growths, in order (empty for a fixed region)
+    pub switches: Vec<RegionSwitch>,
+    /// the smallest distance, in horizons, from a bond the SLA broke to the nearest FEM node at
+    /// the time of its break (None: pure PD, or no bond broke, or none within 10 horizons)
+    pub interface_distance_min: Option<f64>,
 }
 
 impl CcmPdResult {

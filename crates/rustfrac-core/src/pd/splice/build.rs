@@ -117,7 +117,16 @@ impl SpliceModel {
             regions: lo.regions,
             response: lo.response,
             cmod_nodes,
+            mouth,
         })
+    }
+
+    /// The same model with other PD rectangles (the adaptive region's growth,
+    /// [`crate::problem::pd_region`]): the problem with `regions`, the same pre-crack.
+    pub fn with_regions(&self, regions: Vec<[f64; 4]>) -> Result<Self> {
+        let mut p = self.problem.clone();
+        p.pd_mut().regions = regions;
+        Self::build(&p, self.precrack.clone(), self.mouth)
     }
 }
 

@@ -89,6 +89,8 @@ pub struct SpliceModel {
     pub response: Response,
     /// (node below, node above, unit normal) at the crack mouth, for the CMOD
     pub cmod_nodes: Option<(usize, usize, [f64; 2])>,
+    /// the vertex of `precrack` where the CMOD is read
+    mouth: usize,
     /// bonds of each node (CSR over nodes: `node_bonds[node_bond_ptr[n]..node_bond_ptr[n + 1]]`)
     node_bond_ptr: Vec<usize>,
     node_bonds: Vec<u32>,

@@ -1,0 +1,272 @@
+//! The adaptive CCM-PD region (`pd.region = "adaptive"`, issue 13 items 2-3,
+//! `problem::pd_region`, `pd::sla` adaptive.rs): no bond breaks within the margin of the
+//! interface; the run against one whose fixed region covers the whole path (the same bonds,
+//! load factors within a measured tolerance); the fast engine against the refactorise-every-step
+//! oracle across region switches; checkpoint and resume across a switch, bit for bit; a hole in
+//! the path; the reported closest approach of a fixed region.
+
+mod common;
+
+use common::{coarse, go_on};
+use rustfrac_core::pd::sla::{run, CcmPdResult};
+use rustfrac_core::problem::pd_region::{self, AdaptiveRegion};
+use rustfrac_core::problem::{Hole, Problem, Shape};
+
+/// The coarse paper case (dx = 0.2, m = 4: delta = 0.8) with an adaptive region of `margin`
+/// and `size` horizons, starting around the tip.
+fn adaptive(fast: bool, steps: usize, margin: f64, size: f64) -> Problem {
+    let mut p = coarse(fast, steps);
+    let a = AdaptiveRegion { margin, size };
+    let pd = p.pd_mut();
+    pd.adaptive = Some(a);
+    let (dx, m) = (pd.dx, pd.m);
+    p.pd_mut().regions = pd_region::initial(&p, dx, m, &a);
+    p
+}
+
+/// The broken bonds of step `k` by their end nodes' positions (independent of the numbering),
+/// each as the smaller of itself and its mirror image across the crack line x2 = 10.5: mode I
+/// breaks mirror pairs at the same load (ties to 1e-10), in an order the numbering decides.
+fn broken_xy(r: &CcmPdResult, k: usize) -> Vec<[[i64; 2]; 2]> {
+    let key = |x: [f64; 2]| [(x[0] * 1e6).round() as i64, (x[1] * 1e6).round() as i64];
+    let mirror = |x: [f64; 2]| [x[0], 21.0 - x[1]];
+    let mut v: Vec<_> = r.history[k]
+        .bonds
+        .iter()
+        .map(|&b| {
+            let [i, j] = r.bond_nodes[b];
+            let (p, q) = (r.node_xy[i], r.node_xy[j]);
+            let mut e = [key(p), key(q)];
+            let mut f = [key(mirror(p)), key(mirror(q))];
+            e.sort_unstable();
+            f.sort_unstable();
+            e.min(f)
+        })
+        .collect();
+    v.sort_unstable();
+    v
+}
+
+/// The steps with the same broken bonds, and the largest relative lambda difference over them.
+fn agreement(a: &CcmPdResult, b: &CcmPdResult) -> (usize, f64) {
+    let n = a.history.len().min(b.history.len());
+    let same = (0..n)
+        .take_while(|&k| broken_xy(a, k) == broken_xy(b, k))
+        .count();
+    let worst = (0..same)
+        .map(|k| (a.history[k].lambda / b.history[k].lambda - 1.0).abs())
+        .fold(0.0, f64::max);
+    (same, worst)
+}
+
+/// The bounding box of a run's final PD rectangles.
+fn bbox(r: &CcmPdResult) -> [f64; 4] {
+    r.regions.iter().fold(
+        [
+            f64::INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NEG_INFINITY,
+        ],
+        |b, q| {
+            [
+                b[0].min(q[0]),
+                b[1].min(q[1]),
+                b[2].max(q[2]),
+                b[3].max(q[3]),
+            ]
+        },
+    )
+}
+
+#[test]
+fn adaptive_region_grows_ahead_of_the_crack_and_keeps_the_margin() {
+    let (margin, size) = (1.5, 2.5);
+    let r = run(&adaptive(true, 900, margin, size), &go_on).unwrap();
+    let first = r.switches.first().map(|s| s.step);
+    println!(
+        "coarse adaptive (margin {margin}, size {size}): {} steps, {} switches (first at step {first:?}), PD nodes {} at the end, crack length {:.3}, closest approach {:.3} horizons, regions {:?}",
+        r.history.len(),
+        r.switches.len(),
+        r.n_pd_nodes,
+        r.history.last().unwrap().crack_length,
+        r.interface_distance_min.unwrap(),
+        r.regions
+    );
+    assert_eq!(r.history.len(), 900);
+    assert!(r.switches.len() >= 2, "{}", r.switches.len());
+    // the region only grows: PD nodes increase switch by switch
+    for w in r.switches.windows(2) {
+        assert!(w[1].n_pd_nodes > w[0].n_pd_nodes);
+        assert!(w[1].step >= w[0].step);
+    }
+    // no bond broke within the margin of the FEM part
+    let closest = r.interface_distance_min.unwrap();
+    assert!(closest >= margin * (1.0 - 1e-9), "{closest}");
+    // the history is in the final model's numbering: its bonds are the broken ones
+    let mut from_history = vec![false; r.n_bonds];
+    for st in &r.history {
+        for &b in &st.bonds {
+            assert!(
+                r.broken[b] && !from_history[b],
+                "bond {b} of step {}",
+                st.step
+            );
+            from_history[b] = true;
+        }
+    }
+    let n_broken = r.broken.iter().filter(|&&b| b).count();
+    assert_eq!(
+        n_broken,
+        r.n_precrack_bonds + from_history.iter().filter(|&&b| b).count()
+    );
+}
+
+#[test]
+fn adaptive_region_against_a_fixed_region_covering_the_path() {
+    // the fixed region: the bounding box of where the adaptive one ended (so it covers the
+    // whole path and every switch's region)
+    let n = 900;
+    let ad = run(&adaptive(true, n, 1.5, 2.5), &go_on).unwrap();
+    let mut p = coarse(true, n);
+    p.pd_mut().regions = vec![bbox(&ad)];
+    let fixed = run(&p, &go_on).unwrap();
+    let (same, worst) = agreement(&ad, &fixed);
+    // and the paper's-style fixed rectangle of `coarse`
+    let paper = run(&coarse(true, n), &go_on).unwrap();
+    let (same_p, worst_p) = agreement(&ad, &paper);
+    let peak = |r: &CcmPdResult| r.history.iter().map(|s| s.sigma22).fold(0.0, f64::max);
+    println!(
+        "adaptive ({} PD nodes at the end, {} switches) vs fixed bounding box ({} PD nodes): same bonds for {same} of {n} steps, worst lambda difference {worst:.3e}, peak {:.4} / {:.4}; vs the coarse fixed rectangle ({} PD nodes): {same_p} steps, {worst_p:.3e}, peak {:.4}",
+        ad.n_pd_nodes,
+        ad.switches.len(),
+        fixed.n_pd_nodes,
+        peak(&ad),
+        peak(&fixed),
+        paper.n_pd_nodes,
+        peak(&paper)
+    );
+    // at the first divergence both runs break at nearly the same load: a near tie
+    let gap = |a: &CcmPdResult, b: &CcmPdResult, k: usize| {
+        (k < a.history.len().min(b.history.len()))
+            .then(|| a.history[k].lambda / b.history[k].lambda - 1.0)
+    };
+    println!(
+        "first divergence: step {} (lambda gap {:?}); from the paper-style rectangle: step {} (lambda gap {:?})",
+        same + 1,
+        gap(&ad, &fixed, same),
+        same_p + 1,
+        gap(&ad, &paper, same_p)
+    );
+    // measured: 650 and 203 steps with the same bonds (mirror pairs as one), lambda within
+    // 7.8e-4 and 6.5e-3, peaks within 0.05 % and 0.3 %
+    assert!(same >= 600, "{same}");
+    assert!(worst < 2e-3, "{worst}");
+    assert!((peak(&ad) / peak(&fixed) - 1.0).abs() < 2e-3);
+    assert!(same_p >= 150, "{same_p}");
+    assert!(worst_p < 1e-2, "{worst_p}");
+}
+
+#[test]
+fn adaptive_fast_engine_matches_the_oracle_across_switches() {
+    let n = 320;
+    let fast = run(&adaptive(true, n, 1.5, 2.5), &go_on).unwrap();
+    let oracle = run(&adaptive(false, n, 1.5, 2.5), &go_on).unwrap();
+    assert!(!fast.switches.is_empty());
+    assert_eq!(fast.switches, {
+        let mut s = oracle.switches.clone();
+        for (a, b) in s.iter_mut().zip(&fast.switches) {
+            a.seconds = b.seconds;
+        }
+        s
+    });
+    let mut worst = 0.0f64;
+    for k in 0..n {
+        let (x, y) = (&fast.history[k], &oracle.history[k]);
+        assert_eq!(x.bonds, y.bonds, "step {} broke different bonds", k + 1);
+        for (p, q) in [
+            (x.lambda, y.lambda),
+            (x.sigma22, y.sigma22),
+            (x.cmod, y.cmod),
+        ] {
+            worst = worst.max((p - q).abs() / q.abs());
+        }
+    }
+    println!(
+        "adaptive fast vs oracle: {n} steps, {} switches, the same bonds, worst relative difference {worst:.2e}",
+        fast.switches.len()
+    );
+    assert!(worst < 1e-8, "{worst}");
+}
+
+#[test]
+fn adaptive_checkpoint_and_resume_across_switches_are_bit_for_bit() {
+    let dir = std::env::temp_dir().join(format!("rustfrac-adaptive-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("a.ckpt");
+    let total = 900;
+    let mut base = adaptive(true, total, 1.5, 2.5);
+    base.pd_mut().sla.damage_at_steps = vec![10, 450, total];
+    let straight = run(&base, &go_on).unwrap();
+    assert!(straight.switches.len() >= 2);
+    // stop after 460 steps (switches before and after the checkpoint at 450), then resume
+    let mut p = base.clone();
+    p.pd_mut().sla.max_steps = 460;
+    p.pd_mut().sla.checkpoint_every = 450;
+    p.pd_mut().sla.checkpoint_path = Some(path.clone());
+    run(&p, &go_on).unwrap();
+    let mut q = base.clone();
+    q.pd_mut().sla.resume_from = Some(path.clone());
+    let resumed = run(&q, &go_on).unwrap();
+    assert_eq!(resumed.resumed_steps, 450);
+    assert_eq!(straight.history, resumed.history);
+    assert_eq!(straight.damage_at, resumed.damage_at);
+    assert_eq!(straight.broken, resumed.broken);
+    assert_eq!(straight.regions, resumed.regions);
+    assert_eq!(straight.detached_nodes, resumed.detached_nodes);
+    let sw = |r: &CcmPdResult| r.switches.iter().map(|s| s.step).collect::<Vec<_>>();
+    assert_eq!(sw(&straight), sw(&resumed));
+    println!(
+        "adaptive: {total} steps straight = checkpoint at 450 + resume, bit for bit (switches at {:?})",
+        sw(&straight)
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn adaptive_region_takes_in_a_hole_in_the_path() {
+    // a hole ahead of the tip, on the crack line: the region must take it in whole
+    let mut p = adaptive(true, 900, 1.5, 2.5);
+    p.domain.holes = vec![Hole {
+        name: "hole[0]".into(),
+        shape: Shape::Circle {
+            center: [4.6, 10.5],
+            radius: 0.5,
+        },
+    }];
+    let r = run(&p, &go_on).unwrap();
+    let inside = r
+        .regions
+        .iter()
+        .any(|q| q[0] <= 4.1 && q[1] <= 10.0 && 5.1 <= q[2] && 11.0 <= q[3]);
+    println!(
+        "adaptive with a hole ahead: {} switches, regions {:?}, status {}, closest approach {:?}",
+        r.switches.len(),
+        r.regions,
+        r.status.name(),
+        r.interface_distance_min
+    );
+    assert!(inside, "{:?}", r.regions);
+    assert!(r.interface_distance_min.unwrap() >= 1.5 - 1e-9);
+}
+
+#[test]
+fn fixed_region_reports_its_closest_approach() {
+    let r = run(&coarse(true, 40), &go_on).unwrap();
+    let d = r.interface_distance_min.unwrap();
+    println!("coarse fixed rectangle: closest approach {d:.3} horizons");
+    // the crack line is 1.2 = 1.5 horizons below the rectangle's top: no broken bond is
+    // further from the interface than that
+    assert!(d > 0.0 && d <= 1.5 + 1e-9, "{d}");
+    assert!(r.switches.is_empty());
+}
