@@ -208,3 +208,13 @@ def test_summary_splits_the_job_time(fast_run: tuple[Path, dict]) -> None:
     assert parts == pytest.approx(t["total"], rel=1e-9, abs=1e-9)
     assert t["compute"] >= sum(summary["times_s"].values()) - 1e-9  # the runs are inside it
     assert "Job time: computation" in (out / "summary.md").read_text()
+
+
+def test_full_preset_runs_ccm_pd_on_the_adaptive_region_to_the_xfem_end() -> None:
+    from rustfrac import _core
+    from rustfrac.fig7 import PRESETS, _scenes
+
+    pd = _scenes(PRESETS["full"], "free")["ccm_pd"].pd
+    stop = _core.scene_constants()["DEFAULT_A_STOP_FRACTION"] * 11.0
+    assert pd.region == "adaptive" and pd.stop_crack_length == pytest.approx(stop)
+    assert _scenes(PRESETS["paper"], "free")["ccm_pd"].pd.region == "fixed"

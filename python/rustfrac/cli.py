@@ -1,5 +1,5 @@
 """Command line (also ``python -m rustfrac``): ``rustfrac run SCENE.toml --out DIR [--quiet]`` and
-``rustfrac fig7 --out DIR [--preset paper|fast] [--bc free|clamped] [--quiet]`` and
+``rustfrac fig7 --out DIR [--preset paper|fast|full] [--bc free|clamped] [--quiet]`` and
 ``rustfrac sweep --out DIR [--preset tiny|full] [--scheduler ADDR|local] [--workers N] [--quiet]``
 (the paper's plate) and ``rustfrac sweep SCENE.toml --param mesh|pd.dx|SECTION.KEY --levels
 L1,L2,... [--quantity K_I] [--repeats 3] [--dask ADDR|local]`` (the user's scene) and
@@ -76,8 +76,9 @@ def _parser() -> argparse.ArgumentParser:
     )
     f.add_argument("--out", type=Path, default=Path("results"), help="output directory")
     f.add_argument(
-        "--preset", choices=("paper", "fast"), default="paper",
-        help="paper: the paper's discretisations (default); fast: coarse, seconds",
+        "--preset", choices=("paper", "fast", "full"), default="paper",
+        help="paper: the paper's discretisations (default); fast: coarse, seconds; full: the "
+        "paper's with CCM-PD on the adaptive PD region to a = 0.7 W (both full curves; minutes)",
     )
     f.add_argument(
         "--bc", choices=("free", "clamped"), default="free", help="grip variant (u1 on the grips)"

@@ -70,11 +70,23 @@ class Preset:
     sla_steps: int  # bond breaks
     snapshot_steps: tuple[int, int]  # XFEM growth steps shown in Fig. 8b
     description: str
+    #: CCM-PD on the adaptive PD region until the crack reaches the XFEM growth's end (0.7 W):
+    #: both full curves (``sla_steps`` is then only a bound)
+    full_pd: bool = False
 
 
 PRESETS: dict[str, Preset] = {
     "paper": Preset((44, 83), 1.0 / 15.0, 500, (2, 8), "the paper's settings"),
     "fast": Preset((44, 83), 1.0 / 5.0, 120, (2, 8), "XFEM as the paper, coarse PD grid: seconds"),
+    "full": Preset(
+        (44, 83),
+        1.0 / 15.0,
+        20000,
+        (2, 8),
+        "the paper's settings, CCM-PD on the adaptive PD region to a = 0.7 W (both full "
+        "curves; minutes)",
+        full_pd=True,
+    ),
 }
 
 Log = Callable[[str], None]
@@ -89,9 +101,19 @@ def _scenes(p: Preset, bc: str) -> dict[str, Scene]:
         ),
         "xfem_growth": edge_crack_plate("xfem", mesh=p.mesh, bc=bc, name="xfem growth", **growth),
         "ccm_pd": edge_crack_plate(
-            "ccm_pd", dx=p.dx, sla_steps=p.sla_steps, bc=bc, name="ccm_pd SLA"
+            "ccm_pd", dx=p.dx, sla_steps=p.sla_steps, bc=bc, name="ccm_pd SLA", **_full_pd(p)
         ),
     }
+
+
+def _full_pd(p: Preset) -> dict[str, Any]:
+    """The CCM-PD options of a full-curve preset: the adaptive region (its defaults) until the
+    crack reaches the core's default XFEM stop length."""
+    if not p.full_pd:
+        return {}
+    width = edge_crack_plate("ccm_pd").plate.width
+    stop = _core.scene_constants()["DEFAULT_A_STOP_FRACTION"] * width
+    return dict(region="adaptive", stop_crack_length=stop)
 
 
 def _machine() -> dict[str, Any]:
@@ -160,7 +182,8 @@ def fig7(
     """Runs the Fig. 7 job into ``out`` and returns the summary dict (also written as JSON).
 
     Args:
-        preset: "paper" (the paper's discretisations) or "fast" (coarse, seconds).
+        preset: "paper" (the paper's discretisations), "fast" (coarse, seconds) or "full" (the
+            paper's, with CCM-PD on the adaptive PD region to a = 0.7 W: both full curves).
         bc: grip variant of the displacement load: "free" or "clamped".
         log: line logger (default: ``logging.getLogger("rustfrac").info``; None: silent).
         progress: factory ``progress(name)`` returning a progress callback for one run, or None.

@@ -216,7 +216,7 @@ fn meta(s: &Shaped<'_>, r: &CcmPdResult, p: &Problem, wall: f64) -> PyResult<()>
     t.set_item("sla_s", r.sla_seconds)?;
     t.set_item(
         "region_switch_s",
-        r.switches.iter().map(|s| s.seconds).sum::<f64>(),
+        r.switches.iter().fold(0.0, |a, s| a + s.seconds),
     )?;
     m.set_item("timings", t)?;
     Ok(())
