@@ -298,3 +298,23 @@ def test_bad_spacing_and_zero_growth_are_refused_by_name() -> None:
     with pytest.raises(rf.InvalidParameterError) as e:
         compare.plan(TINY_INCLINED, growth_steps=0)
     assert e.value.param == "xfem.growth_steps"
+
+
+def test_compare_on_the_adaptive_pd_region(tmp_path: Path) -> None:
+    """``--region adaptive``: CCM-PD on the core's adaptive region (no rectangle, no budget), the
+    PD crack stopped where the XFEM tip is, every broken bond at least pd.adapt_margin horizons
+    from the FEM part."""
+    scene = tmp_path / "tiny.toml"
+    scene.write_text(TINY_CCM_PD_TOML)
+    out = tmp_path / "out"
+    args = ["compare", str(scene), "--out", str(out), "--quick", "--quiet", "--region", "adaptive"]
+    assert main(args) == 0
+    s = json.loads((out / "summary.json").read_text())
+    assert s["complete"] and any("adaptive PD region" in n for n in s["notes"])
+    assert s["scenes"]["ccm_pd"]["pd"]["region"] == "adaptive"
+    r = rf.load(out / "ccm_pd")
+    margin = s["scenes"]["ccm_pd"]["pd"]["adapt_margin"]
+    assert r.meta["pd_region"] == "adaptive" and r.meta["interface_distance_min"] >= margin - 1e-9
+    assert s["cost"]["ccm_pd"]["status"] == "crack_length_reached"
+    with pytest.raises(rf.errors.InvalidParameterError):
+        compare.plan(TINY_INCLINED, region="moving")

@@ -165,9 +165,9 @@ def _parser() -> argparse.ArgumentParser:
         help="margin of the PD rectangle around the XFEM path, in horizons (default 3)",
     )
     c.add_argument(
-        "--region", default=None, metavar="X0,Y0,X1,Y1|auto",
+        "--region", default=None, metavar="X0,Y0,X1,Y1|auto|adaptive",
         help="the PD rectangle; auto: around the XFEM path (default, unless a ccm_pd scene "
-        "states its own rectangle)",
+        "states its own rectangle); adaptive: the adaptive PD region, grown where the crack goes",
     )
     c.add_argument("--growth-steps", type=int, default=None, help="XFEM growth steps")
     c.add_argument("--sla-steps", type=int, default=None, help="most SLA steps (bond breaks)")
@@ -502,8 +502,8 @@ def _cmd_compare(args: argparse.Namespace) -> int:
     if scene is None:
         return 2
     region: Any = None
-    if args.region == "auto":
-        region = "auto"
+    if args.region in ("auto", "adaptive"):
+        region = args.region
     elif args.region is not None:
         try:
             region = tuple(float(v) for v in args.region.split(","))

@@ -127,6 +127,8 @@ class Plan:
     margin_horizons: float
     sla_steps: int | None
     notes: list[str] = field(default_factory=list)
+    #: CCM-PD on the adaptive PD region (``region="adaptive"``) instead of a fixed rectangle
+    adaptive: bool = False
 
     @property
     def delta(self) -> float:
@@ -293,11 +295,16 @@ def plan(
     pd_opts.update(dx=dx, m=m)
     pdd: dict[str, Any] = {**common, "method": "ccm_pd", "name": f"{name} (CCM-PD)", "pd": pd_opts}
     if isinstance(region, str):
-        if region != "auto":
+        if region not in ("auto", "adaptive"):
             raise InvalidParameterError(
-                f"invalid region: expected (x0, y0, x1, y1) or 'auto', got {region!r}", "region"
+                f"invalid region: expected (x0, y0, x1, y1), 'auto' or 'adaptive', got {region!r}",
+                "region",
             )
         given: Box | None = None
+        if region == "adaptive":
+            pd_opts["region"] = "adaptive"
+    elif pd_opts.get("region") == "adaptive":
+        given = None  # a CCM-PD scene on the adaptive region keeps it
     elif region is not None:
         x0, y0, x1, y1 = (float(v) for v in region)
         if not (x1 > x0 and y1 > y0):
@@ -321,6 +328,7 @@ def plan(
         float(margin_horizons),
         sla_steps,
         notes,
+        pd_opts.get("region") == "adaptive",
     )
 
 
@@ -333,6 +341,12 @@ def place(p: Plan, xfem_path: np.ndarray, final_tip: Sequence[float] | None) -> 
     :func:`~rustfrac.pd_region.pd_region` around ``xfem_path``), its SLA steps and its stop length.
     Coarsens an automatic dx to keep the budget ``PD_DOFS_BUDGET``; refuses a given dx / rectangle
     beyond it unless ``p.allow_slow``."""
+    if p.adaptive:
+        p.notes.append(
+            "adaptive PD region: squares around the tip grown ahead of the crack (pd.adapt_margin, "
+            "pd.adapt_size); no rectangle budget"
+        )
+        return _with_sla_length(p, p.dx, final_tip)
     w, hgt = p.source.plate.width, p.source.plate.height
     holes = p.pd.get("hole", [])
     cands = [p.dx]
@@ -389,6 +403,13 @@ def place(p: Plan, xfem_path: np.ndarray, final_tip: Sequence[float] | None) -> 
     opts = p.pd["pd"]
     opts["center"] = [(box[0] + box[2]) / 2, (box[1] + box[3]) / 2]
     opts["size"] = [box[2] - box[0], box[3] - box[1]]
+    return _with_sla_length(p, dx, final_tip)
+
+
+def _with_sla_length(p: Plan, dx: float, final_tip: Sequence[float] | None) -> Scene:
+    """The CCM-PD scene of ``p`` with its stop length (the XFEM tip's reach along the pre-crack)
+    and its SLA steps."""
+    opts = p.pd["pd"]
     pre = np.asarray(
         Scene.from_dict({**p.pd, "method": "pd", "pd": {"dx": dx, "m": p.m}}).crack_polylines()[0],
         dtype=float,
@@ -539,8 +560,9 @@ def compare(
         sla_steps: most SLA steps (default: a PD scene's, else enough for the XFEM path; the
             SLA stops when the PD crack has advanced as far as the XFEM tip).
         region: the PD rectangle (x0, y0, x1, y1); "auto":
-            :func:`~rustfrac.pd_region.pd_region` around the XFEM path; None (default): a CCM-PD
-            scene's own rectangle if it states one, else "auto". allow_slow: run even when the PD
+            :func:`~rustfrac.pd_region.pd_region` around the XFEM path; "adaptive": the core's
+            adaptive PD region (``pd.region``), grown where the PD crack goes; None (default): a
+            CCM-PD scene's own rectangle or adaptive region if it states one, else "auto". allow_slow: run even when the PD
             rectangle exceeds the budget ``PD_DOFS_BUDGET``.
         vtu: also write the ParaView files of the two result folders.
         log: line logger (None: silent).
@@ -774,17 +796,17 @@ class _Job:
         fig = Figure(figsize=(15.0, 6.0), layout="constrained")
         ax, zx, dx_ax = fig.subplots(1, 3, gridspec_kw={"width_ratios": [1, 1.3, 1.2]})
         pr = res.get("ccm_pd")
-        box = None
+        boxes = []
         if pr is not None and isinstance(pr.meta.get("pd_regions"), list):
-            box = pr.meta["pd_regions"][0]
+            boxes = pr.meta["pd_regions"]  # several for an adaptive region
         for a, zoom in ((ax, False), (zx, True)):
             a.add_patch(Rectangle((0, 0), w, hgt, fill=False, ec="k", lw=1.0))
             _draw_holes(a, self.scenes["xfem"].to_dict(), w, hgt)
-            if box is not None:
+            for k, box in enumerate(boxes):
                 a.add_patch(
                     Rectangle(
                         (box[0], box[1]), box[2] - box[0], box[3] - box[1], fill=False,
-                        ec="#2ca02c", lw=0.8, ls="-.", label="PD rectangle",
+                        ec="#2ca02c", lw=0.8, ls="-.", label="PD region" if k == 0 else None,
                     )
                 )  # fmt: skip
             if pr is not None:
