@@ -359,7 +359,9 @@ class _Job:
         curves: list[figures.Curve] = []
         if "xfem_growth" in results:
             h = results["xfem_growth"].history
-            curves.append(("XFEM (LEFM growth)", h["cmod"], h["sigma22"], {"marker": ".", "ms": 4}))
+            # on top of the PD saw-tooth, which covers it on the full curve (preset "full")
+            style = {"marker": ".", "ms": 4, "zorder": 5, "color": "C0"}
+            curves.append(("XFEM (LEFM growth)", h["cmod"], h["sigma22"], style))
         if "ccm_pd" in results:
             h = results["ccm_pd"].history
             # one point per SLA step (each at the load that breaks its bond): the saw-tooth of SLA
