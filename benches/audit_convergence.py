@@ -12,10 +12,10 @@ Series (the PD grid must fit the plate, dx = 1/n, and the pre-crack x2 = 10.5 mu
 node rows, which needs n odd; for n even the crack is moved to x2 = 10.5 + dx / 2, whose effect
 is measured by ``offset``):
 
-- ``m``: delta fixed at 1/4, m = 2 .. 6 (dx = 1/(4m)). The paper's delta = 4/15 fits the plate
+- ``m``: delta fixed at 1/4, m = 2 .. 7 (dx = 1/(4m)). The paper's delta = 4/15 fits the plate
   only for m = 4 and 8 (dx = 4/(15 m) must divide 11 and 21), so the nearest delta for which every
   m fits is used.
-- ``delta``: m = 4, dx = 1/5, 1/10, 1/15, 1/20, 1/25 (delta = 4 dx).
+- ``delta``: m = 4, dx = 1/5, 1/10, 1/15, 1/20, 1/25, 1/35 (delta = 4 dx).
 - ``delta_m``: delta = sqrt(dx) = 1/m: (dx, m) = (1/4, 2), (1/9, 3), (1/16, 4), (1/25, 5).
 - ``offset``: the paper grid (dx = 1/15, m = 4) with the crack at 10.5 and one row higher, and
   XFEM 44 x 83 at 10.5 and 10.5 + 1/32: the size of the shift's effect.
@@ -35,7 +35,7 @@ exists a log-log least-squares fit |q - q_ref| = C h^p over the levels with its 
 log10 (:func:`fit_rate`). References: G / G0 -> 1 (LEFM, the value XFEM must reach); the peak and
 the softening point -> XFEM's Richardson value.
 
-Usage: python benches/audit_convergence.py [--quick] [--out benches]
+Usage: python benches/audit_convergence.py [--quick] [--out benches] [--m-max M]
 Writes OUT/audit_convergence.csv, OUT/audit_convergence.json and OUT/audit_convergence.png.
 """
 
@@ -71,8 +71,8 @@ BINS = (A0, 1.4, 1.7, STOP)
 MAX_STEPS = 100_000
 
 FULL: dict[str, list[tuple[int, int]]] = {
-    "m": [(4 * m, m) for m in (2, 3, 4, 5, 6)],
-    "delta": [(n, 4) for n in (5, 10, 15, 20, 25)],
+    "m": [(4 * m, m) for m in (2, 3, 4, 5, 6, 7)],
+    "delta": [(n, 4) for n in (5, 10, 15, 20, 25, 35)],
     "delta_m": [(4, 2), (9, 3), (16, 4), (25, 5)],
 }
 QUICK: dict[str, list[tuple[int, int]]] = {
@@ -215,9 +215,13 @@ def pd_row(series: str, n: int, m: int, cmod_star: float, y: float | None = None
 # --------------------------------------------------------------------------- study
 
 
-def study(quick: bool, log: Any = print) -> dict[str, Any]:
+def study(quick: bool, m_max: int | None = None, log: Any = print) -> dict[str, Any]:
+    """The whole study (:data:`QUICK` or :data:`FULL` levels; ``m_max`` extends or cuts the
+    m-series at delta = 1/4)."""
     t0 = time.perf_counter()
-    levels = QUICK if quick else FULL
+    levels = dict(QUICK if quick else FULL)
+    if m_max is not None:
+        levels["m"] = [(4 * m, m) for m in range(2, m_max + 1)]
     xrows = []
     for mesh in XFEM_QUICK if quick else XFEM_FULL:
         row, _ = xfem_row(mesh)
@@ -317,6 +321,15 @@ def write_csv(path: Path, s: dict[str, Any]) -> None:
             w.writerow(row)
 
 
+def _log_x(axx: Any) -> None:
+    """A log h axis, refinement to the right, without the overlapping minor labels."""
+    from matplotlib.ticker import NullFormatter
+
+    axx.set_xscale("log")
+    axx.invert_xaxis()
+    axx.xaxis.set_minor_formatter(NullFormatter())
+
+
 def plot(path: Path, s: dict[str, Any]) -> None:
     import matplotlib
 
@@ -351,8 +364,7 @@ def plot(path: Path, s: dict[str, Any]) -> None:
         b.set_xlabel(label)
         if xkey == "dx":
             for axx in (a, b):
-                axx.set_xscale("log")
-                axx.invert_xaxis()
+                _log_x(axx)
         if j == 0:
             a.legend(fontsize=7)
             b.legend(fontsize=7)
@@ -372,8 +384,7 @@ def plot(path: Path, s: dict[str, Any]) -> None:
     b.set_xlabel("element size h")
     b.legend(fontsize=7)
     for axx in (a, b):
-        axx.set_xscale("log")
-        axx.invert_xaxis()
+        _log_x(axx)
     fig.suptitle(
         "Energy audit convergence, paper plate, free grips (CCM-PD vs XFEM/LEFM)"
         + (" [quick]" if s["quick"] else "")
@@ -382,17 +393,94 @@ def plot(path: Path, s: dict[str, Any]) -> None:
     plt.close(fig)
 
 
+def _f(v: Any, spec: str = ".4f") -> str:
+    return "-" if v is None or (isinstance(v, float) and not math.isfinite(v)) else format(v, spec)
+
+
+def _rate_line(name: str, r: dict[str, Any]) -> str:
+    rich, fit = r["richardson"], r["fit"]
+    rtxt = (
+        f"Richardson {_f(rich['value'])} (p = {_f(rich['rate'], '.2f')})"
+        if rich["status"] == "ok"
+        else f"Richardson: {rich['status']} ({rich['why']})"
+    )
+    ftxt = (
+        f"fit |q - {_f(r['ref'])}| = C h^p: p = {_f(fit['p'], '.2f')}, "
+        f"residual {_f(fit['residual'], '.2f')} (log10)"
+        if fit and fit["p"] is not None
+        else "no fit"
+    )
+    diffs = ", ".join(f"{d:+.4f}" for d in r["differences"])
+    return f"- {name}: differences {diffs}; {rtxt}; {ftxt}"
+
+
+def markdown(s: dict[str, Any]) -> str:
+    """The tables and rates of a study, as in benches/RESULTS.md."""
+    nb = len(s["constants"]["bins"]) - 1
+    bins = " | ".join(
+        f"G/G0 {s['constants']['bins'][i]:g}..{s['constants']['bins'][i + 1]:g}" for i in range(nb)
+    )
+    out = [
+        f"| series | dx | m | delta | steps | G/G0 | {bins} | peak | sigma22 at CMOD* (pts) | s |",
+        "|---|---|---|---|---:|---:|" + "---:|" * nb + "---:|---:|---:|",
+    ]
+    for r in s["pd"]:
+        along = " | ".join(_f(v, ".3f") for v in r["G_ratio_along"])
+        out.append(
+            f"| {r['series']} | 1/{r['n']} | {r['m']} | {r['delta']:.4f} | {r['steps']} | "
+            f"{r['G_ratio']:.4f} | {along} | {r['peak']:.3f} | {_f(r['soft'], '.3f')} "
+            f"({r['soft_points']}) | {r['wall_s']:.1f} |"
+        )
+    out += ["", "| XFEM mesh | h | steps | G/G0 | " + bins + " | peak | sigma22 at a* | s |"]
+    out.append("|---|---:|---:|---:|" + "---:|" * nb + "---:|---:|---:|")
+    for r in s["xfem"]:
+        along = " | ".join(_f(v, ".5f") for v in r["G_ratio_along"])
+        out.append(
+            f"| {r['nx']} x {r['ny']} | {r['h']:.4f} | {r['steps']} | {r['G_ratio']:.5f} | "
+            f"{along} | {r['peak']:.4f} | {r['soft']:.4f} | {r['wall_s']:.1f} |"
+        )
+    out += ["", "Rates (levels coarse to fine; h = dx, XFEM h = 11 / nx):"]
+    for q, r in s["xfem_rates"].items():
+        out.append(_rate_line(f"xfem {q}", r))
+    for series, rr in s["pd_rates"].items():
+        for q, r in rr.items():
+            out.append(_rate_line(f"{series} {q}", r))
+    out += ["", "Offset of the crack line (x2):"]
+    for r in s["offset"]:
+        mesh = f"PD 1/{r['n']}, m {r['m']}" if "n" in r else f"XFEM {r['nx']} x {r['ny']}"
+        out.append(
+            f"- {mesh}, x2 = {r['crack_y']:.5f}: G/G0 {r['G_ratio']:.5f}, peak "
+            f"{r['peak']:.4f}, sigma22 at CMOD* / a* {_f(r['soft'])}"
+        )
+    c = s["constants"]
+    out.append(
+        f"\nCMOD* = {c['cmod_star']:.6f} (finest XFEM at a = {c['a_soft']}); LEFM references: "
+        f"peak {s['lefm']['peak']:.4f}, sigma22 at a* {s['lefm']['soft']:.4f}; "
+        f"study wall time {s['wall_s']:.0f} s"
+    )
+    return "\n".join(out)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--quick", action="store_true", help="3 levels a series (about 30 s)")
     ap.add_argument("--out", default=str(Path(__file__).resolve().parent), help="output folder")
+    ap.add_argument(
+        "--m-max",
+        type=int,
+        default=None,
+        help="m-series up to this m (full: 7, about half the study's time)",
+    )
     args = ap.parse_args(argv)
+    if args.m_max is not None and not 3 <= args.m_max <= 12:
+        ap.error(f"--m-max: an integer in 3..12, got {args.m_max}")
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    s = study(args.quick, log=lambda m: print(m, flush=True))
+    s = study(args.quick, args.m_max, log=lambda m: print(m, flush=True))
     (out / "audit_convergence.json").write_text(json.dumps(s, indent=1, default=str))
     write_csv(out / "audit_convergence.csv", s)
     plot(out / "audit_convergence.png", s)
+    print(markdown(s))
     print(f"wrote {out}/audit_convergence.{{csv,json,png}} in {s['wall_s']:.0f} s")
     return 0
 
