@@ -151,15 +151,23 @@ def pd_scene(n: int, m: int, y: float | None = None) -> rf.Scene:
     )
 
 
+def interp_inside(x: float, xs: np.ndarray, ys: np.ndarray) -> float:
+    """Linear interpolation at x inside [xs[0], xs[-1]] (xs increasing); ValueError outside
+    (np.interp would return an end value)."""
+    if not xs[0] <= x <= xs[-1]:
+        raise ValueError(f"{x} outside the sampled range [{xs[0]}, {xs[-1]}]")
+    return float(np.interp(x, xs, ys))
+
+
 def xfem_row(mesh: tuple[int, int], y: float = CRACK_Y) -> tuple[dict[str, Any], rf.Result]:
     t = time.perf_counter()
     res = rf.run(rf.scenes.edge_crack_plate(method="xfem", mesh=mesh, crack_y=y, growth_steps=2000))
     wall = time.perf_counter() - t
     au = energy.audit(res)
     h = res.history
-    a = np.asarray(h["a"], float)[2:]  # the critical states (row 1 is the reference load)
-    c = np.asarray(h["cmod"], float)[2:]
-    s = np.asarray(h["sigma22"], float)[2:]
+    a = np.asarray(h["a"], float)[1:]  # the critical states (row 0 is the unloaded origin)
+    c = np.asarray(h["cmod"], float)[1:]
+    s = np.asarray(h["sigma22"], float)[1:]
     row = {
         "series": "xfem",
         "nx": mesh[0],
@@ -171,8 +179,8 @@ def xfem_row(mesh: tuple[int, int], y: float = CRACK_Y) -> tuple[dict[str, Any],
         "G_ratio": au["ratio"],
         "G_ratio_along": energy.along(au, BINS).tolist(),
         "peak": float(np.max(h["sigma22"])),
-        "cmod_soft": float(np.interp(A_SOFT, a, c)),
-        "soft": float(np.interp(A_SOFT, a, s)),
+        "cmod_soft": interp_inside(A_SOFT, a, c),
+        "soft": interp_inside(A_SOFT, a, s),
         "wall_s": wall,
     }
     return row, res

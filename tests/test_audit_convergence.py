@@ -95,3 +95,10 @@ def test_along_spreads_each_interval_over_its_advance() -> None:
     assert energy.along(au, [1.5, 2.5, 3.0]) == pytest.approx([1.7, 1.0])
     # an interval the crack covers only in part: divided by the covered length
     assert energy.along(au, [1.0, 2.5, 4.0]) == pytest.approx([1.7 / 1.5, 0.5 / 0.5])
+
+
+def test_interpolation_refuses_to_extrapolate(study) -> None:
+    xs, ys = np.array([1.1, 1.558, 2.0]), np.array([30.0, 26.0, 24.0])
+    assert study.interp_inside(1.5, xs, ys) == pytest.approx(30.0 - 4.0 * 0.4 / 0.458)
+    with pytest.raises(ValueError, match="outside"):
+        study.interp_inside(1.0, xs, ys)
