@@ -32,7 +32,7 @@ import numpy as np
 from .errors import PlotDataError
 from .result import Result
 
-__all__ = ["audit"]
+__all__ = ["along", "audit"]
 
 
 def _pair(res: Result) -> tuple[float, float]:
@@ -56,7 +56,8 @@ def audit(res: Result) -> dict[str, Any]:
     """The energy audit of a growth (XFEM) or SLA (PD, CCM-PD) result: a dict with ``G0``,
     ``energy`` (total dissipated), ``crack_area`` (thickness times the crack advance),
     ``ratio`` (energy / crack_area / G0) and, per history interval, ``a`` (crack length at its
-    end), ``dissipated`` and for XFEM ``ratio_per_step``. Raises
+    end), ``dissipated`` and for XFEM ``ratio_per_step``; ``a0`` (the crack length at the start)
+    and ``thickness``. Raises
     :class:`~rustfrac.errors.PlotDataError` for a result without a load path or a
     work-conjugate load (traction grips, regions)."""
     a_, b_ = _pair(res)
@@ -75,6 +76,7 @@ def audit(res: Result) -> dict[str, Any]:
         ok = da > 0
         out["ratio_per_step"] = np.where(ok, e / np.where(ok, da, 1.0) / g0, np.nan)
         out["a"], out["dissipated"] = a[1:], e
+        a_start = a[0]
         advance = a[-1] - a[0]
     elif res.method in ("pd", "ccm_pd"):
         if np.any(d <= 0):
@@ -85,14 +87,51 @@ def audit(res: Result) -> dict[str, Any]:
         e = e[np.isfinite(e)]
         cl = np.asarray(h["crack_length"], dtype=float)
         out["a"], out["dissipated"] = cl[1 : 1 + e.size], e
+        a_start = cl[0]
         advance = cl[e.size] - cl[0]
     else:
         raise PlotDataError(f"no load path to audit for method {res.method!r}")
     energy = float(np.sum(e))
     area = t * float(advance)
     out.update(
+        a0=float(a_start),
+        thickness=t,
         energy=energy,
         crack_area=area,
         ratio=energy / area / g0 if area > 0 else float("nan"),
     )
+    return out
+
+
+def along(au: dict[str, Any], edges: Any) -> np.ndarray:
+    """The audit's ratio along the crack: G / G0 over each interval ``[edges[i], edges[i+1]]``
+    of the crack length (XFEM ``a``, PD the damage front; ``edges[0]`` normally the initial
+    ``a0``). Each history interval's energy is spread evenly over the crack advance it made (an
+    XFEM step from a_k to a_k+1; an SLA break that moves the front), or counted where the crack
+    is when it made none (most SLA breaks); energy at or before ``edges[0]`` counts in the
+    first interval. Each interval's energy over thickness times its length covered by the
+    crack, per G0; NaN where the crack did not reach. With edges spanning the whole advance
+    their length-weighted mean is :func:`audit`'s ``ratio``. ``au``: :func:`audit`'s output."""
+    e = np.asarray(edges, dtype=float)
+    if e.ndim != 1 or e.size < 2 or not np.all(np.diff(e) > 0):
+        raise ValueError(f"edges: an increasing 1-D sequence of at least 2 crack lengths, got {e}")
+    hi_a = np.asarray(au["a"], dtype=float)
+    lo_a = np.concatenate([[float(au["a0"])], hi_a[:-1]])
+    diss = np.asarray(au["dissipated"], dtype=float)
+    moved = hi_a > lo_a
+    span = np.where(moved, hi_a - lo_a, 1.0)
+    front = float(np.max(hi_a)) if hi_a.size else -np.inf
+    out = np.full(e.size - 1, np.nan)
+    for i in range(e.size - 1):
+        lo, hi = e[i], e[i + 1]
+        cover = min(hi, front) - lo
+        if cover <= 0:
+            continue
+        share = np.clip((np.minimum(hi_a, hi) - np.maximum(lo_a, lo)) / span, 0.0, 1.0)
+        point = ((hi_a > lo) | (i == 0)) & (hi_a <= hi)
+        w = np.where(moved, share, point.astype(float))
+        if i == 0:  # advance behind edges[0] counts in the first interval
+            behind = np.clip((np.minimum(hi_a, lo) - lo_a) / span, 0.0, 1.0)
+            w = np.where(moved, w + behind, w)
+        out[i] = float(np.sum(w * diss)) / (float(au["thickness"]) * au["G0"] * cover)
     return out
