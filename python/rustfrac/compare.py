@@ -853,9 +853,9 @@ class _Job:
             a.set_aspect("equal")
             a.set_xlabel("x1")
             a.set_ylabel("x2")
-            if zoom and box is not None:
-                a.set_xlim(box[0], box[2])
-                a.set_ylim(box[1], box[3])
+            if zoom and boxes:
+                a.set_xlim(min(b[0] for b in boxes), max(b[2] for b in boxes))
+                a.set_ylim(min(b[1] for b in boxes), max(b[3] for b in boxes))
             else:
                 a.set_xlim(-0.03 * w, 1.03 * w)
                 a.set_ylim(-0.03 * hgt, 1.03 * hgt)

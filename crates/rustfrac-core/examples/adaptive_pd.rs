@@ -23,31 +23,10 @@ fn arg(args: &[String], name: &str, default: f64) -> f64 {
         .map_or(default, |v| v.parse().expect("a number"))
 }
 
-/// The broken bonds of step `k` by position, each as the smaller of itself and its mirror image
-/// across the crack line x2 = 10.5.
-fn broken_xy(r: &CcmPdResult, k: usize) -> Vec<[[i64; 2]; 2]> {
-    let key = |x: [f64; 2]| [(x[0] * 1e6).round() as i64, (x[1] * 1e6).round() as i64];
-    let mut v: Vec<_> = r.history[k]
-        .bonds
-        .iter()
-        .map(|&b| {
-            let [i, j] = r.bond_nodes[b];
-            let (p, q) = (r.node_xy[i], r.node_xy[j]);
-            let mut e = [key(p), key(q)];
-            let mut f = [key([p[0], 21.0 - p[1]]), key([q[0], 21.0 - q[1]])];
-            e.sort_unstable();
-            f.sort_unstable();
-            e.min(f)
-        })
-        .collect();
-    v.sort_unstable();
-    v
-}
-
 fn compare(name: &str, a: &CcmPdResult, b: &CcmPdResult) {
     let n = a.history.len().min(b.history.len());
     let same = (0..n)
-        .take_while(|&k| broken_xy(a, k) == broken_xy(b, k))
+        .take_while(|&k| a.broken_positions(k, Some(10.5)) == b.broken_positions(k, Some(10.5)))
         .count();
     let worst = |m: usize| {
         (0..m)
@@ -129,22 +108,7 @@ fn main() {
     );
     compare("the paper's rectangle (its 500 steps)", &ad, &paper);
     if args.iter().any(|x| x == "--fixed-cover") {
-        let bb = ad.regions.iter().fold(
-            [
-                f64::INFINITY,
-                f64::INFINITY,
-                f64::NEG_INFINITY,
-                f64::NEG_INFINITY,
-            ],
-            |b, q| {
-                [
-                    b[0].min(q[0]),
-                    b[1].min(q[1]),
-                    b[2].max(q[2]),
-                    b[3].max(q[3]),
-                ]
-            },
-        );
+        let bb = ad.regions_bounding_box().expect("CCM-PD");
         let mut f = Problem::paper("ccm_pd");
         f.pd_mut().fem_grading = grading;
         f.pd_mut().regions = vec![bb];

@@ -24,27 +24,10 @@ fn adaptive(fast: bool, steps: usize, margin: f64, size: f64) -> Problem {
     p
 }
 
-/// The broken bonds of step `k` by their end nodes' positions (independent of the numbering),
-/// each as the smaller of itself and its mirror image across the crack line x2 = 10.5: mode I
-/// breaks mirror pairs at the same load (ties to 1e-10), in an order the numbering decides.
+/// The broken bonds of step `k` by position, mirror pairs across the crack line x2 = 10.5 as
+/// one ([`CcmPdResult::broken_positions`]).
 fn broken_xy(r: &CcmPdResult, k: usize) -> Vec<[[i64; 2]; 2]> {
-    let key = |x: [f64; 2]| [(x[0] * 1e6).round() as i64, (x[1] * 1e6).round() as i64];
-    let mirror = |x: [f64; 2]| [x[0], 21.0 - x[1]];
-    let mut v: Vec<_> = r.history[k]
-        .bonds
-        .iter()
-        .map(|&b| {
-            let [i, j] = r.bond_nodes[b];
-            let (p, q) = (r.node_xy[i], r.node_xy[j]);
-            let mut e = [key(p), key(q)];
-            let mut f = [key(mirror(p)), key(mirror(q))];
-            e.sort_unstable();
-            f.sort_unstable();
-            e.min(f)
-        })
-        .collect();
-    v.sort_unstable();
-    v
+    r.broken_positions(k, Some(10.5))
 }
 
 /// The steps with the same broken bonds, and the largest relative lambda difference over them.
@@ -61,22 +44,7 @@ fn agreement(a: &CcmPdResult, b: &CcmPdResult) -> (usize, f64) {
 
 /// The bounding box of a run's final PD rectangles.
 fn bbox(r: &CcmPdResult) -> [f64; 4] {
-    r.regions.iter().fold(
-        [
-            f64::INFINITY,
-            f64::INFINITY,
-            f64::NEG_INFINITY,
-            f64::NEG_INFINITY,
-        ],
-        |b, q| {
-            [
-                b[0].min(q[0]),
-                b[1].min(q[1]),
-                b[2].max(q[2]),
-                b[3].max(q[3]),
-            ]
-        },
-    )
+    r.regions_bounding_box().expect("CCM-PD")
 }
 
 #[test]
@@ -313,23 +281,6 @@ fn inclined(steps: i64, region: Option<[f64; 4]>) -> Problem {
     .unwrap()
 }
 
-/// The broken bonds of step `k` by position (no symmetry to fold).
-fn broken_plain(r: &CcmPdResult, k: usize) -> Vec<[[i64; 2]; 2]> {
-    let key = |x: [f64; 2]| [(x[0] * 1e6).round() as i64, (x[1] * 1e6).round() as i64];
-    let mut v: Vec<_> = r.history[k]
-        .bonds
-        .iter()
-        .map(|&b| {
-            let [i, j] = r.bond_nodes[b];
-            let mut e = [key(r.node_xy[i]), key(r.node_xy[j])];
-            e.sort_unstable();
-            e
-        })
-        .collect();
-    v.sort_unstable();
-    v
-}
-
 #[test]
 fn adaptive_region_on_a_mixed_mode_path_against_a_covering_fixed_region() {
     let n = 600;
@@ -338,7 +289,7 @@ fn adaptive_region_on_a_mixed_mode_path_against_a_covering_fixed_region() {
     let fixed = run(&inclined(n as i64, Some(bb)), &go_on).unwrap();
     let m = ad.history.len().min(fixed.history.len());
     let same = (0..m)
-        .take_while(|&k| broken_plain(&ad, k) == broken_plain(&fixed, k))
+        .take_while(|&k| ad.broken_positions(k, None) == fixed.broken_positions(k, None))
         .count();
     let worst = (0..same)
         .map(|k| (ad.history[k].lambda / fixed.history[k].lambda - 1.0).abs())

@@ -132,21 +132,6 @@ fn graded_coarse(fast: bool, steps: usize, ratio: f64) -> Problem {
     p
 }
 
-/// The broken bonds of each step as node positions (the bond ids of two grids need not agree).
-fn broken_xy(r: &CcmPdResult, k: usize) -> Vec<[[i64; 2]; 2]> {
-    let key = |x: [f64; 2]| [(x[0] * 1e6).round() as i64, (x[1] * 1e6).round() as i64];
-    let mut v: Vec<_> = r.history[k]
-        .bonds
-        .iter()
-        .map(|&b| {
-            let [i, j] = r.bond_nodes[b];
-            [key(r.node_xy[i]), key(r.node_xy[j])]
-        })
-        .collect();
-    v.sort_unstable();
-    v
-}
-
 #[test]
 fn graded_sla_history_follows_the_uniform_grid() {
     let n = 100;
@@ -161,7 +146,7 @@ fn graded_sla_history_follows_the_uniform_grid() {
         uni.n_dofs
     );
     let same = (0..n)
-        .take_while(|&k| broken_xy(&gr, k) == broken_xy(&uni, k))
+        .take_while(|&k| gr.broken_positions(k, None) == uni.broken_positions(k, None))
         .count();
     let mut worst = 0.0f64;
     for k in 0..same {

@@ -399,7 +399,8 @@ fn hostile_checkpoints_are_refused() {
 
 /// A version 1 checkpoint (before the probes were recorded) still resumes a scene without
 /// probes, bit for bit; a scene with probes refuses it by name. The version 1 file is made here
-/// from a version 2 one by dropping each step's probe count (the documented layout).
+/// from a version 3 one by dropping each step's probe count and the (empty) table of region
+/// switches (the documented layout).
 #[test]
 fn version_one_checkpoints_still_resume() {
     let dir = tmpdir("ckpt-v1");
@@ -424,7 +425,8 @@ fn version_one_checkpoints_still_resume() {
         assert_eq!(word(pos), 0, "no probes");
         pos += 8;
     }
-    assert_eq!(pos, b.len() - 8);
+    assert_eq!(word(pos), 0, "no region switches");
+    assert_eq!(pos + 8, b.len() - 8);
     v1.extend_from_slice(&fnv(&v1).to_le_bytes());
     let old = dir.join("v1.ckpt");
     std::fs::write(&old, &v1).unwrap();

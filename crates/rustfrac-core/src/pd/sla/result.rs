@@ -180,4 +180,46 @@ impl CcmPdResult {
     pub fn origin(&self) -> SlaStep {
         SlaStep::origin(self.initial_crack_length)
     }
+
+    /// The bonds step `k` of the history (0-based) broke, by their end nodes' positions (in
+    /// units of 1e-6 length; each pair and the list sorted): comparable between runs whose
+    /// numberings differ (another PD region or grid). With `mirror_x2`, each bond counts as the
+    /// smaller of itself and its mirror image across the line x2 = `mirror_x2` (mode I breaks
+    /// mirror pairs at the same load, in an order the numbering decides).
+    pub fn broken_positions(&self, k: usize, mirror_x2: Option<f64>) -> Vec<[[i64; 2]; 2]> {
+        let key = |x: [f64; 2]| [(x[0] * 1e6).round() as i64, (x[1] * 1e6).round() as i64];
+        let pair = |p: [f64; 2], q: [f64; 2]| {
+            let mut e = [key(p), key(q)];
+            e.sort_unstable();
+            e
+        };
+        let mut v: Vec<_> = self.history[k]
+            .bonds
+            .iter()
+            .map(|&b| {
+                let [i, j] = self.bond_nodes[b];
+                let (p, q) = (self.node_xy[i], self.node_xy[j]);
+                let e = pair(p, q);
+                match mirror_x2 {
+                    Some(y) => e.min(pair([p[0], 2.0 * y - p[1]], [q[0], 2.0 * y - q[1]])),
+                    None => e,
+                }
+            })
+            .collect();
+        v.sort_unstable();
+        v
+    }
+
+    /// The bounding box [x0, y0, x1, y1] of the PD rectangles at the end (None: pure PD).
+    pub fn regions_bounding_box(&self) -> Option<[f64; 4]> {
+        let first = *self.regions.first()?;
+        Some(self.regions.iter().fold(first, |b, q| {
+            [
+                b[0].min(q[0]),
+                b[1].min(q[1]),
+                b[2].max(q[2]),
+                b[3].max(q[3]),
+            ]
+        }))
+    }
 }
