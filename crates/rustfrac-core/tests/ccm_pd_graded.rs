@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{coarse, go_on};
+use common::{coarse, go_on, same_sla_history};
 use rustfrac_core::la::{Lu, Reduction};
 use rustfrac_core::pd::sla::{run, CcmPdResult};
 use rustfrac_core::pd::splice::SpliceModel;
@@ -175,18 +175,7 @@ fn graded_fast_sla_matches_oracle() {
     let n = 60;
     let fast = run(&graded_coarse(true, n, 1.3), &go_on).unwrap();
     let oracle = run(&graded_coarse(false, n, 1.3), &go_on).unwrap();
-    let mut worst = 0.0f64;
-    for k in 0..n {
-        let (x, y) = (&fast.history[k], &oracle.history[k]);
-        assert_eq!(x.bonds, y.bonds, "step {} broke different bonds", k + 1);
-        for (p, q) in [
-            (x.lambda, y.lambda),
-            (x.sigma22, y.sigma22),
-            (x.cmod, y.cmod),
-        ] {
-            worst = worst.max((p - q).abs() / q.abs().max(1e-300));
-        }
-    }
+    let worst = same_sla_history(&fast, &oracle, n);
     println!(
         "graded coarse case ({} dofs): fast {:.3} s, oracle {:.3} s; worst relative difference {worst:.2e}",
         fast.n_dofs, fast.sla_seconds, oracle.sla_seconds

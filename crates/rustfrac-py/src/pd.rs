@@ -163,14 +163,14 @@ fn meta(s: &Shaped<'_>, r: &CcmPdResult, p: &Problem, wall: f64) -> PyResult<()>
     }
     // the adaptive region: where it started, its growths, and the closest approach of a broken
     // bond to the FEM part (every CCM-PD run)
-    m.set_item(
-        "pd_region",
-        if pd.adaptive.is_some() {
-            "adaptive"
-        } else {
-            "fixed"
-        },
-    )?;
+    // the scene key's own values ("fixed", "adaptive")
+    let [fixed, adaptive] = rustfrac_core::problem::schema::PD_REGIONS;
+    let region = if pd.adaptive.is_some() {
+        adaptive
+    } else {
+        fixed
+    };
+    m.set_item("pd_region", region)?;
     if pd.adaptive.is_some() {
         m.set_item("pd_regions_initial", pd.regions.clone())?;
     }

@@ -27,6 +27,29 @@ pub fn rel(a: f64, b: f64) -> f64 {
     (a - b).abs() / b.abs()
 }
 
+/// The first `n` steps of two SLA runs (e.g. the fast engine and the oracle) break the same
+/// bonds (asserted, step by step); returns the largest relative difference of lambda, sigma22
+/// and CMOD over them.
+pub fn same_sla_history(
+    a: &rustfrac_core::pd::sla::CcmPdResult,
+    b: &rustfrac_core::pd::sla::CcmPdResult,
+    n: usize,
+) -> f64 {
+    let mut worst = 0.0f64;
+    for k in 0..n {
+        let (x, y) = (&a.history[k], &b.history[k]);
+        assert_eq!(x.bonds, y.bonds, "step {} broke different bonds", k + 1);
+        for (p, q) in [
+            (x.lambda, y.lambda),
+            (x.sigma22, y.sigma22),
+            (x.cmod, y.cmod),
+        ] {
+            worst = worst.max((p - q).abs() / q.abs().max(1e-300));
+        }
+    }
+    worst
+}
+
 /// A coarse version of the paper's CCM-PD plate (dx = 1/5 keeps x2 = 10.5 and x1 = 1.1 between
 /// nodes), with a larger PD rectangle (4.4 x 2.4, ~600 PD dofs) so that hundreds of steps stay
 /// inside it.
