@@ -106,6 +106,22 @@ fn calibration_scales_the_history_and_nothing_else() {
     }
 }
 
+/// A checkpoint of one rule is not resumed under another (the loads differ); the default
+/// hashes nothing new.
+#[test]
+fn checkpoint_fingerprint_carries_the_rule() {
+    use rustfrac_core::pd::sla::checkpoint::fingerprint;
+    let p = coarse(true, 10);
+    let fp = |p: &Problem| fingerprint(p, &p.pd_precrack(), 100, 1000);
+    let mut q = p.clone();
+    q.pd_mut().s0_calibration = S0Calibration::Continuum;
+    assert_eq!(fp(&p), fp(&q));
+    q.pd_mut().s0_calibration = S0Calibration::Grid;
+    let mut r = p.clone();
+    r.pd_mut().s0_calibration = S0Calibration::Sla;
+    assert!(fp(&q) != fp(&p) && fp(&r) != fp(&p) && fp(&q) != fp(&r));
+}
+
 /// An unknown choice is refused, naming the key and its choices.
 #[test]
 fn unknown_calibration_is_refused() {
