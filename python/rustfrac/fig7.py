@@ -92,8 +92,10 @@ PRESETS: dict[str, Preset] = {
 Log = Callable[[str], None]
 
 
-def _scenes(p: Preset, bc: str) -> dict[str, Scene]:
+def _scenes(p: Preset, bc: str, s0_calibration: str | None = None) -> dict[str, Scene]:
     growth = dict(growth_steps=400)  # until a_stop = 0.7 W (or the ligament is used up)
+    # the scene states pd.s0_calibration only when asked (the default scene stays as it was)
+    cal = {} if s0_calibration is None else {"s0_calibration": s0_calibration}
     return {
         "xfem": edge_crack_plate("xfem", mesh=p.mesh, bc=bc, name="xfem reference load"),
         "xfem_traction": edge_crack_plate(
@@ -101,7 +103,13 @@ def _scenes(p: Preset, bc: str) -> dict[str, Scene]:
         ),
         "xfem_growth": edge_crack_plate("xfem", mesh=p.mesh, bc=bc, name="xfem growth", **growth),
         "ccm_pd": edge_crack_plate(
-            "ccm_pd", dx=p.dx, sla_steps=p.sla_steps, bc=bc, name="ccm_pd SLA", **_full_pd(p)
+            "ccm_pd",
+            dx=p.dx,
+            sla_steps=p.sla_steps,
+            bc=bc,
+            name="ccm_pd SLA",
+            **_full_pd(p),
+            **cal,
         ),
     }
 
@@ -176,6 +184,7 @@ def fig7(
     *,
     preset: str = "paper",
     bc: str = "free",
+    s0_calibration: str | None = None,
     log: Log | None = logger.info,
     progress: Callable[[str], Callable[[int, int, str], Any] | None] | None = None,
 ) -> dict[str, Any]:
@@ -185,6 +194,8 @@ def fig7(
         preset: "paper" (the paper's discretisations), "fast" (coarse, seconds) or "full" (the
             paper's, with CCM-PD on the adaptive PD region to a = 0.7 W: both full curves).
         bc: grip variant of the displacement load: "free" or "clamped".
+        s0_calibration: CCM-PD's critical stretch, scene key ``pd.s0_calibration``
+            ("continuum", the paper's eq. 48; "grid"; "sla"); None: the scene's default.
         log: line logger (default: ``logging.getLogger("rustfrac").info``; None: silent).
         progress: factory ``progress(name)`` returning a progress callback for one run, or None.
     """
@@ -204,7 +215,7 @@ def fig7(
     say: Log = log or (lambda s: None)
     outdir = check_writable(out)  # before computing: a bad --out must not cost the runs
     p = PRESETS[preset]
-    scenes = _scenes(p, bc)
+    scenes = _scenes(p, bc, s0_calibration)
     results: dict[str, Result] = {}
     times: dict[str, float] = {}
     interrupted = False

@@ -171,6 +171,15 @@ fn meta(s: &Shaped<'_>, r: &CcmPdResult, p: &Problem, wall: f64) -> PyResult<()>
         fixed
     };
     m.set_item("pd_region", region)?;
+    // the critical stretch's rule: s0 = factor x eq. 48's, G_ref / G0 with eq. 48's s0
+    // (memoised in the core: no second strip run)
+    let cal = rustfrac_core::pd::calibration::calibration(pd.s0_calibration, pd.m)
+        .map_err(|e| crate::errors::core_err(py, e))?;
+    let d = PyDict::new(py);
+    d.set_item("rule", cal.rule.name())?;
+    d.set_item("factor", cal.factor)?;
+    d.set_item("G_ref_over_G0", cal.g_ref_over_g0)?;
+    m.set_item("s0_calibration", d)?;
     if pd.adaptive.is_some() {
         m.set_item("pd_regions_initial", pd.regions.clone())?;
     }

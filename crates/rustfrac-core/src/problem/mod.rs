@@ -367,6 +367,8 @@ pub struct PdMethod {
     pub sla: SlaParams,
     /// the volume of a node whose cell a hole cuts (`pd.hole_volumes`, [`HoleVolumes`])
     pub hole_volumes: HoleVolumes,
+    /// the critical stretch's rule (`pd.s0_calibration`, [`crate::pd::calibration`])
+    pub s0_calibration: crate::pd::calibration::S0Calibration,
 }
 
 /// The volume of a PD node whose cell a hole or notch cuts (scene key `pd.hole_volumes`;
