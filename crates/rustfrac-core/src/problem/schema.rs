@@ -460,8 +460,9 @@ fn build() -> Vec<KeySpec> {
           "critical stretch s0: 'continuum' (eq. 48, the paper's), 'grid' (rescaled so that the \
            energy of the grid's bonds crossing an x1-parallel line is G0 per unit area) or 'sla' \
            (rescaled so that a pure-PD reference strip of 6 x 8 horizons breaking across under \
-           the SLA releases G0 per unit of new crack area; computed once per m per process); \
-           the factor is in the result's meta['s0_calibration']",
+           the SLA releases G0 per unit of new crack area; computed once per m per process: \
+           about 1 s at m = 4, 20 s at m = 5, 90 s at m = 6); the factor is in the result's \
+           meta['s0_calibration']",
           |v| S0_CALIBRATIONS.contains(&v.s())),
         k("pd", "stop_crack_length", Float, Val::Float(0.0),
           "a finite number >= 0 (0 = no stop; else in [1e-30, 1e30])",
