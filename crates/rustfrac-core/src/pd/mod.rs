@@ -7,6 +7,7 @@
 //!   the linearised bond stiffness (eqs. 46, 55, 56), which materials PD can represent.
 //! * [`bonds`]: the grid, the bonds, the neighbour search and the damage index (eq. 53).
 //! * [`splice`]: the splice CCM-PD coupling (section 2.2.2, eq. 58) and the pure PD model.
+//! * [`surface_correction`]: the PD surface correction (energy method, Le & Bobaru 2018).
 //! * [`sla`]: the sequentially linear analysis (section 3), its two solvers and checkpoints.
 
 pub mod bonds;
@@ -14,6 +15,7 @@ pub mod constants;
 pub mod partial_volume;
 pub mod sla;
 pub mod splice;
+pub mod surface_correction;
 
 pub use bonds::{damage, find_bonds, find_bonds_where, Bond, Grid, BYTES_PER_BOND};
 pub use constants::{check_material, gamma, PdConstants};

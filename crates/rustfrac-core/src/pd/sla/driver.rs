@@ -851,6 +851,7 @@ fn results(
         regions: model.pd_method().regions.clone(),
         switches: st.switches,
         interface_distance_min: st.closest.is_finite().then(|| st.closest / model.pd.delta),
+        surface_correction: model.surface.as_ref().map(|s| s.summary),
     })
 }
 
