@@ -18,7 +18,8 @@
 //!
 //!   G_k = (g_k(i) + g_k(j)) / 2,   G = [ (n_1 / G_1)^2 + (n_2 / G_2)^2 ]^(-1/2)
 //!
-//! (G = G_1 when G_1 = G_2), and its stiffness c G ([`crate::pd::splice`] scales alpha).
+//! (G = G_1 when G_1 = G_2), and its stiffness c G ([`crate::pd::splice`] scales alpha), its
+//! critical stretch s0 / sqrt(G) (below).
 //!
 //! * **The family counted.** A node's lattice family (offsets of [`super::family_stencil`] on
 //!   the PD lattice x = i dx, y = j dx, inside the plate), without the bonds to removed nodes
@@ -36,13 +37,16 @@
 //!   damage is fracture, not a surface of the elastic model that c should be recalibrated on).
 //! * **A direction without bonds.** If W_k(i) = 0 (no existing bond with n_k != 0), the
 //!   correction cannot restore it: g_k(i) = 1.
-//! * **s0 is kept.** The critical stretch s0 (eq. 48) stays the same for every bond, so a bond
-//!   breaks at the same stretch and its critical energy w_c = 1/2 G c s0^2 |xi| scales with
-//!   G like its stiffness. Eq. 48 equates the energy of the bonds across a unit of crack to G0
-//!   for a bulk family; near a surface the missing bonds lower that energy and the stiffness
-//!   by the same deficit, which the same factor G restores (keeping w_c instead, s0 / sqrt(G),
-//!   would restore the stiffness but leave the fracture energy near surfaces short). With s0
-//!   kept, the SLA (lambda = min s0 / s) needs no change and both engines share it.
+//! * **The bond's critical energy is kept, not s0.** A corrected bond breaks at the stretch
+//!   s0_b = s0 / sqrt(G) ([`critical_stretch_scale`]), so its critical energy
+//!   w_c = 1/2 G c s0_b^2 |xi| is the uncorrected bond's 1/2 c s0^2 |xi|, the energy eq. 48
+//!   calibrates on G0. The bonds a growing crack cuts ahead of its tip are all present (the
+//!   lattice count across the new crack is the bulk's), but their end nodes lie near the
+//!   pre-crack's faces and carry factors G > 1 (up to 1.93 on the paper's grid); keeping s0
+//!   would multiply their critical energy by G and inflate the fracture energy at the tip.
+//!   Measured on the paper's case (`benches/RESULTS.md`, "Surface correction"): peak sigma22
+//!   +7.6 % against XFEM with s0 kept, +4.3 % with w_c kept (+5.2 % uncorrected). Both
+//!   engines read the critical stretch of a bond from here (`pd/sla/driver.rs`).
 
 use crate::geometry::bond_crosses;
 use crate::pd::{family_stencil, Bond, Grid};
@@ -53,6 +57,8 @@ use crate::problem::Domain;
 pub struct SurfaceFactors {
     /// per bond of the model: the stiffness factor G (1 for a bond of two full families)
     pub bond: Vec<f64>,
+    /// per bond: the factor of its critical stretch, s0_b = s0 x this ([`critical_stretch_scale`])
+    pub s0_scale: Vec<f64>,
     /// per grid node: the node factors (g_1, g_2) (1 for a full family, and for the nodes no
     /// bond touches)
     pub node: Vec<[f64; 2]>,
@@ -131,10 +137,17 @@ pub fn energy_factors(
         }
     }
     SurfaceFactors {
+        s0_scale: bond.iter().map(|&v| critical_stretch_scale(v)).collect(),
         bond,
         node: g,
         summary: s,
     }
+}
+
+/// The factor of s0 for a bond of stiffness factor `g`: 1 / sqrt(g), which keeps the bond's
+/// critical energy 1/2 g c (s0 / sqrt(g))^2 |xi| ([module docs](self)); exactly 1 for g = 1.
+pub fn critical_stretch_scale(g: f64) -> f64 {
+    1.0 / g.sqrt()
 }
 
 /// The bond factor G = [(n_1 / G_1)^2 + (n_2 / G_2)^2]^(-1/2) of a bond with vector `xi` and
@@ -261,6 +274,16 @@ mod tests {
         // at 45 degrees: the ellipse's radius, between the two
         let g = bond_factor([2.0, 1.0], [1.0, 1.0]);
         assert!((g - 1.0 / (0.5f64 / 4.0 + 0.5).sqrt()).abs() < 1e-15 && g > 1.0 && g < 2.0);
+    }
+
+    #[test]
+    fn critical_energy_is_kept() {
+        assert_eq!(critical_stretch_scale(1.0), 1.0);
+        for g in [1.1, 1.5, 1.93, 2.83] {
+            // G c (s0 k)^2 = c s0^2
+            let k = critical_stretch_scale(g);
+            assert!((g * k * k - 1.0).abs() < 1e-15, "{g}");
+        }
     }
 
     #[test]

@@ -455,7 +455,8 @@ fn build() -> Vec<KeySpec> {
           "PD surface effect: 'none' (the paper's bonds) or 'energy' (Le & Bobaru 2018's \
            energy method: each bond's stiffness scaled so that a node near a free surface or \
            the pre-crack has the bulk's strain energy density under uniform strain in x1 and \
-           x2; computed once on the initial model, s0 kept)",
+           x2; computed once on the initial model; each bond keeps its critical energy: s0 / \
+           sqrt(G))",
           |v| SURFACE_CORRECTIONS.contains(&v.s())),
         // --- end pd.surface_correction ---
         k("pd", "fast", Bool, Val::Bool(true), "true or false",
