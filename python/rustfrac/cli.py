@@ -1,5 +1,6 @@
 """Command line (also ``python -m rustfrac``): ``rustfrac run SCENE.toml --out DIR [--quiet]`` and
-``rustfrac fig7 --out DIR [--preset paper|fast|full] [--bc free|clamped] [--quiet]`` and
+``rustfrac fig7 --out DIR [--preset paper|fast|full] [--bc free|clamped] [--surface-correction
+none|energy] [--quiet]`` and
 ``rustfrac sweep --out DIR [--preset tiny|full] [--scheduler ADDR|local] [--workers N] [--quiet]``
 (the paper's plate) and ``rustfrac sweep SCENE.toml --param mesh|pd.dx|SECTION.KEY --levels
 L1,L2,... [--quantity K_I] [--repeats 3] [--dask ADDR|local]`` (the user's scene) and
@@ -82,6 +83,11 @@ def _parser() -> argparse.ArgumentParser:
     )
     f.add_argument(
         "--bc", choices=("free", "clamped"), default="free", help="grip variant (u1 on the grips)"
+    )
+    f.add_argument(
+        "--surface-correction", default=None, metavar="NAME",
+        help="the CCM-PD run's PD surface correction ([pd] surface_correction: none | energy; "
+        "default: the scene's, none)",
     )
     f.add_argument("--quiet", "-q", action="store_true", help="print nothing but errors")
     w = sub.add_parser(
@@ -479,7 +485,10 @@ def _cmd_fig7(args: argparse.Namespace) -> int:
     progress = _bar_per_run(bars, args.quiet)
 
     try:
-        fig7(args.out, preset=args.preset, bc=args.bc, log=log, progress=progress)
+        fig7(
+            args.out, preset=args.preset, bc=args.bc,
+            surface_correction=args.surface_correction, log=log, progress=progress,
+        )
     except Fig7Interrupted as e:
         return _interrupted(args.out, e.summary["missing"])
     except KeyboardInterrupt:

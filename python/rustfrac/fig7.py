@@ -92,8 +92,10 @@ PRESETS: dict[str, Preset] = {
 Log = Callable[[str], None]
 
 
-def _scenes(p: Preset, bc: str) -> dict[str, Scene]:
+def _scenes(p: Preset, bc: str, surface_correction: str | None = None) -> dict[str, Scene]:
     growth = dict(growth_steps=400)  # until a_stop = 0.7 W (or the ligament is used up)
+    # the PD surface correction only when asked (the default scene stays the paper's)
+    pd = _full_pd(p) | ({} if surface_correction is None else {"surface_correction": surface_correction})
     return {
         "xfem": edge_crack_plate("xfem", mesh=p.mesh, bc=bc, name="xfem reference load"),
         "xfem_traction": edge_crack_plate(
@@ -101,7 +103,7 @@ def _scenes(p: Preset, bc: str) -> dict[str, Scene]:
         ),
         "xfem_growth": edge_crack_plate("xfem", mesh=p.mesh, bc=bc, name="xfem growth", **growth),
         "ccm_pd": edge_crack_plate(
-            "ccm_pd", dx=p.dx, sla_steps=p.sla_steps, bc=bc, name="ccm_pd SLA", **_full_pd(p)
+            "ccm_pd", dx=p.dx, sla_steps=p.sla_steps, bc=bc, name="ccm_pd SLA", **pd
         ),
     }
 
@@ -176,6 +178,7 @@ def fig7(
     *,
     preset: str = "paper",
     bc: str = "free",
+    surface_correction: str | None = None,
     log: Log | None = logger.info,
     progress: Callable[[str], Callable[[int, int, str], Any] | None] | None = None,
 ) -> dict[str, Any]:
@@ -185,6 +188,8 @@ def fig7(
         preset: "paper" (the paper's discretisations), "fast" (coarse, seconds) or "full" (the
             paper's, with CCM-PD on the adaptive PD region to a = 0.7 W: both full curves).
         bc: grip variant of the displacement load: "free" or "clamped".
+        surface_correction: the CCM-PD run's ``pd.surface_correction`` ("none" or "energy");
+            None: the scene's default ("none", the paper's).
         log: line logger (default: ``logging.getLogger("rustfrac").info``; None: silent).
         progress: factory ``progress(name)`` returning a progress callback for one run, or None.
     """
@@ -204,7 +209,7 @@ def fig7(
     say: Log = log or (lambda s: None)
     outdir = check_writable(out)  # before computing: a bad --out must not cost the runs
     p = PRESETS[preset]
-    scenes = _scenes(p, bc)
+    scenes = _scenes(p, bc, surface_correction)
     results: dict[str, Result] = {}
     times: dict[str, float] = {}
     interrupted = False
