@@ -175,6 +175,11 @@ def _parser() -> argparse.ArgumentParser:
         help="the PD rectangle; auto: around the XFEM path (default, unless a ccm_pd scene "
         "states its own rectangle); adaptive: the adaptive PD region, grown where the crack goes",
     )
+    c.add_argument(
+        "--surface-correction", default=None, metavar="NAME",
+        help="the CCM-PD run's PD surface correction ([pd] surface_correction: none | energy; "
+        "default: a PD scene's, else none)",
+    )
     c.add_argument("--growth-steps", type=int, default=None, help="XFEM growth steps")
     c.add_argument("--sla-steps", type=int, default=None, help="most SLA steps (bond breaks)")
     c.add_argument(
@@ -538,7 +543,7 @@ def _cmd_compare(args: argparse.Namespace) -> int:
             scene, args.out, quick=args.quick, dx=args.dx, m=args.m,
             margin_horizons=DEFAULT_MARGIN_HORIZONS if args.margin is None else args.margin,
             growth_steps=args.growth_steps, sla_steps=args.sla_steps, region=region,
-            allow_slow=args.allow_slow, vtu=args.vtu, log=log, progress=progress,
+            surface_correction=args.surface_correction, allow_slow=args.allow_slow, vtu=args.vtu, log=log, progress=progress,
         )  # fmt: skip
     except CompareInterrupted as e:
         return _interrupted(args.out, e.summary["missing"])
