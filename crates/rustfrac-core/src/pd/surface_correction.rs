@@ -26,7 +26,8 @@
 //!   and through holes (the centre rule and the segment test of `splice/holes.rs`) and without
 //!   those the pre-crack crosses (`splice/precrack.rs`, the same test in lattice units);
 //!   partial volumes are the stencil's beta (the centre-rule volumes: `pd.hole_volumes =
-//!   "exact"` scales the bonds, not the factors). Bonds to FEM nodes of the splice coupling
+//!   "exact"` scales the bonds, not the factors; the small-fraction rule by which FEM holes of
+//!   CCM-PD remove FEM nodes is not the lattice's). Bonds to FEM nodes of the splice coupling
 //!   count as present: the coupled model has them. The family is the lattice's, not the
 //!   model's bond list, so a node's factor does not depend on which PD rectangle holds it:
 //!   under the adaptive region (`pd/sla/adaptive.rs`) a node keeps its factors when the
@@ -35,6 +36,13 @@
 //! * **Once, on the initial model.** The factors are computed when the model is built, from
 //!   the pre-cracked but unbroken bonds; bonds broken during the SLA do not change them (the
 //!   damage is fracture, not a surface of the elastic model that c should be recalibrated on).
+//! * **Where it fits.** The energy method assumes a node's cell ends at the surface. That holds
+//!   at the pre-crack's faces (midway between node rows, as the paper's) and at holes by the
+//!   centre rule, not at the plate's outline, whose nodes lie on it with full cells (the PD
+//!   body is dx wider than the plate): there it restores the bulk stiffness of that wider body
+//!   and overcorrects (measured, `tests/pd_surface_correction.rs`: a 2 x 4 pure PD plate at
+//!   dx = 0.1 is 8 % too stiff with it, within 0.5 % without). The paper's CCM-PD rectangle
+//!   reaches no plate edge.
 //! * **A direction without bonds.** If W_k(i) = 0 (no existing bond with n_k != 0), the
 //!   correction cannot restore it: g_k(i) = 1.
 //! * **The bond's critical energy is kept, not s0.** A corrected bond breaks at the stretch
