@@ -12,6 +12,7 @@ import pytest
 
 import rustfrac as rf
 from rustfrac import agreement
+from rustfrac.cli import main
 from rustfrac.fig7 import fig7
 
 FILES = ["fig7.png", "fig7.csv", "fig8a.png", "fig8b.png", "fig6.png", "summary.md", "summary.json"]
@@ -30,6 +31,24 @@ def fast_run(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, dict]:
     out = tmp_path_factory.mktemp("fig7")
     summary = fig7(out, preset="fast", log=None)
     return out, summary
+
+
+def test_s0_calibration_rescales_the_ccm_pd_curve(fast_run: tuple[Path, dict], tmp_path: Path) -> None:
+    """``fig7(..., s0_calibration="sla")`` (``rustfrac fig7 --s0-calibration sla``): the CCM-PD
+    run's s0 is rescaled by the calibration's factor, so its peak is the default run's times the
+    factor (the same bonds break; the XFEM runs are untouched)."""
+    _, base = fast_run
+    summary = fig7(tmp_path, preset="fast", s0_calibration="sla", log=None)
+    cal = rf.load(tmp_path / "ccm_pd").meta["s0_calibration"]
+    assert cal["rule"] == "sla" and 0.8 < cal["factor"] < 0.99
+    ours, ref = summary["ours"], base["ours"]
+    assert ours["peak_sigma22_ccm_pd"] == pytest.approx(
+        cal["factor"] * ref["peak_sigma22_ccm_pd"], rel=1e-9
+    )
+    assert ours["peak_sigma22_xfem"] == ref["peak_sigma22_xfem"]
+    with pytest.raises(SystemExit) as e:  # argparse: the choices come from the core's schema
+        main(["fig7", "--out", str(tmp_path / "x"), "--s0-calibration", "exact"])
+    assert e.value.code == 2
 
 
 def test_every_file_is_written(fast_run: tuple[Path, dict]) -> None:

@@ -13,13 +13,28 @@ Units are consistent; the paper's case uses N, mm and MPa.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Any
+
 from . import errors as _errors
-from . import examples, plotting, scenes, specimens
+from . import examples, scenes, specimens
 from ._core import __version__
 from .errors import *  # noqa: F403 (the exception and warning classes, errors.__all__)
 from .result import Result, load
 from .runner import run
 from .scene import METHODS, Scene
+
+if TYPE_CHECKING:
+    from . import plotting
+
+
+def __getattr__(name: str) -> Any:
+    """``rustfrac.plotting`` is imported at its first use: it imports matplotlib, which would
+    otherwise make ``import rustfrac`` ten times slower (0.5 s instead of 0.05 s)."""
+    if name == "plotting":
+        import importlib
+
+        return importlib.import_module(".plotting", __name__)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 __all__ = [
     "METHODS",

@@ -38,6 +38,13 @@ if TYPE_CHECKING:
 __all__ = ["ProgressBar", "main"]
 
 
+def _s0_calibrations() -> list[str]:
+    """The choices of ``pd.s0_calibration`` (the core's schema)."""
+    from . import _core
+
+    return list(_core.scene_constants()["S0_CALIBRATIONS"])
+
+
 def _parser() -> argparse.ArgumentParser:
     from . import __version__
 
@@ -83,6 +90,12 @@ def _parser() -> argparse.ArgumentParser:
     )
     f.add_argument(
         "--bc", choices=("free", "clamped"), default="free", help="grip variant (u1 on the grips)"
+    )
+    f.add_argument(
+        "--s0-calibration", choices=_s0_calibrations(), default=None,
+        help="CCM-PD critical stretch (scene key pd.s0_calibration): continuum (eq. 48, the "
+        "paper's, default), grid (the grid's discrete fracture energy = G0) or sla (the SLA's "
+        "release in a reference strip = G0)",
     )
     f.add_argument(
         "--surface-correction", default=None, metavar="NAME",
@@ -491,9 +504,9 @@ def _cmd_fig7(args: argparse.Namespace) -> int:
 
     try:
         fig7(
-            args.out, preset=args.preset, bc=args.bc,
+            args.out, preset=args.preset, bc=args.bc, s0_calibration=args.s0_calibration,
             surface_correction=args.surface_correction, log=log, progress=progress,
-        )
+        )  # fmt: skip
     except Fig7Interrupted as e:
         return _interrupted(args.out, e.summary["missing"])
     except KeyboardInterrupt:

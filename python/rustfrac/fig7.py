@@ -92,10 +92,15 @@ PRESETS: dict[str, Preset] = {
 Log = Callable[[str], None]
 
 
-def _scenes(p: Preset, bc: str, surface_correction: str | None = None) -> dict[str, Scene]:
+def _scenes(
+    p: Preset, bc: str, s0_calibration: str | None = None, surface_correction: str | None = None
+) -> dict[str, Scene]:
     growth = dict(growth_steps=400)  # until a_stop = 0.7 W (or the ligament is used up)
-    # the PD surface correction only when asked (the default scene stays the paper's)
-    pd = _full_pd(p) | ({} if surface_correction is None else {"surface_correction": surface_correction})
+    # the scene states pd.s0_calibration and pd.surface_correction only when asked (the default
+    # scene stays as it was)
+    cal = {} if s0_calibration is None else {"s0_calibration": s0_calibration}
+    if surface_correction is not None:
+        cal["surface_correction"] = surface_correction
     return {
         "xfem": edge_crack_plate("xfem", mesh=p.mesh, bc=bc, name="xfem reference load"),
         "xfem_traction": edge_crack_plate(
@@ -103,7 +108,13 @@ def _scenes(p: Preset, bc: str, surface_correction: str | None = None) -> dict[s
         ),
         "xfem_growth": edge_crack_plate("xfem", mesh=p.mesh, bc=bc, name="xfem growth", **growth),
         "ccm_pd": edge_crack_plate(
-            "ccm_pd", dx=p.dx, sla_steps=p.sla_steps, bc=bc, name="ccm_pd SLA", **pd
+            "ccm_pd",
+            dx=p.dx,
+            sla_steps=p.sla_steps,
+            bc=bc,
+            name="ccm_pd SLA",
+            **_full_pd(p),
+            **cal,
         ),
     }
 
@@ -178,6 +189,7 @@ def fig7(
     *,
     preset: str = "paper",
     bc: str = "free",
+    s0_calibration: str | None = None,
     surface_correction: str | None = None,
     log: Log | None = logger.info,
     progress: Callable[[str], Callable[[int, int, str], Any] | None] | None = None,
@@ -188,6 +200,8 @@ def fig7(
         preset: "paper" (the paper's discretisations), "fast" (coarse, seconds) or "full" (the
             paper's, with CCM-PD on the adaptive PD region to a = 0.7 W: both full curves).
         bc: grip variant of the displacement load: "free" or "clamped".
+        s0_calibration: CCM-PD's critical stretch, scene key ``pd.s0_calibration``
+            ("continuum", the paper's eq. 48; "grid"; "sla"); None: the scene's default.
         surface_correction: the CCM-PD run's ``pd.surface_correction`` ("none" or "energy");
             None: the scene's default ("none", the paper's).
         log: line logger (default: ``logging.getLogger("rustfrac").info``; None: silent).
@@ -209,7 +223,7 @@ def fig7(
     say: Log = log or (lambda s: None)
     outdir = check_writable(out)  # before computing: a bad --out must not cost the runs
     p = PRESETS[preset]
-    scenes = _scenes(p, bc, surface_correction)
+    scenes = _scenes(p, bc, s0_calibration, surface_correction)
     results: dict[str, Result] = {}
     times: dict[str, float] = {}
     interrupted = False

@@ -25,7 +25,7 @@ TOML layout (only ``method`` is required; omitted sections and keys take the pap
     [xfem]      nsub, tip_nsub, r_I, fixed_area_radius, area_threshold, growth_steps,
                 tip_tie_tol, da, kink_rule, a_stop             # kink_rule: hoop | predictor_corrector
     [pd]        dx, m, center, size, hole_volumes, surface_correction, fem_grading,
-                fem_coarse, sla_steps, tie_tol, refactor_every, fast, engine,
+                fem_coarse, sla_steps, tie_tol, refactor_every, fast, engine, s0_calibration,
                 stop_crack_length, damage_at_steps, checkpoint_every, checkpoint_path,
                 resume_from                                    # pd and ccm_pd
 

@@ -70,6 +70,9 @@ def edge_crack_plate(
             rectangle (1 = uniform dx, the default) and largest element in dx (8).
         tie_tol, refactor_every, fast, engine, stop_crack_length: SLA options (see
             :class:`~rustfrac.scene.PdOptions`).
+        s0_calibration: the critical stretch: "continuum" (eq. 48, the paper's; default),
+            "grid" or "sla" (s0 rescaled so that the grid's discrete fracture energy, or the
+            SLA's release in a reference strip, is G0; ``meta["s0_calibration"]``).
         damage_at_steps, checkpoint_every, checkpoint_path, resume_from: SLA outputs and
             checkpoints (see :class:`~rustfrac.scene.PdOptions`).
         cracks: XFEM only: several cracks, each a :class:`~rustfrac.scene.Crack` or a dict of

@@ -63,6 +63,31 @@ fn ccm_pd_sparse_matches_oracle() {
     agree(&dense, &oracle, 1e-8);
 }
 
+/// The sparse engine keeps the columns of S_0^{-1} it computes (in batches around the crack):
+/// without a re-factorisation, 150 breaks need far fewer columns than the 4 a break would cost
+/// one by one, and the history is still the oracle's.
+#[test]
+fn sparse_engine_reuses_inverse_columns() {
+    let steps = 150;
+    let mut p = coarse(true, steps);
+    p.pd_mut().sla.refactor_every = 10_000;
+    let sparse = run(&with_engine(p.clone(), SlaEngine::Sparse), &go_on).unwrap();
+    let oracle = run(&with_engine(p, SlaEngine::Oracle), &go_on).unwrap();
+    println!(
+        "{} columns for {steps} breaks, {} factorisation(s)",
+        sparse.inverse_columns, sparse.n_refactorisations
+    );
+    assert_eq!(sparse.n_refactorisations, 1);
+    assert!(sparse.inverse_columns > 0);
+    assert!(
+        sparse.inverse_columns < 2 * steps,
+        "{} columns",
+        sparse.inverse_columns
+    );
+    assert_eq!(oracle.inverse_columns, 0);
+    agree(&sparse, &oracle, 1e-8);
+}
+
 /// Pure PD (2.2 x 4.3 plate, dx = 0.1, m = 3, 946 nodes, symmetric K: sparse Cholesky) against
 /// the oracle, re-factorising every 30 breaks.
 #[test]

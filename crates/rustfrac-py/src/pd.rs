@@ -178,6 +178,15 @@ fn meta(s: &Shaped<'_>, r: &CcmPdResult, p: &Problem, wall: f64) -> PyResult<()>
         m.set_item("surface_node_factor_range", sc.node_factor_range.to_vec())?;
         m.set_item("surface_bond_factor_range", sc.bond_factor_range.to_vec())?;
     }
+    // the critical stretch's rule: s0 = factor x eq. 48's, G_ref / G0 with eq. 48's s0
+    // (memoised in the core: no second strip run)
+    let cal = rustfrac_core::pd::calibration::calibration(pd.s0_calibration, pd.m)
+        .map_err(|e| crate::errors::core_err(py, e))?;
+    let d = PyDict::new(py);
+    d.set_item("rule", cal.rule.name())?;
+    d.set_item("factor", cal.factor)?;
+    d.set_item("G_ref_over_G0", cal.g_ref_over_g0)?;
+    m.set_item("s0_calibration", d)?;
     if pd.adaptive.is_some() {
         m.set_item("pd_regions_initial", pd.regions.clone())?;
     }
@@ -197,6 +206,7 @@ fn meta(s: &Shaped<'_>, r: &CcmPdResult, p: &Problem, wall: f64) -> PyResult<()>
     m.set_item("out_of_balance", r.out_of_balance.to_vec())?;
     m.set_item("n_refactorisations", r.n_refactorisations)?;
     m.set_item("max_update_rank", r.max_update_rank)?;
+    m.set_item("inverse_columns", r.inverse_columns)?;
     m.set_item("refactor_interval", r.refactor_interval)?;
     m.set_item("resumed_steps", r.resumed_steps)?;
     m.set_item("n_checkpoints", r.n_checkpoints)?;

@@ -5,12 +5,14 @@
 //!   (cell / disc intersection) and the family stencil.
 //! * [`constants`]: gamma (Ongaro et al.), micromodulus c (eq. 47), critical stretch s0 (eq. 48),
 //!   the linearised bond stiffness (eqs. 46, 55, 56), which materials PD can represent.
+//! * [`calibration`]: the critical stretch calibrated on the grid (`pd.s0_calibration`).
 //! * [`bonds`]: the grid, the bonds, the neighbour search and the damage index (eq. 53).
 //! * [`splice`]: the splice CCM-PD coupling (section 2.2.2, eq. 58) and the pure PD model.
 //! * [`surface_correction`]: the PD surface correction (energy method, Le & Bobaru 2018).
 //! * [`sla`]: the sequentially linear analysis (section 3), its two solvers and checkpoints.
 
 pub mod bonds;
+pub mod calibration;
 pub mod constants;
 pub mod partial_volume;
 pub mod sla;

@@ -369,6 +369,8 @@ pub struct PdMethod {
     pub hole_volumes: HoleVolumes,
     /// the PD surface correction (`pd.surface_correction`, [`SurfaceCorrection`])
     pub surface_correction: SurfaceCorrection,
+    /// the critical stretch's rule (`pd.s0_calibration`, [`crate::pd::calibration`])
+    pub s0_calibration: crate::pd::calibration::S0Calibration,
 }
 
 /// The PD surface correction (scene key `pd.surface_correction`,

@@ -97,6 +97,8 @@ pub const PD_REGIONS: [&str; 2] = ["fixed", "adaptive"];
 /// `crate::pd::surface_correction`).
 pub const SURFACE_CORRECTIONS: [&str; 2] = ["none", "energy"];
 // --- end pd.surface_correction ---
+/// `pd.s0_calibration`: the critical stretch's rule ([`crate::pd::calibration`]).
+pub const S0_CALIBRATIONS: [&str; 3] = ["continuum", "grid", "sla"];
 /// Largest `pd.adapt_margin` and `pd.adapt_size` (horizons).
 pub const MAX_ADAPT_HORIZONS: f64 = 50.0;
 /// Regions of supports (loads: all but "box").
@@ -467,6 +469,15 @@ fn build() -> Vec<KeySpec> {
            model, reported in the result's solver), 'dense' (condensed PD system inverted), \
            'sparse' (sparse factor of it + Sherman-Morrison-Woodbury) or 'oracle' (refactorise \
            every step, as fast = false)", |v| SLA_ENGINES.contains(&v.s())),
+        k("pd", "s0_calibration", Str, Val::Str(S0_CALIBRATIONS[0].into()),
+          &choice(&S0_CALIBRATIONS),
+          "critical stretch s0: 'continuum' (eq. 48, the paper's), 'grid' (rescaled so that the \
+           energy of the grid's bonds crossing an x1-parallel line is G0 per unit area) or 'sla' \
+           (rescaled so that a pure-PD reference strip of 6 x 8 horizons breaking across under \
+           the SLA releases G0 per unit of new crack area; computed once per m per process: \
+           about 1 s at m = 4, 20 s at m = 5, 90 s at m = 6); the factor is in the result's \
+           meta['s0_calibration']",
+          |v| S0_CALIBRATIONS.contains(&v.s())),
         k("pd", "stop_crack_length", Float, Val::Float(0.0),
           "a finite number >= 0 (0 = no stop; else in [1e-30, 1e30])",
           "stop the SLA once the crack is this long", |v| nonneg(v.f())),

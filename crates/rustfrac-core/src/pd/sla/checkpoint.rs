@@ -145,6 +145,11 @@ pub fn fingerprint(p: &Problem, precrack: &[[f64; 2]], n_dofs: usize, n_bonds: u
     if let crate::problem::Boundary::Regions { supports, loads } = &p.boundary {
         h.str(&format!("{supports:?}{loads:?}"));
     }
+    // the critical stretch's rule (nothing is hashed for the default "continuum": the same
+    // bonds break under every rule, but the recorded loads differ)
+    if pd.s0_calibration != crate::pd::calibration::S0Calibration::Continuum {
+        h.str(pd.s0_calibration.name());
+    }
     h.finish()
 }
 

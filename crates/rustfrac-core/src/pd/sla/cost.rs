@@ -8,7 +8,8 @@
 //!   ([`super::auto_refactor_every`]); the step's solve is a few columns of S^{-1} (O(n)).
 //! * sparse: one factorisation, about nnz(L)^2 / n flops (exact for a dense band; the supernodal
 //!   factor of the 2D grids here measured within a factor 2 of it) at [`SPARSE_FLOPS`], and
-//!   a solve per step, 4 nnz(L) flops at [`SOLVE_FLOPS`] (memory bound). nnz(L) comes from the
+//!   per step [`COLUMNS_PER_STEP`] columns of S^{-1} (`fast/columns.rs`), 4 nnz(L) flops each in
+//!   multi-column solves at [`BATCH_SOLVE_FLOPS`]. nnz(L) comes from the
 //!   symbolic Cholesky analysis of the pattern of S (for the non-symmetric CCM-PD S, of its
 //!   symmetrised pattern: LU stores L and U, so twice that). The interval minimising
 //!   t_fact / N + t_solve + N n / [`UPDATE_FLOPS`] is N = sqrt(t_fact [`UPDATE_FLOPS`] / n).
@@ -22,8 +23,13 @@
 pub(super) const DENSE_FLOPS: f64 = 2.0e10;
 /// Sparse supernodal factorisation rate (flop/s).
 pub(super) const SPARSE_FLOPS: f64 = 8.0e9;
-/// Sparse triangular solve rate with one right-hand side (flop/s; memory bound).
-pub(super) const SOLVE_FLOPS: f64 = 2.0e9;
+/// Sparse triangular solve rate with a batch of right-hand sides (flop/s): 128 columns of the
+/// pure PD paper grid's factor in 3.8 s on the loaded development machine, 1.2e10 (one
+/// right-hand side alone: 2e9, memory bound).
+pub(super) const BATCH_SOLVE_FLOPS: f64 = 1.2e10;
+/// Columns of S^{-1} computed per SLA step, refills after re-factorisations included: measured
+/// 1.1 (pure PD paper grid, 500 steps) and 1.5 (coarse CCM-PD, 150 steps).
+pub(super) const COLUMNS_PER_STEP: f64 = 1.5;
 /// Rate of the O(k n) update work per step (flop/s; memory bound).
 pub(super) const UPDATE_FLOPS: f64 = 2.0e9;
 /// Steps the estimates are made for.
@@ -64,7 +70,7 @@ impl CostEstimate {
         let t_cond = 2.0 * n * n * n / DENSE_FLOPS;
         let dense_seconds = cycle_cost(steps, dense_interval, t_cond, 0.0, per_update);
         let t_fact = factor_nnz * factor_nnz / n / SPARSE_FLOPS;
-        let t_solve = 4.0 * factor_nnz / SOLVE_FLOPS;
+        let t_solve = COLUMNS_PER_STEP * 4.0 * factor_nnz / BATCH_SOLVE_FLOPS;
         let sparse_interval = if refactor_every > 0 {
             refactor_every
         } else {
@@ -92,12 +98,16 @@ impl CostEstimate {
     }
 
     /// Bytes the solver of form `kind` keeps: the dense form three n x n matrices, the sparse
-    /// form its factor (values and indices, 12 bytes a value) and N update vectors.
+    /// form its factor (values and indices, 12 bytes a value), N update vectors and the kept
+    /// columns of S^{-1} (about [`COLUMNS_PER_STEP`] N).
     pub fn solver_bytes(&self, kind: EngineKind) -> f64 {
         let n = self.n_p as f64;
         match kind {
             EngineKind::Dense => 3.0 * 8.0 * n * n,
-            EngineKind::Sparse => 12.0 * self.factor_nnz + 8.0 * n * self.sparse_interval as f64,
+            EngineKind::Sparse => {
+                12.0 * self.factor_nnz
+                    + 8.0 * n * (1.0 + COLUMNS_PER_STEP) * self.sparse_interval as f64
+            }
         }
     }
 
@@ -139,8 +149,10 @@ mod tests {
 
     #[test]
     fn small_systems_stay_dense_large_go_sparse() {
-        // the paper's CCM-PD (n_P = 2080): dense; its pure PD (n_P = 103 583): sparse
-        let small = CostEstimate::new(2080, factor_nnz_guess(2080, 2080.0 * 24.0), 0);
+        // the paper's CCM-PD (n_P = 2080, nnz(L) 3.53e6 from the symbolic analysis of S with its
+        // dense FEM-ring block; measured on the loaded machine: dense 3.1-3.3 s, sparse
+        // 3.1-3.4 s a run): dense; its pure PD (n_P = 103 583): sparse
+        let small = CostEstimate::new(2080, 3.526e6, 0);
         assert_eq!(small.choice(), EngineKind::Dense, "{small:?}");
         let big = CostEstimate::new(103_583, 8.56e7, 0);
         assert_eq!(big.choice(), EngineKind::Sparse, "{big:?}");

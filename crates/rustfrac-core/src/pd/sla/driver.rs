@@ -133,6 +133,7 @@ fn run_from(
         };
         info.n_refactorisations += engine.n_refactorisations();
         info.max_update_rank = info.max_update_rank.max(engine.max_update_rank());
+        info.inverse_columns += engine.inverse_columns();
         let Some(centres) = grow else {
             break if st.status == SlaStatus::Separated {
                 Vec::new()
@@ -760,6 +761,7 @@ struct RunInfo {
     refactor_interval: usize,
     n_refactorisations: usize,
     max_update_rank: usize,
+    inverse_columns: usize,
     resumed_steps: usize,
     n_checkpoints: usize,
     setup_seconds: f64,
@@ -846,6 +848,7 @@ fn results(
         status: st.status,
         n_refactorisations: info.n_refactorisations,
         max_update_rank: info.max_update_rank,
+        inverse_columns: info.inverse_columns,
         refactor_interval: info.refactor_interval,
         detached_nodes,
         warnings,

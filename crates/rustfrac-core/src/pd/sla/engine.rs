@@ -29,6 +29,10 @@ pub(super) trait Engine {
     fn n_refactorisations(&self) -> usize;
     /// largest number of stored low-rank update vectors so far (0: none kept)
     fn max_update_rank(&self) -> usize;
+    /// columns of S_0^{-1} computed for the updates (sparse base, `fast/columns.rs`; else 0)
+    fn inverse_columns(&self) -> usize {
+        0
+    }
 }
 
 pub(super) fn separated(detail: String) -> Error {

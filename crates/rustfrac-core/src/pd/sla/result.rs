@@ -152,6 +152,9 @@ pub struct CcmPdResult {
     /// largest number of low-rank update vectors the fast solver held at once (0 for the oracle);
     /// bounded by the re-condensation interval
     pub max_update_rank: usize,
+    /// columns of S_0^{-1} the sparse engine computed, in batches, for its updates (0 for the
+    /// dense engine and the oracle): far fewer than 4 per step when the crack reuses them
+    pub inverse_columns: usize,
     /// the re-condensation interval in use (fast solver; 0 for the oracle)
     pub refactor_interval: usize,
     /// (step, node) of every grounding of a detached node; step 0 = detached by the pre-crack

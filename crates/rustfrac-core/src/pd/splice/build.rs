@@ -16,6 +16,7 @@ use crate::fe::q4::element_stiffness;
 use crate::fe::quadrature::{subquad_rule, QPoint};
 use crate::la::Pattern;
 use crate::memory;
+use crate::pd::calibration::{calibration, S0Calibration};
 use crate::pd::sla::{factor_nnz_guess, CostEstimate};
 use crate::pd::surface_correction::energy_factors;
 use crate::pd::{
@@ -165,13 +166,16 @@ fn memory_estimate(n_nodes: usize, n_pd: usize, m: usize) -> f64 {
 
 /// The grid (its fit and node count are rules of the problem, [`validate::problem`]; graded
 /// away from the PD rectangles with `pd.fem_grading` > 1, `graded.rs`) and the PD constants on
-/// its uniform spacing.
+/// its uniform spacing, s0 calibrated by `pd.s0_calibration` ([`crate::pd::calibration`]).
 fn grid_and_constants(p: &Problem, pm: &PdMethod) -> Result<(Grid, PdConstants)> {
     let d = &p.domain;
     let fit = |len: f64| validate::grid_count(len, pm.dx).expect("checked by validate::problem");
     let (nx, ny) = (fit(d.width), fit(d.height));
     let dx = d.width / nx as f64;
-    let pd = PdConstants::new(&p.material.elastic, p.material.g0, dx, pm.m)?;
+    let mut pd = PdConstants::new(&p.material.elastic, p.material.g0, dx, pm.m)?;
+    if pm.s0_calibration != S0Calibration::Continuum {
+        pd.s0 *= calibration(pm.s0_calibration, pm.m)?.factor;
+    }
     let grid = graded::grid(pm, nx, ny, dx);
     Ok((grid, pd))
 }

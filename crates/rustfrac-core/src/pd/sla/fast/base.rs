@@ -64,7 +64,8 @@ impl SparseFactor {
         })
     }
 
-    fn solve_in_place(&self, x: &mut [f64]) -> Result<()> {
+    /// Solves S_0 X = B in place (`x` column-major, n_P x k).
+    pub(in crate::pd::sla) fn solve_in_place(&self, x: &mut [f64]) -> Result<()> {
         match self {
             Self::Cholesky(c) => c.solve_in_place(x),
             Self::Lu(l) => l.solve_in_place(x),

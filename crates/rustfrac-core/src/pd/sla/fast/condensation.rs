@@ -14,6 +14,8 @@
 //! `condense` builds and inverts S (also at every re-condensation).
 
 use super::base::{Base, SparseFactor};
+use super::Columns;
+
 use super::{Fast, SchurKind, CLS_F, CLS_FIXED, CLS_P};
 use crate::error::{Error, Result};
 use crate::la::{CscMatrix, InterfaceCholesky, Reduction};
@@ -96,6 +98,7 @@ impl<'a> Fast<'a> {
             cmod_const: fun.cmod_const,
             cmod_coef: fun.cmod_coef,
             base: analysed.map_or(Base::None, |f| Base::Sparse(Box::new(f))),
+            columns: Columns::default(),
             kind,
             p_xy: Vec::new(),
             x0: Vec::new(),
@@ -193,6 +196,7 @@ impl<'a> Fast<'a> {
         if let Base::Sparse(f) = &mut self.base {
             f.factorize(&s)?;
         }
+        self.columns.clear();
         timing("fast: sparse S factorised", t0);
         Ok(())
     }

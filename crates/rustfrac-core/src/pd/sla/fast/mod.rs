@@ -14,6 +14,7 @@
 //! its memory at O(bonds + n_P^2).
 
 mod base;
+mod columns;
 mod condensation;
 mod smw;
 
@@ -26,6 +27,7 @@ use crate::la::Cholesky;
 use crate::la::{CscMatrix, Reduction};
 use crate::pd::splice::{SpliceModel, Spring};
 use base::Base;
+use columns::Columns;
 
 /// Dof classes of the condensation.
 const CLS_FIXED: u8 = 0;
@@ -64,6 +66,8 @@ pub(super) struct Fast<'a> {
     cmod_coef: Vec<f64>,
     /// the base condensed matrix S_0: its dense inverse or its sparse factor (`base.rs`)
     base: Base,
+    /// kept columns of S_0^{-1} (sparse base; `columns.rs`)
+    columns: Columns,
     /// which form of S_0 to build at each condensation
     kind: SchurKind,
     /// positions of the P dofs (nested dissection of the sparse Cholesky)
@@ -147,6 +151,9 @@ impl Engine for Fast<'_> {
     }
     fn max_update_rank(&self) -> usize {
         self.max_rank
+    }
+    fn inverse_columns(&self) -> usize {
+        self.columns.computed
     }
     fn u(&self) -> &[f64] {
         &self.u_full

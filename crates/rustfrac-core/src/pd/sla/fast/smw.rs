@@ -5,6 +5,9 @@
 //! bordering (O(k^2) per update). The Schur pivot of the bordering is det(S_k+1) / det(S_k):
 //! when it vanishes the body has separated; when it is merely small a fresh condensation decides.
 
+use rayon::prelude::*;
+
+use super::base::Base;
 use super::{Fast, CLS_F, CLS_P};
 use crate::error::{Error, Result};
 use crate::pd::sla::engine::{separated, Update};
@@ -14,6 +17,10 @@ use crate::pd::splice::Spring;
 /// condensation: legitimate breaks give pivots of order 1e-2..1 (the paper's 500 steps: none
 /// below 1e-3), a mechanism gives round-off (1e-6 after a few hundred updates).
 const SUSPICIOUS_PIVOT: f64 = 1e-4;
+/// Entries of x updated together by all stored columns (16 kB of x in cache).
+const X_CHUNK: usize = 2048;
+/// Stored values (k n) above which the update of x runs on all threads.
+const PARALLEL_WORK: usize = 1 << 20;
 
 impl Fast<'_> {
     /// The condensed solution of the current state: x = v + W C^{-1} (B^T v), with v = S_0^{-1} g_k
@@ -31,10 +38,21 @@ impl Fast<'_> {
             *yi = row.iter().zip(&z).map(|(a, b)| a * b).sum();
         }
         let mut x = self.v.clone();
-        for (wc, &yc) in self.w.iter().zip(&y) {
-            for (xi, &wi) in x.iter_mut().zip(wc) {
-                *xi += wi * yc;
+        // x += W y, in chunks of x that stay in cache while every stored column passes (W is
+        // read once: the step is bound by reading it); each x_i sums its terms in column order,
+        // so the result does not depend on the chunking or the threads
+        let add = |(c, xc): (usize, &mut [f64])| {
+            let (off, len) = (c * X_CHUNK, xc.len());
+            for (wc, &yc) in self.w.iter().zip(&y) {
+                for (xi, &wi) in xc.iter_mut().zip(&wc[off..off + len]) {
+                    *xi += wi * yc;
+                }
             }
+        };
+        if k * x.len() >= PARALLEL_WORK {
+            x.par_chunks_mut(X_CHUNK).enumerate().for_each(add);
+        } else {
+            x.chunks_mut(X_CHUNK).enumerate().for_each(add);
         }
         x
     }
@@ -147,8 +165,13 @@ impl Fast<'_> {
         upd: Update,
     ) -> Result<()> {
         let np = self.p_dofs.len();
-        // w = S0^{-1} a
-        let w = self.base.solve_sparse(&a, np)?;
+        // w = S0^{-1} a (sparse base: from kept columns, `columns.rs`)
+        let w = match &self.base {
+            Base::Sparse(f) => self
+                .columns
+                .combine(f, &a, &self.p_xy, self.model.pd.delta)?,
+            base => base.solve_sparse(&a, np)?,
+        };
         // bordering of the capacitance C = I - B^T W
         let k = self.w.len();
         let col: Vec<f64> = self
