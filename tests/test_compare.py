@@ -173,6 +173,16 @@ def test_plan_derives_both_scenes_from_any_method() -> None:
     assert any("crack moved" in n for n in p.notes) and any("nu = 0.25" in n for n in p.notes)
 
 
+def test_plan_forwards_the_surface_correction() -> None:
+    """``surface_correction`` (``--surface-correction``) sets the CCM-PD scene's
+    ``pd.surface_correction``; without it a PD scene's own value is kept (default: absent)."""
+    assert "surface_correction" not in compare.plan(TINY_INCLINED).pd["pd"]
+    p = compare.plan(TINY_INCLINED, surface_correction="energy")
+    assert p.pd["pd"]["surface_correction"] == "energy"
+    pd_scene = rf.Scene.from_toml_str(TINY_CCM_PD_TOML).replace(pd__surface_correction="energy")
+    assert compare.plan(pd_scene).pd["pd"]["surface_correction"] == "energy"
+
+
 def test_pd_region_covers_the_path_and_keeps_off_loaded_edges() -> None:
     path = np.array([[2.0, 5.0], [3.0, 6.0]])
     dx, m = 0.25, 3

@@ -318,6 +318,7 @@ def test_separated_strip_is_a_status_without_nan(tmp_path: Path) -> None:
         ({"method": "pd", "fem_grading": 1.2}, "pd.fem_grading", "method 'ccm_pd'"),
         ({"method": "ccm_pd", "fem_grading": 2.5}, "pd.fem_grading", "1 <= fem_grading"),
         ({"method": "ccm_pd", "fem_coarse": 0.5}, "pd.fem_coarse", "1 <= fem_coarse"),
+        ({"method": "ccm_pd", "surface_correction": "volume"}, "pd.surface_correction", "energy"),
     ],
 )
 def test_bad_pd_inputs(kw: dict[str, object], param: str, text: str) -> None:
@@ -349,6 +350,28 @@ def test_pd_options_round_trip_toml() -> None:
     assert rf.Scene.from_toml_str(rf.scenes.edge_crack_plate(method="pd").to_toml()).pd == (
         rf.scene.PdOptions()
     )
+
+
+def test_surface_correction_is_forwarded_and_reported() -> None:
+    """``surface_correction`` reaches the core from ``edge_crack_plate`` and TOML: the default
+    ("none") runs the paper's bonds (meta says so, no factors), "energy" stiffens the nodes the
+    pre-crack cuts (a smaller CMOD before any break) and reports its factors; the option
+    survives a TOML round trip. The numbers are the core's (tests/pd_surface_correction.rs)."""
+    plain = rf.run(coarse(3))
+    s = coarse(3, surface_correction="energy")
+    assert rf.Scene.from_toml_str(s.to_toml()) == s and s.pd.surface_correction == "energy"
+    corr = rf.run(s)
+    assert plain.meta["surface_correction"] == "none"
+    assert "surface_nodes_corrected" not in plain.meta
+    m = corr.meta
+    assert m["surface_correction"] == "energy"
+    assert 0 < m["surface_nodes_corrected"] < m["counts"]["n_pd_nodes"]
+    lo, hi = m["surface_node_factor_range"]
+    assert lo == 1.0 and 1.0 < hi <= 4.0
+    # (a PD-FEM bond takes its FEM node's factor too: here FEM nodes on the plate's edge at the
+    # crack mouth, so the bonds' range may pass the PD nodes')
+    assert 1.0 <= m["surface_bond_factor_range"][0] < m["surface_bond_factor_range"][1] < 4.0
+    assert 0.0 < corr.cmod < plain.cmod
 
 
 def test_pure_pd_ignores_the_rectangle() -> None:

@@ -1,5 +1,6 @@
 """Command line (also ``python -m rustfrac``): ``rustfrac run SCENE.toml --out DIR [--quiet]`` and
-``rustfrac fig7 --out DIR [--preset paper|fast|full] [--bc free|clamped] [--quiet]`` and
+``rustfrac fig7 --out DIR [--preset paper|fast|full] [--bc free|clamped] [--surface-correction
+none|energy] [--quiet]`` and
 ``rustfrac sweep --out DIR [--preset tiny|full] [--scheduler ADDR|local] [--workers N] [--quiet]``
 (the paper's plate) and ``rustfrac sweep SCENE.toml --param mesh|pd.dx|SECTION.KEY --levels
 L1,L2,... [--quantity K_I] [--repeats 3] [--dask ADDR|local]`` (the user's scene) and
@@ -96,6 +97,11 @@ def _parser() -> argparse.ArgumentParser:
         "paper's, default), grid (the grid's discrete fracture energy = G0) or sla (the SLA's "
         "release in a reference strip = G0)",
     )
+    f.add_argument(
+        "--surface-correction", default=None, metavar="NAME",
+        help="the CCM-PD run's PD surface correction ([pd] surface_correction: none | energy; "
+        "default: the scene's, none)",
+    )
     f.add_argument("--quiet", "-q", action="store_true", help="print nothing but errors")
     w = sub.add_parser(
         "sweep", help="speed-accuracy sweep of XFEM and CCM-PD (error against time, presets)"
@@ -181,6 +187,11 @@ def _parser() -> argparse.ArgumentParser:
         "--region", default=None, metavar="X0,Y0,X1,Y1|auto|adaptive",
         help="the PD rectangle; auto: around the XFEM path (default, unless a ccm_pd scene "
         "states its own rectangle); adaptive: the adaptive PD region, grown where the crack goes",
+    )
+    c.add_argument(
+        "--surface-correction", default=None, metavar="NAME",
+        help="the CCM-PD run's PD surface correction ([pd] surface_correction: none | energy; "
+        "default: a PD scene's, else none)",
     )
     c.add_argument("--growth-steps", type=int, default=None, help="XFEM growth steps")
     c.add_argument("--sla-steps", type=int, default=None, help="most SLA steps (bond breaks)")
@@ -494,7 +505,7 @@ def _cmd_fig7(args: argparse.Namespace) -> int:
     try:
         fig7(
             args.out, preset=args.preset, bc=args.bc, s0_calibration=args.s0_calibration,
-            log=log, progress=progress,
+            surface_correction=args.surface_correction, log=log, progress=progress,
         )  # fmt: skip
     except Fig7Interrupted as e:
         return _interrupted(args.out, e.summary["missing"])
@@ -545,7 +556,7 @@ def _cmd_compare(args: argparse.Namespace) -> int:
             scene, args.out, quick=args.quick, dx=args.dx, m=args.m,
             margin_horizons=DEFAULT_MARGIN_HORIZONS if args.margin is None else args.margin,
             growth_steps=args.growth_steps, sla_steps=args.sla_steps, region=region,
-            allow_slow=args.allow_slow, vtu=args.vtu, log=log, progress=progress,
+            surface_correction=args.surface_correction, allow_slow=args.allow_slow, vtu=args.vtu, log=log, progress=progress,
         )  # fmt: skip
     except CompareInterrupted as e:
         return _interrupted(args.out, e.summary["missing"])

@@ -192,12 +192,14 @@ def plan(
     growth_steps: int | None = None,
     sla_steps: int | None = None,
     region: Box | str | None = None,
+    surface_correction: str | None = None,
     allow_slow: bool = False,
 ) -> Plan:
     """The XFEM and CCM-PD scenes of a comparison (see the module docstring); every value is
     checked by the core when the scenes are built. ``region`` is (x0, y0, x1, y1), "auto"
     (:func:`~rustfrac.pd_region.pd_region`, also for a CCM-PD scene that states a rectangle)
-    or None (a CCM-PD scene's own rectangle, else "auto")."""
+    or None (a CCM-PD scene's own rectangle, else "auto"); ``surface_correction`` the CCM-PD
+    scene's ``pd.surface_correction`` (None: a PD scene's, else the default)."""
     src = _as_scene(scene)
     if src.method not in METHODS:  # pragma: no cover (Scene checks it)
         raise InvalidParameterError(f"invalid method {src.method!r}", "method")
@@ -293,6 +295,8 @@ def plan(
     xd["xfem"] = xf
     pd_opts = {k: v for k, v in pd_in.items() if k not in ("center", "size")}
     pd_opts.update(dx=dx, m=m)
+    if surface_correction is not None:
+        pd_opts["surface_correction"] = surface_correction
     pdd: dict[str, Any] = {**common, "method": "ccm_pd", "name": f"{name} (CCM-PD)", "pd": pd_opts}
     if isinstance(region, str):
         if region not in ("auto", "adaptive"):
@@ -542,6 +546,7 @@ def compare(
     growth_steps: int | None = None,
     sla_steps: int | None = None,
     region: Box | str | None = None,
+    surface_correction: str | None = None,
     allow_slow: bool = False,
     vtu: bool = False,
     log: Log | None = logger.info,
@@ -564,6 +569,8 @@ def compare(
             adaptive PD region (``pd.region``), grown where the PD crack goes; None (default): a
             CCM-PD scene's own rectangle or adaptive region if it states one, else "auto". allow_slow: run even when the PD
             rectangle exceeds the budget ``PD_DOFS_BUDGET``.
+        surface_correction: the CCM-PD run's ``pd.surface_correction`` ("none" or "energy";
+            None: a PD scene's, else "none").
         vtu: also write the ParaView files of the two result folders.
         log: line logger (None: silent).
         progress: factory ``progress(name)`` of a progress callback for each run, or None.
@@ -575,7 +582,8 @@ def compare(
     say: Log = log or (lambda s: None)
     p = plan(
         scene, quick=quick, dx=dx, m=m, margin_horizons=margin_horizons,
-        growth_steps=growth_steps, sla_steps=sla_steps, region=region, allow_slow=allow_slow,
+        growth_steps=growth_steps, sla_steps=sla_steps, region=region,
+        surface_correction=surface_correction, allow_slow=allow_slow,
     )  # fmt: skip
     outdir = check_writable(out)
     results: dict[str, Result] = {}

@@ -92,10 +92,15 @@ PRESETS: dict[str, Preset] = {
 Log = Callable[[str], None]
 
 
-def _scenes(p: Preset, bc: str, s0_calibration: str | None = None) -> dict[str, Scene]:
+def _scenes(
+    p: Preset, bc: str, s0_calibration: str | None = None, surface_correction: str | None = None
+) -> dict[str, Scene]:
     growth = dict(growth_steps=400)  # until a_stop = 0.7 W (or the ligament is used up)
-    # the scene states pd.s0_calibration only when asked (the default scene stays as it was)
+    # the scene states pd.s0_calibration and pd.surface_correction only when asked (the default
+    # scene stays as it was)
     cal = {} if s0_calibration is None else {"s0_calibration": s0_calibration}
+    if surface_correction is not None:
+        cal["surface_correction"] = surface_correction
     return {
         "xfem": edge_crack_plate("xfem", mesh=p.mesh, bc=bc, name="xfem reference load"),
         "xfem_traction": edge_crack_plate(
@@ -185,6 +190,7 @@ def fig7(
     preset: str = "paper",
     bc: str = "free",
     s0_calibration: str | None = None,
+    surface_correction: str | None = None,
     log: Log | None = logger.info,
     progress: Callable[[str], Callable[[int, int, str], Any] | None] | None = None,
 ) -> dict[str, Any]:
@@ -196,6 +202,8 @@ def fig7(
         bc: grip variant of the displacement load: "free" or "clamped".
         s0_calibration: CCM-PD's critical stretch, scene key ``pd.s0_calibration``
             ("continuum", the paper's eq. 48; "grid"; "sla"); None: the scene's default.
+        surface_correction: the CCM-PD run's ``pd.surface_correction`` ("none" or "energy");
+            None: the scene's default ("none", the paper's).
         log: line logger (default: ``logging.getLogger("rustfrac").info``; None: silent).
         progress: factory ``progress(name)`` returning a progress callback for one run, or None.
     """
@@ -215,7 +223,7 @@ def fig7(
     say: Log = log or (lambda s: None)
     outdir = check_writable(out)  # before computing: a bad --out must not cost the runs
     p = PRESETS[preset]
-    scenes = _scenes(p, bc, s0_calibration)
+    scenes = _scenes(p, bc, s0_calibration, surface_correction)
     results: dict[str, Result] = {}
     times: dict[str, float] = {}
     interrupted = False

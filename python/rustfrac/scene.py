@@ -24,9 +24,10 @@ TOML layout (only ``method`` is required; omitted sections and keys take the pap
     [mesh]      nx, ny, gauss, xs, ys, refine, refine_h, grading     # fem and xfem
     [xfem]      nsub, tip_nsub, r_I, fixed_area_radius, area_threshold, growth_steps,
                 tip_tie_tol, da, kink_rule, a_stop             # kink_rule: hoop | predictor_corrector
-    [pd]        dx, m, center, size, hole_volumes, fem_grading, fem_coarse, sla_steps,
-                tie_tol, refactor_every, fast, engine, s0_calibration, stop_crack_length,
-                damage_at_steps, checkpoint_every, checkpoint_path, resume_from # pd and ccm_pd
+    [pd]        dx, m, center, size, hole_volumes, surface_correction, fem_grading,
+                fem_coarse, sla_steps, tie_tol, refactor_every, fast, engine, s0_calibration,
+                stop_crack_length, damage_at_steps, checkpoint_every, checkpoint_path,
+                resume_from                                    # pd and ccm_pd
 
     # the general scene: list tables, each optional, any number of each (Scene fields holes,
     # notches, supports, loads, probes; section classes Hole, Notch, Support, RegionLoad, Probe)

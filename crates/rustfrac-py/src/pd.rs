@@ -171,6 +171,13 @@ fn meta(s: &Shaped<'_>, r: &CcmPdResult, p: &Problem, wall: f64) -> PyResult<()>
         fixed
     };
     m.set_item("pd_region", region)?;
+    // the surface correction (scene key pd.surface_correction) and, with it, its factors
+    m.set_item("surface_correction", pd.surface_correction.name())?;
+    if let Some(sc) = &r.surface_correction {
+        m.set_item("surface_nodes_corrected", sc.n_nodes_corrected)?;
+        m.set_item("surface_node_factor_range", sc.node_factor_range.to_vec())?;
+        m.set_item("surface_bond_factor_range", sc.bond_factor_range.to_vec())?;
+    }
     // the critical stretch's rule: s0 = factor x eq. 48's, G_ref / G0 with eq. 48's s0
     // (memoised in the core: no second strip run)
     let cal = rustfrac_core::pd::calibration::calibration(pd.s0_calibration, pd.m)

@@ -106,6 +106,12 @@ impl Grid {
         let (i, j) = self.ij(n);
         [self.xs[i], self.ys[j]]
     }
+    /// The place (i, j) of node `n` on the PD lattice x = i dx, y = j dx (the PD nodes of every
+    /// grid lie on it, graded FEM grids included).
+    pub fn lattice_key(&self, n: usize) -> [i64; 2] {
+        let [x, y] = self.xy(n);
+        [(x / self.dx).round() as i64, (y / self.dx).round() as i64]
+    }
     /// The size (hx, hy) of cell (i, j).
     pub fn cell_size(&self, i: usize, j: usize) -> [f64; 2] {
         [self.xs[i + 1] - self.xs[i], self.ys[j + 1] - self.ys[j]]

@@ -8,6 +8,7 @@
 //! * [`calibration`]: the critical stretch calibrated on the grid (`pd.s0_calibration`).
 //! * [`bonds`]: the grid, the bonds, the neighbour search and the damage index (eq. 53).
 //! * [`splice`]: the splice CCM-PD coupling (section 2.2.2, eq. 58) and the pure PD model.
+//! * [`surface_correction`]: the PD surface correction (energy method, Le & Bobaru 2018).
 //! * [`sla`]: the sequentially linear analysis (section 3), its two solvers and checkpoints.
 
 pub mod bonds;
@@ -16,6 +17,7 @@ pub mod constants;
 pub mod partial_volume;
 pub mod sla;
 pub mod splice;
+pub mod surface_correction;
 
 pub use bonds::{damage, find_bonds, find_bonds_where, Bond, Grid, BYTES_PER_BOND};
 pub use constants::{check_material, gamma, PdConstants};

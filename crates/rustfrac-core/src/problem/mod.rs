@@ -367,8 +367,36 @@ pub struct PdMethod {
     pub sla: SlaParams,
     /// the volume of a node whose cell a hole cuts (`pd.hole_volumes`, [`HoleVolumes`])
     pub hole_volumes: HoleVolumes,
+    /// the PD surface correction (`pd.surface_correction`, [`SurfaceCorrection`])
+    pub surface_correction: SurfaceCorrection,
     /// the critical stretch's rule (`pd.s0_calibration`, [`crate::pd::calibration`])
     pub s0_calibration: crate::pd::calibration::S0Calibration,
+}
+
+/// The PD surface correction (scene key `pd.surface_correction`,
+/// [`schema::SURFACE_CORRECTIONS`]; [`crate::pd::surface_correction`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum SurfaceCorrection {
+    /// the paper's bonds: one micromodulus c for every bond
+    #[default]
+    None,
+    /// the energy method (Le & Bobaru 2018; Madenci & Oterkus 2014, section 4.2)
+    Energy,
+}
+
+impl SurfaceCorrection {
+    /// From the scene key's value (one of [`schema::SURFACE_CORRECTIONS`]; anything else is
+    /// `None`).
+    pub fn from_name(s: &str) -> Self {
+        match s {
+            "energy" => Self::Energy,
+            _ => Self::None,
+        }
+    }
+    /// The scene key's value.
+    pub fn name(self) -> &'static str {
+        schema::SURFACE_CORRECTIONS[self as usize]
+    }
 }
 
 /// The volume of a PD node whose cell a hole or notch cuts (scene key `pd.hole_volumes`;

@@ -769,6 +769,7 @@ fn pd_method(pd: &Section, ccm: bool) -> PdMethod {
         } else {
             HoleVolumes::Centre
         },
+        surface_correction: super::SurfaceCorrection::from_name(pd["surface_correction"].s()),
         s0_calibration: crate::pd::calibration::S0Calibration::from_name(pd["s0_calibration"].s()),
         regions: ccm
             .then_some([cx - sx / 2.0, cy - sy / 2.0, cx + sx / 2.0, cy + sy / 2.0])

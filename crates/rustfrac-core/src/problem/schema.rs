@@ -92,6 +92,11 @@ pub const SLA_ENGINES: [&str; 4] = ["auto", "dense", "sparse", "oracle"];
 /// `pd.region`: the CCM-PD region fixed (`pd.center`, `pd.size`) or adaptive
 /// ([`super::pd_region`]).
 pub const PD_REGIONS: [&str; 2] = ["fixed", "adaptive"];
+// --- pd.surface_correction (issue 14 item 3; one block) ---
+/// `pd.surface_correction`: the PD surface correction ([`super::SurfaceCorrection`],
+/// `crate::pd::surface_correction`).
+pub const SURFACE_CORRECTIONS: [&str; 2] = ["none", "energy"];
+// --- end pd.surface_correction ---
 /// `pd.s0_calibration`: the critical stretch's rule ([`crate::pd::calibration`]).
 pub const S0_CALIBRATIONS: [&str; 3] = ["continuum", "grid", "sla"];
 /// Largest `pd.adapt_margin` and `pd.adapt_size` (horizons).
@@ -447,6 +452,15 @@ fn build() -> Vec<KeySpec> {
         k("pd", "hole_volumes", Str, Val::Str("centre".into()), &choice(&HOLE_VOLUMES),
           "volume of a node whose cell a hole cuts: 'centre' (the full cell, the centre rule) \
            or 'exact' (the cell's material part)", |v| HOLE_VOLUMES.contains(&v.s())),
+        // --- pd.surface_correction (issue 14 item 3; one block) ---
+        k("pd", "surface_correction", Str, Val::Str("none".into()), &choice(&SURFACE_CORRECTIONS),
+          "PD surface effect: 'none' (the paper's bonds) or 'energy' (Le & Bobaru 2018's \
+           energy method: each bond's stiffness scaled so that a node near a free surface or \
+           the pre-crack has the bulk's strain energy density under uniform strain in x1 and \
+           x2; computed once on the initial model; each bond keeps its critical energy: s0 / \
+           sqrt(G))",
+          |v| SURFACE_CORRECTIONS.contains(&v.s())),
+        // --- end pd.surface_correction ---
         k("pd", "fast", Bool, Val::Bool(true), "true or false",
           "condensation + Sherman-Morrison-Woodbury; false runs the refactorise-every-step \
            oracle", |_| true),

@@ -28,9 +28,7 @@ pub(super) type BondKey = [NodeKey; 2];
 
 /// The lattice key of node `n` of `model`.
 pub(super) fn node_key(model: &SpliceModel, n: usize) -> NodeKey {
-    let [x, y] = model.grid.xy(n);
-    let dx = model.grid.dx;
-    [(x / dx).round() as i64, (y / dx).round() as i64]
+    model.grid.lattice_key(n)
 }
 
 /// The key of bond `b` of `model`.

@@ -132,6 +132,10 @@ pub fn fingerprint(p: &Problem, precrack: &[[f64; 2]], n_dofs: usize, n_bonds: u
         h.f64(pd.fem_grading);
         h.f64(pd.fem_coarse);
     }
+    // the surface correction (nothing is hashed without it)
+    if pd.surface_correction != crate::problem::SurfaceCorrection::None {
+        h.str(pd.surface_correction.name());
+    }
     // the adaptive region's rule (nothing is hashed for a fixed region)
     if let Some(a) = &pd.adaptive {
         h.str("adaptive");

@@ -2,8 +2,9 @@
 //! the steps, collect the results.
 //!
 //! Each step solves the current (linear) model once at the reference load, computes the stretch of
-//! every intact bond, takes lambda = min s0 / s over the bonds in tension, records (lambda,
-//! sigma22, CMOD, u0 = lambda u0_ref) at that load, and breaks the critical bond (or, with
+//! every intact bond, takes lambda = min s0 / s over the bonds in tension (each bond's own s0
+//! under the surface correction), records (lambda, sigma22, CMOD, u0 = lambda u0_ref) at that
+//! load, and breaks the critical bond (or, with
 //! `tie_tol > 0`, every bond whose load factor is within that relative tolerance of lambda). Ties
 //! closer than 1e-10 (mirror bonds in mode I) are broken deterministically: the lowest bond index
 //! goes first, so two solvers that agree to round-off produce the same sequence. Before a bond
@@ -649,7 +650,8 @@ fn damage_keys(model: &SpliceModel, d: &[f64]) -> Vec<(NodeKey, f64)> {
 }
 
 /// The bonds to break in the state with displacements `u`: lambda_b = s0 / s_b for every intact
-/// bond in tension (`lam`, infinite elsewhere), lmin = min lambda, and every bond with
+/// bond in tension (s0 x the bond's factor under the surface correction,
+/// [`crate::pd::surface_correction::critical_stretch_scale`]) (`lam`, infinite elsewhere), lmin = min lambda, and every bond with
 /// lambda_b <= lmin (1 + max(tie_tol, 1e-10)) in index order (only the first when tie_tol = 0).
 /// None when no bond is in tension.
 fn critical_bonds(
@@ -668,7 +670,11 @@ fn critical_bonds(
         }
         let s = bond.stretch(u);
         if s > 0.0 {
-            lam[b] = s0 / s;
+            // the surface correction keeps each bond's critical energy (`pd::surface_correction`)
+            lam[b] = match &model.surface {
+                Some(sf) => s0 * sf.s0_scale[b] / s,
+                None => s0 / s,
+            };
             lmin = lmin.min(lam[b]);
         }
     }
@@ -854,6 +860,7 @@ fn results(
         regions: model.pd_method().regions.clone(),
         switches: st.switches,
         interface_distance_min: st.closest.is_finite().then(|| st.closest / model.pd.delta),
+        surface_correction: model.surface.as_ref().map(|s| s.summary),
     })
 }
 

@@ -1,7 +1,9 @@
 //! [`SpliceModel::new`] in named phases: the grid and the PD constants, the node classes (PD
 //! rectangles or pure PD), the pre-crack (`precrack.rs`), the hybrid elements, the bonds, the
-//! blocks of the matrix pattern, the loading (`boundary.rs`), the crack-mouth nodes and the
-//! node -> bonds incidence. The problem's rules are checked first ([`validate::problem`]).
+//! blocks of the matrix pattern, the loading (`boundary.rs`), the crack-mouth nodes, the
+//! node -> bonds incidence and the surface correction's bond factors
+//! ([`crate::pd::surface_correction`]). The problem's rules are checked first
+//! ([`validate::problem`]).
 
 use super::boundary::loading;
 use super::graded;
@@ -16,10 +18,11 @@ use crate::la::Pattern;
 use crate::memory;
 use crate::pd::calibration::{calibration, S0Calibration};
 use crate::pd::sla::{factor_nnz_guess, CostEstimate};
+use crate::pd::surface_correction::energy_factors;
 use crate::pd::{
     family_stencil, find_bonds, find_bonds_where, Bond, Grid, PdConstants, BYTES_PER_BOND,
 };
-use crate::problem::{validate, Method, PdMethod, Problem};
+use crate::problem::{validate, Method, PdMethod, Problem, SurfaceCorrection};
 use crate::warning::{Warning, WarningKind};
 
 impl SpliceModel {
@@ -88,6 +91,18 @@ impl SpliceModel {
         let lo = loading(p, layers, &grid, &material)?;
         let cmod_nodes = precrack::mouth_nodes(&crack, mouth, &grid);
         let (node_bond_ptr, node_bonds) = incidence(grid.n_nodes(), &bonds);
+        let surface = match pm.surface_correction {
+            SurfaceCorrection::None => None,
+            SurfaceCorrection::Energy => Some(energy_factors(
+                &p.domain,
+                &grid,
+                pm.m,
+                &precrack,
+                &bonds,
+                &precrack_broken,
+                &pd_nodes,
+            )),
+        };
         Ok(Self {
             node_bond_ptr,
             node_bonds,
@@ -119,6 +134,7 @@ impl SpliceModel {
             response: lo.response,
             cmod_nodes,
             mouth,
+            surface,
         })
     }
 

@@ -39,6 +39,7 @@ use crate::fe::regions::RegionConditions;
 use crate::fe::Dirichlet;
 use crate::la::Lu;
 use crate::la::{CscMatrix, Pattern, Reduction};
+use crate::pd::surface_correction::SurfaceFactors;
 use crate::pd::{Bond, Grid, PdConstants};
 use crate::problem::{PdMethod, Problem};
 use crate::warning::Warning;
@@ -96,6 +97,9 @@ pub struct SpliceModel {
     node_bonds: Vec<u32>,
     /// accuracy warnings about the discretisation (e.g. m < 2: too few bonds per node)
     pub warnings: Vec<Warning>,
+    /// the surface correction's bond factors (`pd.surface_correction = "energy"`,
+    /// [`crate::pd::surface_correction`]); None: the paper's bonds
+    pub surface: Option<SurfaceFactors>,
 }
 
 /// The stiffness matrices of the FEM elements that are not the shared dx x dx square: cut by
@@ -163,12 +167,17 @@ impl SpliceModel {
         2 * self.grid.n_nodes()
     }
 
-    /// Bond rank-1 data: alpha and the unit vector n; the bond adds alpha a b^T to the matrix with
+    /// Bond rank-1 data: alpha (times the surface correction's factor, if any) and the unit
+    /// vector n; the bond adds alpha a b^T to the matrix with
     /// a = [n at dofs(i); -n at dofs(j) if j is PD] and b = [n at dofs(i); -n at dofs(j)].
     pub(crate) fn bond_alpha_n(&self, b: usize) -> (f64, [f64; 2]) {
         let bond = &self.bonds[b];
         let l = bond.length();
-        (self.pd.bond_alpha(bond), [bond.xi[0] / l, bond.xi[1] / l])
+        let alpha = match &self.surface {
+            Some(sf) => self.pd.bond_alpha(bond) * sf.bond[b],
+            None => self.pd.bond_alpha(bond),
+        };
+        (alpha, [bond.xi[0] / l, bond.xi[1] / l])
     }
 
     /// Bonds of node `n` (indices into `bonds`).
