@@ -88,21 +88,21 @@ fn uniform_tension_is_closer_to_the_closed_form_with_the_correction() {
         errs.push([e22_face, e22_max, e11_face, opening, e22[5] / e22_cf]);
     }
     let (none, energy) = (errs[0], errs[1]);
-    // measured (release build): e22 at the faces 5.68 % -> 3.38 %, worst over the row the same
-    // columns; e11 of the face cells 61.3 % -> 42.8 %. Not improved: the slit's opening (4.54 ->
-    // 5.00 x the bulk cell's e11: bond-based PD's face nodes are out of balance under the
-    // homogeneous strain, which scaling their bonds does not remove), and the level: the bulk
-    // column's e22 is 1.005 x the closed form without, 0.921 x with the correction, because the
-    // plate's outer edge nodes carry full cells (the PD body is W + dx wide) and the correction
-    // restores the bulk stiffness of that wider body (RESULTS.md).
+    // measured (release build), without -> with the correction: e22 at the faces 5.68 % ->
+    // 0.64 % (the worst over the row the same columns); e11 of the face cells 61.3 % -> 38.1 %;
+    // the slit's opening 4.54 -> 1.02 x the bulk cell's e11 dx (closed form 1). The level: the
+    // bulk column's e22 is 1.005 x the closed form without, 0.964 x with the correction (the
+    // corrected faces are stiffer along x2 too, and the plate's columns share the load). The
+    // plate's outer edge nodes carry full cells (the PD body is W + dx wide), so the outline is
+    // not corrected (correcting it too made the plate 8 % too stiff, 0.921, and the opening 5.0).
     assert!(
-        none[0] > 0.05 && energy[0] < 0.04,
+        none[0] > 0.05 && energy[0] < 0.015,
         "{} {}",
         none[0],
         energy[0]
     );
     assert!(
-        none[1] > 0.05 && energy[1] < 0.04,
+        none[1] > 0.05 && energy[1] < 0.015,
         "{} {}",
         none[1],
         energy[1]
@@ -113,11 +113,23 @@ fn uniform_tension_is_closer_to_the_closed_form_with_the_correction() {
         none[2],
         energy[2]
     );
-    assert!(energy[4] < none[4] - 0.05, "{} {}", energy[4], none[4]);
+    assert!(
+        none[3] > 4.0 && (energy[3] - 1.0).abs() < 0.1,
+        "{} {}",
+        none[3],
+        energy[3]
+    );
+    assert!(
+        energy[4] > 0.95 && none[4] < 1.01,
+        "{} {}",
+        energy[4],
+        none[4]
+    );
 }
 
 /// (b) Bulk nodes (their whole lattice family present) get the factors 1 exactly, and so do
-/// their bonds; nodes within a horizon of an edge or the pre-crack get factors above 1.
+/// their bonds; so do the nodes near the plate's outline (not corrected: module docs); nodes
+/// on the pre-crack's faces get factors above 1.
 #[test]
 fn bulk_nodes_and_bonds_get_factor_one_exactly() {
     let mut p = pd_plate("pd", 3.0, 3.0, 0.1, 3);
@@ -136,14 +148,13 @@ fn bulk_nodes_and_bonds_get_factor_one_exactly() {
         let near_edge = x < reach || y < reach || 3.0 - x < reach || 3.0 - y < reach;
         let near_crack = x < 1.05 + reach && (y - 1.55).abs() < reach;
         let f = sf.node[n];
-        if !near_edge && !near_crack {
-            assert_eq!(f, [1.0, 1.0], "bulk node at {:?}", [x, y]);
-            n_bulk += 1;
+        if !near_crack {
+            assert_eq!(f, [1.0, 1.0], "node at {:?}", [x, y]);
+            n_bulk += usize::from(!near_edge);
         }
-        // on the edges and the crack faces: softer, so a factor above 1
-        let on_edge = x < 1e-9 || y < 1e-9 || 3.0 - x < 1e-9 || 3.0 - y < 1e-9;
+        // on the crack faces: softer, so a factor above 1
         let on_face = x < 1.0 && (y - 1.55).abs() < 0.06;
-        if on_edge || on_face {
+        if on_face {
             assert!(f[0] > 1.0 || f[1] > 1.0, "{f:?} at {:?}", [x, y]);
             n_surface += 1;
         }
@@ -159,13 +170,15 @@ fn bulk_nodes_and_bonds_get_factor_one_exactly() {
          {:?}, bond factors {:?}",
         s.n_nodes_corrected, s.n_pd_nodes, s.node_factor_range, s.bond_factor_range
     );
-    assert!(n_bulk > 200 && n_surface > 100);
+    assert!(n_bulk > 200 && n_surface >= 20);
     assert!(s.node_factor_range[0] == 1.0 && s.node_factor_range[1] > 1.5);
 }
 
 /// The node factors from the PD lattice (`pd::surface_correction`) equal those from the model's
 /// own bonds (the bonds that exist and the pre-crack leaves, with their beta) on a pure PD
-/// plate with a hole, a notch-like rectangle and a pre-crack: the lattice family is the model's.
+/// plate with a hole, a notch-like rectangle and a pre-crack: the lattice family is the model's
+/// (for the nodes whose stencil stays inside the plate: beyond the outline the lattice counts
+/// its points as present, module docs).
 #[test]
 fn lattice_family_is_the_models_bonds() {
     let mut p = pd_plate("pd", 3.0, 3.0, 0.1, 3);
@@ -212,7 +225,12 @@ fn lattice_family_is_the_models_bonds() {
         })
         .sum();
     let mut worst = 0.0f64;
-    for &n in &model.pd_nodes {
+    let reach = model.grid.dx * 4.0; // m + 1 cells
+    let inside = |n: usize| {
+        let [x, y] = model.grid.xy(n);
+        x >= reach && y >= reach && 3.0 - x >= reach && 3.0 - y >= reach
+    };
+    for &n in model.pd_nodes.iter().filter(|&&n| inside(n)) {
         for (&e, &got) in own[n].iter().zip(&sf.node[n]) {
             let want = if e > 0.0 { bulk / e } else { 1.0 };
             worst = worst.max((got - want).abs() / want);
@@ -224,7 +242,7 @@ fn lattice_family_is_the_models_bonds() {
         sf.summary.n_nodes_corrected
     );
     assert!(worst < 1e-12, "{worst}");
-    assert!(sf.summary.n_nodes_corrected > 500);
+    assert!(sf.summary.n_nodes_corrected > 100);
 }
 
 /// The adaptive region: a bond keeps its factor when the region grows over its FEM end (the

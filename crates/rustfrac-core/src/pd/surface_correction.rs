@@ -3,8 +3,8 @@
 //! elasticity and fracture", section 3; Madenci & Oterkus 2014, "Peridynamic theory and its
 //! applications", section 4.2).
 //!
-//! A node near a free surface (the plate's edges, a hole, the pre-crack's faces) misses part of
-//! its family, so it is softer than the bulk that c (eq. 47, with gamma) is calibrated on. For
+//! A node near a free surface (a hole, the pre-crack's faces; not the plate's outline, below)
+//! misses part of its family, so it is softer than the bulk that c (eq. 47, with gamma) is calibrated on. For
 //! each node i and direction k = 1, 2 the strain energy density under the uniform strain
 //! eps_kk = eps (all other components zero) is, bond-based (eq. 46, s = eps n_k^2),
 //!
@@ -36,13 +36,15 @@
 //! * **Once, on the initial model.** The factors are computed when the model is built, from
 //!   the pre-cracked but unbroken bonds; bonds broken during the SLA do not change them (the
 //!   damage is fracture, not a surface of the elastic model that c should be recalibrated on).
-//! * **Where it fits.** The energy method assumes a node's cell ends at the surface. That holds
-//!   at the pre-crack's faces (midway between node rows, as the paper's) and at holes by the
-//!   centre rule, not at the plate's outline, whose nodes lie on it with full cells (the PD
-//!   body is dx wider than the plate): there it restores the bulk stiffness of that wider body
-//!   and overcorrects (measured, `tests/pd_surface_correction.rs`: a 2 x 4 pure PD plate at
-//!   dx = 0.1 is 8 % too stiff with it, within 0.5 % without). The paper's CCM-PD rectangle
-//!   reaches no plate edge.
+//! * **Where it fits, and the outline left alone.** The energy method assumes a node's cell
+//!   ends at the surface. That holds at the pre-crack's faces (midway between node rows, as the
+//!   paper's) and at holes by the centre rule, not at the plate's outline, whose nodes lie on it
+//!   with full cells (the PD body is dx wider than the plate, which balances the missing bonds:
+//!   a 2 x 4 pure PD plate at dx = 0.1 is within 0.5 % of the closed form uncorrected). There
+//!   the correction would restore the bulk stiffness of that wider body and overcorrect (8 %
+//!   too stiff, measured), so the family counts the lattice points beyond the outline as
+//!   present: outline nodes are not corrected (`tests/pd_surface_correction.rs`). The paper's
+//!   CCM-PD rectangle reaches no plate edge.
 //! * **A direction without bonds.** If W_k(i) = 0 (no existing bond with n_k != 0), the
 //!   correction cannot restore it: g_k(i) = 1.
 //! * **The bond's critical energy is kept, not s0.** A corrected bond breaks at the stretch
@@ -174,8 +176,6 @@ pub fn bond_factor(gk: [f64; 2], xi: [f64; 2]) -> f64 {
 struct Lattice<'a> {
     domain: &'a Domain,
     dx: f64,
-    /// the last lattice index along x1 and x2 (the plate's W / dx, H / dx)
-    last: [i64; 2],
     stencil: Vec<crate::pd::StencilEntry>,
     /// the pre-crack in lattice units
     crack: Vec<[f64; 2]>,
@@ -195,10 +195,6 @@ impl<'a> Lattice<'a> {
         Self {
             domain,
             dx,
-            last: [
-                (domain.width / dx).round() as i64,
-                (domain.height / dx).round() as i64,
-            ],
             stencil,
             crack: precrack.iter().map(|p| [p[0] / dx, p[1] / dx]).collect(),
             bulk,
@@ -210,11 +206,11 @@ impl<'a> Lattice<'a> {
         [0.0 + k[0] as f64 * self.dx, 0.0 + k[1] as f64 * self.dx]
     }
 
-    /// Is lattice point k material (inside the plate; the centre rule of holes)?
+    /// Does lattice point k count as material: not in a hole (the centre rule)? Points beyond
+    /// the plate's outline count too: the outline is not a surface this correction fits
+    /// ([module docs](self)), so its nodes keep their bonds' stiffness.
     fn material(&self, k: [i64; 2]) -> bool {
-        (0..=self.last[0]).contains(&k[0])
-            && (0..=self.last[1]).contains(&k[1])
-            && (self.domain.holes.is_empty() || self.domain.level_set(self.xy(k)) >= 0.0)
+        self.domain.holes.is_empty() || self.domain.level_set(self.xy(k)) >= 0.0
     }
 
     /// Does the lattice bond p-q exist: q material, through no hole, across no pre-crack?

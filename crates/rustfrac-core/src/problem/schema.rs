@@ -455,9 +455,9 @@ fn build() -> Vec<KeySpec> {
         // --- pd.surface_correction (issue 14 item 3; one block) ---
         k("pd", "surface_correction", Str, Val::Str("none".into()), &choice(&SURFACE_CORRECTIONS),
           "PD surface effect: 'none' (the paper's bonds) or 'energy' (Le & Bobaru 2018's \
-           energy method: each bond's stiffness scaled so that a node near a free surface or \
-           the pre-crack has the bulk's strain energy density under uniform strain in x1 and \
-           x2; computed once on the initial model; each bond keeps its critical energy: s0 / \
+           energy method: each bond's stiffness scaled so that a node near a hole or the \
+           pre-crack has the bulk's strain energy density under uniform strain in x1 and x2, \
+           the plate's outline left uncorrected; computed once on the initial model; each bond keeps its critical energy: s0 / \
            sqrt(G))",
           |v| SURFACE_CORRECTIONS.contains(&v.s())),
         // --- end pd.surface_correction ---
