@@ -78,7 +78,9 @@ def main(argv: Sequence[str] | None = None) -> int:
             flush=True,
         )
     print()
-    print("| m | s0_calibration | factor | steps | G/G0 | peak | sigma22 at CMOD* (points) | wall s |")
+    print(
+        "| m | s0_calibration | factor | steps | G/G0 | peak | sigma22 at CMOD* (points) | wall s |"
+    )
     print("|---:|---|---:|---:|---:|---:|---:|---:|")
     for m in (int(v) for v in a.ms.split(",")):
         for rule in RULES:

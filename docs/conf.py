@@ -82,6 +82,7 @@ def setup(app):
     app.connect("autodoc-skip-member", _foreign_member)
     app.connect("autodoc-process-docstring", _escape_schema_text)
 
+
 # every reference to a rustfrac object must resolve (the others, numpy, matplotlib, the standard
 # library, are plain text: the documentation links nothing outside the repository)
 nitpicky = True

@@ -64,10 +64,11 @@ def test_bad_options_name_the_key(options: dict[str, object], param: str) -> Non
 def test_cli_runs_an_adaptive_scene(tmp_path: Path) -> None:
     scene = tmp_path / "adaptive.toml"
     text = rf.examples.path("paper_ccm_pd_adaptive.toml").read_text()
-    text = text.replace("dx = 0.06666666666666667", "dx = 0.2").replace(
-        "sla_steps = 20000", "sla_steps = 320"
-    ).replace("adapt_margin = 2.0", "adapt_margin = 1.5").replace(
-        "adapt_size = 4.0", "adapt_size = 2.5"
+    text = (
+        text.replace("dx = 0.06666666666666667", "dx = 0.2")
+        .replace("sla_steps = 20000", "sla_steps = 320")
+        .replace("adapt_margin = 2.0", "adapt_margin = 1.5")
+        .replace("adapt_size = 4.0", "adapt_size = 2.5")
     )
     scene.write_text(text)
     assert main(["run", str(scene), "--out", str(tmp_path / "out"), "-q"]) == 0

@@ -25,9 +25,25 @@ def site(tmp_path_factory: pytest.TempPathFactory) -> Path:
     tmp = tmp_path_factory.mktemp("docs")
     out = tmp / "html"
     p = subprocess.run(
-        [sys.executable, "-m", "sphinx", "-W", "--keep-going", "-q", "-b", "html",
-         "-d", str(tmp / "doctrees"), str(ROOT / "docs"), str(out)],
-        capture_output=True, text=True, check=False, cwd=ROOT, timeout=600,
+        [
+            sys.executable,
+            "-m",
+            "sphinx",
+            "-W",
+            "--keep-going",
+            "-q",
+            "-b",
+            "html",
+            "-d",
+            str(tmp / "doctrees"),
+            str(ROOT / "docs"),
+            str(out),
+        ],
+        capture_output=True,
+        text=True,
+        check=False,
+        cwd=ROOT,
+        timeout=600,
     )
     assert p.returncode == 0, p.stdout[-4000:] + p.stderr[-8000:]
     return out
@@ -38,8 +54,16 @@ def _text(page: Path) -> str:
 
 
 def test_docs_build_with_warnings_as_errors(site: Path) -> None:
-    for page in ("index", "guide/scenes", "guide/errors", "api/rustfrac", "api/core", "gallery",
-                 "validation", "architecture"):
+    for page in (
+        "index",
+        "guide/scenes",
+        "guide/errors",
+        "api/rustfrac",
+        "api/core",
+        "gallery",
+        "validation",
+        "architecture",
+    ):
         assert (site / f"{page}.html").is_file(), page
 
 

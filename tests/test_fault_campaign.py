@@ -25,13 +25,22 @@ def _sigint_default() -> None:
     under test (Python installs its KeyboardInterrupt handler only if SIGINT is not ignored)."""
     signal.signal(signal.SIGINT, signal.SIG_DFL)
 
+
 SCENES = [
     'method = "ccm_pd"\n[pd]\ndx = 0.2\nsla_steps = 3000\n',
     'method = "xfem"\n[mesh]\nnx = 44\nny = 83\n[xfem]\ngrowth_steps = 40\nda = 0.05\n',
 ]
 STATUSES = {
-    "completed", "crack_length_reached", "separated", "no_bond_in_tension", "cancelled",
-    "a_stop_reached", "ligament_used_up", "max_steps_reached", "cracks_meet", "crack_closes",
+    "completed",
+    "crack_length_reached",
+    "separated",
+    "no_bond_in_tension",
+    "cancelled",
+    "a_stop_reached",
+    "ligament_used_up",
+    "max_steps_reached",
+    "cracks_meet",
+    "crack_closes",
 }
 BAD = ("PanicException", "panicked", "memory allocation of", "Fatal Python error", "core dumped")
 

@@ -33,7 +33,9 @@ def fast_run(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, dict]:
     return out, summary
 
 
-def test_s0_calibration_rescales_the_ccm_pd_curve(fast_run: tuple[Path, dict], tmp_path: Path) -> None:
+def test_s0_calibration_rescales_the_ccm_pd_curve(
+    fast_run: tuple[Path, dict], tmp_path: Path
+) -> None:
     """``fig7(..., s0_calibration="sla")`` (``rustfrac fig7 --s0-calibration sla``): the CCM-PD
     run's s0 is rescaled by the calibration's factor, so its peak is the default run's times the
     factor (the same bonds break; the XFEM runs are untouched)."""

@@ -77,7 +77,9 @@ def test_toml_round_trip_with_every_new_table() -> None:
     assert s.supports[1].from_ == 0.0 and s.supports[1].to == 2.0 and s.load == rf.scene.Load()
     assert Scene.from_toml_str(s.to_toml()) == s
     assert Scene.from_dict(s.to_dict()) == s
-    assert "[[support]]" in s.to_toml() and "[[load]]" in s.to_toml() and "[load]\n" not in s.to_toml()
+    assert (
+        "[[support]]" in s.to_toml() and "[[load]]" in s.to_toml() and "[load]\n" not in s.to_toml()
+    )
     built = Scene(
         method="xfem", name="every table", plate=s.plate, material=s.material, crack=s.crack,
         mesh=s.mesh,
@@ -353,7 +355,9 @@ def test_load_path_with_custom_axes(senb_growth: rf.Result) -> None:
 # the command line
 
 
-def test_cli_runs_the_edge_shear_example(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+def test_cli_runs_the_edge_shear_example(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
     out = tmp_path / "es"
     assert main(["run", str(rf.examples.path("specimen_edge_shear")), "--out", str(out)]) == 0
     printed = capsys.readouterr().out

@@ -17,11 +17,13 @@ import pytest
 # a CCM-PD run of many cheap steps (coarse grid) and an XFEM growth of many states: each runs
 # far longer than the time before the signal
 
+
 def _sigint_default() -> None:
     """The child starts with SIGINT at its default, as in a terminal: a runner that starts the
     suite in the background (SIGINT ignored, inherited through exec) must not hide the handling
     under test (Python installs its KeyboardInterrupt handler only if SIGINT is not ignored)."""
     signal.signal(signal.SIGINT, signal.SIG_DFL)
+
 
 SCENES = {
     "ccm_pd": 'method = "ccm_pd"\n[pd]\nsize = [5.0, 2.0]\ncenter = [2.8, 10.5]\nsla_steps = 200000\n',

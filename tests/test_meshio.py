@@ -291,8 +291,10 @@ def test_xfem_cells_carry_the_enriched_stress(tmp_path: Path) -> None:
         mesh.cell_data["kind"],
         mesh.cell_data["stress"],
     ):
-        c = pts[conn].mean(axis=1) if ctype != "polygon" else np.array(
-            [pts[row].mean(axis=0) for row in conn]
+        c = (
+            pts[conn].mean(axis=1)
+            if ctype != "polygon"
+            else np.array([pts[row].mean(axis=0) for row in conn])
         )
         if kind[0] == _vtk.CUT:
             faces = (c[:, 0] < 0.6) & (np.abs(c[:, 1] - 10.5) < 0.1)

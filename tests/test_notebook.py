@@ -63,13 +63,7 @@ def test_every_axis_and_colourbar_has_a_unit(results: dict[str, rf.Result]) -> N
         plotting.plot_load_path(results["xfem"], x="cmod", y="K_I", units=u),
         plotting.plot_load_path(results["pd"], x="crack_length", y="load_factor", units=u),
     ]
-    labels = [
-        lab
-        for f in figs
-        for a in f.axes
-        for lab in (a.get_xlabel(), a.get_ylabel())
-        if lab
-    ]
+    labels = [lab for f in figs for a in f.axes for lab in (a.get_xlabel(), a.get_ylabel()) if lab]
     assert "s22 [MPa]" in labels and "u2 [mm]" in labels and "damage index [-]" in labels
     assert "cmod [mm]" in labels and "K_I [MPa mm^1/2]" in labels
     assert "load_factor [-]" in labels and "crack_length [mm]" in labels

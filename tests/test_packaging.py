@@ -37,8 +37,15 @@ def test_python_m_rustfrac_is_the_cli(tmp_path: Path) -> None:
     p = _python("-m", "rustfrac", "examples")
     assert p.returncode == 0, p.stderr
     assert "pd_coarse.toml" in p.stdout and str(rf.examples.path("pd_coarse.toml")) in p.stdout
-    p = _python("-m", "rustfrac", "run", str(rf.examples.path("paper_fem_uncracked")),
-                "--out", str(tmp_path), "-q")
+    p = _python(
+        "-m",
+        "rustfrac",
+        "run",
+        str(rf.examples.path("paper_fem_uncracked")),
+        "--out",
+        str(tmp_path),
+        "-q",
+    )
     assert p.returncode == 0, p.stderr
     assert (tmp_path / "result.json").is_file()
 
@@ -103,6 +110,10 @@ def test_core_stub_matches_the_native_module(tmp_path: Path) -> None:
     env = {**os.environ, "PYTHONPATH": str(Path(rf.__file__).resolve().parents[1])}
     p = subprocess.run(
         [sys.executable, "-m", "mypy.stubtest", "rustfrac._core", "--allowlist", str(allow)],
-        capture_output=True, text=True, check=False, cwd=tmp_path, env=env,
+        capture_output=True,
+        text=True,
+        check=False,
+        cwd=tmp_path,
+        env=env,
     )
     assert p.returncode == 0, p.stdout + p.stderr

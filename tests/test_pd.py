@@ -415,9 +415,7 @@ def test_summary_mentions_the_sla(small: rf.Result) -> None:
 def test_cli_runs_the_coarse_pd_example(
     root: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    code = main(
-        ["run", str(rf.examples.path("pd_coarse.toml")), "--out", str(tmp_path), "--plot"]
-    )
+    code = main(["run", str(rf.examples.path("pd_coarse.toml")), "--out", str(tmp_path), "--plot"])
     assert code == 0
     log = capsys.readouterr().out
     assert "method pd" in log and "1344 unknowns" in log

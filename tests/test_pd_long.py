@@ -72,9 +72,7 @@ def test_checkpoint_interrupt_and_resume_bit_for_bit(tmp_path: Path) -> None:
     assert n + 2 <= resumed.meta["resumed_steps"] < total
     _same_history(straight, resumed)
     # stopped by the step limit: resume from the periodic checkpoint after step n
-    first = rf.run(
-        coarse(n + 3, refactor_every=10, checkpoint_every=n, checkpoint_path=str(ck))
-    )
+    first = rf.run(coarse(n + 3, refactor_every=10, checkpoint_every=n, checkpoint_path=str(ck)))
     assert first.meta["n_checkpoints"] == 1
     resumed = rf.run(coarse(total, refactor_every=10, resume_from=str(ck)))
     assert resumed.meta["resumed_steps"] == n

@@ -418,7 +418,6 @@ def test_native_entry_points_refuse_by_name() -> None:
     assert e.value.param == "material.G0"
 
 
-
 def test_locking_warning() -> None:
     s = rf.scenes.edge_crack_plate("fem", nu=0.4999, mesh=(8, 12), a0=1.375)
     with pytest.warns(rf.LockingWarning, match="lock"):

@@ -49,7 +49,9 @@ def test_free_x1_translation_of_60_x_110_plate_is_named() -> None:
 def test_free_rotation_is_named() -> None:
     # u1 and u2 of the bottom-left node only: rotation about it is free
     args = _grid_u2_only(4, 4, fixed_dofs=[0, 1], fixed_values=[0.0, 0.0])
-    with pytest.raises(rf.SingularSystemError, match=r"1 rigid-body mode\(s\) free: rotation about"):
+    with pytest.raises(
+        rf.SingularSystemError, match=r"1 rigid-body mode\(s\) free: rotation about"
+    ):
         _core.solve_fem_grid(**args)
 
 

@@ -73,8 +73,10 @@ class SceneKeys(SphinxDirective):
     def run(self) -> list[nodes.Node]:
         from rustfrac import scene
 
-        sections = [self.arguments[0]] if self.arguments else list(
-            dict.fromkeys(k["section"] for k in scene.keys())
+        sections = (
+            [self.arguments[0]]
+            if self.arguments
+            else list(dict.fromkeys(k["section"] for k in scene.keys()))
         )
         out: list[nodes.Node] = []
         for section in sections:
@@ -108,8 +110,13 @@ class Errors(SphinxDirective):
         for name in names:
             cls = getattr(errors, name)
             ref = addnodes.pending_xref(
-                "", nodes.literal(text=name), refdomain="py", reftype="class",
-                reftarget=f"rustfrac.errors.{name}", refexplicit=True, refwarn=True,
+                "",
+                nodes.literal(text=name),
+                refdomain="py",
+                reftype="class",
+                reftarget=f"rustfrac.errors.{name}",
+                refexplicit=True,
+                refwarn=True,
             )
             bases = ", ".join(b.__name__ for b in cls.__bases__)
             doc = inspect.getdoc(cls) or ""
@@ -182,10 +189,12 @@ class Gallery(SphinxDirective):
         sec += block
         if name in COSTLY:
             sec += nodes.paragraph(
-                "", "", _text(
+                "",
+                "",
+                _text(
                     "Not run when the documentation is built (seconds, not a fraction of one); "
                     f"the figure of {COSTLY[name]} shows the same method on a coarse grid."
-                )
+                ),
             )
             return sec
         if "no-figures" in self.options:

@@ -69,7 +69,9 @@ def scene_html(scene: Scene) -> str:
     caption = "rustfrac Scene" + (f": {scene.name}" if scene.name else "")
     parts = [_table([("method", scene.method), ("summary", scene.describe())], caption)]
     for sec, values in d.items():
-        tables = [values] if isinstance(values, dict) else values if isinstance(values, list) else []
+        tables = (
+            [values] if isinstance(values, dict) else values if isinstance(values, list) else []
+        )
         for k, t in enumerate(tables):
             title = sec if isinstance(values, dict) else f"{sec}[{k}]"
             parts.append(_table(list(t.items()), title))

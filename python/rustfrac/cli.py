@@ -57,7 +57,9 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument("scene", type=Path, help="scene file (TOML)")
     r.add_argument("--out", type=Path, required=True, help="output directory")
     r.add_argument("--quiet", "-q", action="store_true", help="print nothing but errors")
-    r.add_argument("--no-vtu", action="store_true", help="skip the ParaView files (result.vtu, result.pvd)")
+    r.add_argument(
+        "--no-vtu", action="store_true", help="skip the ParaView files (result.vtu, result.pvd)"
+    )
     r.add_argument(
         "--plot",
         action="store_true",
@@ -65,17 +67,26 @@ def _parser() -> argparse.ArgumentParser:
         "path, the damage (PD), the tip deformation x50 (XFEM) and the load path (growth runs)",
     )
     r.add_argument(
-        "--checkpoint", type=Path, default=None, metavar="FILE",
+        "--checkpoint",
+        type=Path,
+        default=None,
+        metavar="FILE",
         help="pd / ccm_pd: write SLA checkpoints to FILE (sets [pd] checkpoint_path; every "
         "--checkpoint-every steps and when interrupted)",
     )
     r.add_argument(
-        "--checkpoint-every", type=int, default=None, metavar="N",
+        "--checkpoint-every",
+        type=int,
+        default=None,
+        metavar="N",
         help="pd / ccm_pd: checkpoint every N SLA steps (sets [pd] checkpoint_every; default "
         "100 with --checkpoint)",
     )
     r.add_argument(
-        "--resume", type=Path, default=None, metavar="FILE",
+        "--resume",
+        type=Path,
+        default=None,
+        metavar="FILE",
         help="pd / ccm_pd: continue the SLA from this checkpoint of the same scene (sets [pd] "
         "resume_from); the history equals an uninterrupted run's bit for bit",
     )
@@ -84,7 +95,9 @@ def _parser() -> argparse.ArgumentParser:
     )
     f.add_argument("--out", type=Path, default=Path("results"), help="output directory")
     f.add_argument(
-        "--preset", choices=("paper", "fast", "full"), default="paper",
+        "--preset",
+        choices=("paper", "fast", "full"),
+        default="paper",
         help="paper: the paper's discretisations (default); fast: coarse, seconds; full: the "
         "paper's with CCM-PD on the adaptive PD region to a = 0.7 W (both full curves; minutes)",
     )
@@ -92,13 +105,17 @@ def _parser() -> argparse.ArgumentParser:
         "--bc", choices=("free", "clamped"), default="free", help="grip variant (u1 on the grips)"
     )
     f.add_argument(
-        "--s0-calibration", choices=_s0_calibrations(), default=None,
+        "--s0-calibration",
+        choices=_s0_calibrations(),
+        default=None,
         help="CCM-PD critical stretch (scene key pd.s0_calibration): continuum (eq. 48, the "
         "paper's, default), grid (the grid's discrete fracture energy = G0) or sla (the SLA's "
         "release in a reference strip = G0)",
     )
     f.add_argument(
-        "--surface-correction", default=None, metavar="NAME",
+        "--surface-correction",
+        default=None,
+        metavar="NAME",
         help="the CCM-PD run's PD surface correction ([pd] surface_correction: none | energy; "
         "default: the scene's, none)",
     )
@@ -107,35 +124,49 @@ def _parser() -> argparse.ArgumentParser:
         "sweep", help="speed-accuracy sweep of XFEM and CCM-PD (error against time, presets)"
     )
     w.add_argument(
-        "scene", type=Path, nargs="?", default=None,
+        "scene",
+        type=Path,
+        nargs="?",
+        default=None,
         help="your scene file (TOML): sweep --param at --levels; without it, the paper's plate",
     )
     w.add_argument("--out", type=Path, default=Path("sweep"), help="output directory")
     w.add_argument(
-        "--preset", choices=("tiny", "full"), default=None,
+        "--preset",
+        choices=("tiny", "full"),
+        default=None,
         help="the paper's plate: full (default): 5+ XFEM meshes, 4 PD grids, nsub, r_I, m, PD "
         "size (minutes); tiny: seconds",
     )
     w.add_argument(
-        "--param", default=None,
+        "--param",
+        default=None,
         help="with SCENE: mesh (fem, xfem), pd.dx (pd, ccm_pd) or a scene key section.key",
     )
     w.add_argument(
-        "--levels", default=None,
+        "--levels",
+        default=None,
         help="with SCENE, comma-separated: mesh multipliers (1,2,4) or NXxNY pairs (22x41,44x83); "
         "dx values (0.2,1/9); values of a scene key",
     )
     w.add_argument(
-        "--quantity", default="K_I",
+        "--quantity",
+        default="K_I",
         help="with SCENE: the scalar response studied (K_I, K_II, J, sigma22, cmod, "
         "peak_sigma22, ...; default K_I)",
     )
     w.add_argument(
-        "--repeats", type=int, default=None,
+        "--repeats",
+        type=int,
+        default=None,
         help="timings per point, the minimum kept (default 3)",
     )
     w.add_argument(
-        "--scheduler", "--dask", dest="scheduler", default=None, metavar="ADDRESS|local",
+        "--scheduler",
+        "--dask",
+        dest="scheduler",
+        default=None,
+        metavar="ADDRESS|local",
         help="run on dask.distributed: a scheduler address (tcp://host:port) or 'local' (a "
         "LocalCluster of --workers processes); default: local processes",
     )
@@ -145,7 +176,9 @@ def _parser() -> argparse.ArgumentParser:
         "examples", help="list the example scenes shipped with rustfrac (name and path)"
     )
     e.add_argument(
-        "name", nargs="?", default=None,
+        "name",
+        nargs="?",
+        default=None,
         help="print only this example's path (e.g. rustfrac run $(rustfrac examples pd_coarse))",
     )
     pl = sub.add_parser("plot", help="draw a figure of a saved result folder")
@@ -160,7 +193,9 @@ def _parser() -> argparse.ArgumentParser:
     lp.add_argument("--y", default="sigma22", help="history column on the y axis (default sigma22)")
     lp.add_argument("-o", "--out", type=Path, required=True, help="image file (format from suffix)")
     lp.add_argument(
-        "--units", choices=("default", "paper"), default="default",
+        "--units",
+        choices=("default", "paper"),
+        default="default",
         help="axis units: default (length, force) or paper (mm, N, MPa)",
     )
     c = sub.add_parser(
@@ -170,42 +205,60 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("scene", type=Path, help="scene file (TOML), any method")
     c.add_argument("--out", type=Path, required=True, help="output directory")
     c.add_argument(
-        "--quick", action="store_true",
+        "--quick",
+        action="store_true",
         help="4 XFEM growth steps instead of 24 when the scene sets none (seconds)",
     )
     c.add_argument(
-        "--dx", type=float, default=None,
+        "--dx",
+        type=float,
+        default=None,
         help="PD grid spacing (default: a PD scene's, else the XFEM element size, coarsened to "
         "keep the PD rectangle within the comparison's budget)",
     )
-    c.add_argument("--m", type=int, default=None, help="PD horizon factor (default: the scene's, else 4)")
     c.add_argument(
-        "--margin", type=float, default=None, metavar="HORIZONS",
+        "--m", type=int, default=None, help="PD horizon factor (default: the scene's, else 4)"
+    )
+    c.add_argument(
+        "--margin",
+        type=float,
+        default=None,
+        metavar="HORIZONS",
         help="margin of the PD rectangle around the XFEM path, in horizons (default 3)",
     )
     c.add_argument(
-        "--region", default=None, metavar="X0,Y0,X1,Y1|auto|adaptive",
+        "--region",
+        default=None,
+        metavar="X0,Y0,X1,Y1|auto|adaptive",
         help="the PD rectangle; auto: around the XFEM path (default, unless a ccm_pd scene "
         "states its own rectangle); adaptive: the adaptive PD region, grown where the crack goes",
     )
     c.add_argument(
-        "--surface-correction", default=None, metavar="NAME",
+        "--surface-correction",
+        default=None,
+        metavar="NAME",
         help="the CCM-PD run's PD surface correction ([pd] surface_correction: none | energy; "
         "default: a PD scene's, else none)",
     )
     c.add_argument("--growth-steps", type=int, default=None, help="XFEM growth steps")
     c.add_argument("--sla-steps", type=int, default=None, help="most SLA steps (bond breaks)")
     c.add_argument(
-        "--allow-slow", action="store_true",
+        "--allow-slow",
+        action="store_true",
         help="run even when the PD rectangle exceeds the comparison's budget of free PD dofs",
     )
-    c.add_argument("--vtu", action="store_true", help="also write the ParaView files of both results")
+    c.add_argument(
+        "--vtu", action="store_true", help="also write the ParaView files of both results"
+    )
     c.add_argument("--quiet", "-q", action="store_true", help="print nothing but errors")
     sub.add_parser("specimens", help="list the literature specimens (rustfrac.specimens)")
     s1 = sub.add_parser("specimen", help="write one specimen's scene as a TOML file")
     s1.add_argument("name", help="specimen name (see rustfrac specimens)")
-    s1.add_argument("--method", default=None, help="fem | xfem | pd | ccm_pd (default: the "
-                    "specimen's example method)")
+    s1.add_argument(
+        "--method",
+        default=None,
+        help="fem | xfem | pd | ccm_pd (default: the specimen's example method)",
+    )
     s1.add_argument("-o", "--out", type=Path, required=True, help="scene file to write (TOML)")
     return p
 
@@ -399,8 +452,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
         missing = doc.get("missing_files", [])
         print(
             f"rustfrac: interrupted; the {len(records)} finished points of {len(points)} were "
-            f"written to {args.out}/"
-            + (f"; missing: {', '.join(missing)}" if missing else ""),
+            f"written to {args.out}/" + (f"; missing: {', '.join(missing)}" if missing else ""),
             file=sys.stderr,
         )
         return 130
@@ -566,9 +618,7 @@ def _cmd_compare(args: argparse.Namespace) -> int:
     return 0
 
 
-def _bar_per_run(
-    bars: list[ProgressBar], quiet: bool
-) -> Callable[[str], ProgressBar | None]:
+def _bar_per_run(bars: list[ProgressBar], quiet: bool) -> Callable[[str], ProgressBar | None]:
     """The progress factory of a job of several runs (fig7, compare): a fresh text bar per run,
     the previous one closed; kept in ``bars`` so the command closes the last one."""
 

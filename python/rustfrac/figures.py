@@ -181,7 +181,9 @@ def plot_discretisations(
     ax.plot(*xy[sel & tp].T, "o", ms=5, mfc="C3", mec="C3", label="crack-tip nodes")
     c = np.asarray(xfem["crack"])
     ax.plot(c[:, 0], c[:, 1], "k-", lw=1.5, label="crack")
-    _finish_panel(ax, (x0, y0, x1, y1), "XFEM: split (blue), tip (orange) and blending (grey) elements")
+    _finish_panel(
+        ax, (x0, y0, x1, y1), "XFEM: split (blue), tip (orange) and blending (grey) elements"
+    )
 
     ax = fig.add_subplot(1, 2, 2)
     nxy, is_pd, gel = pd["node_xy"], np.asarray(pd["is_pd"], bool), pd["elements"]
@@ -214,7 +216,9 @@ def grid_elements(nx: int, ny: int) -> np.ndarray:
     return np.column_stack([n0, n0 + 1, n0 + nx + 2, n0 + nx + 1])
 
 
-def _cells_inside(cells: np.ndarray, box: tuple[float, float, float, float], tol: float) -> np.ndarray:
+def _cells_inside(
+    cells: np.ndarray, box: tuple[float, float, float, float], tol: float
+) -> np.ndarray:
     """Which cells (n, 4, 2 corner coordinates) lie inside the box (x0, y0, x1, y1), within tol."""
     x0, y0, x1, y1 = box
     x, y = cells[:, :, 0], cells[:, :, 1]

@@ -72,6 +72,8 @@ def srawley_senb_F(x: ArrayLike) -> NDArray[np.float64]:
     (within 0.5 % for 0 <= a/W <= 1)."""
     a = np.asarray(x, dtype=float)
     return (
-        3 * np.sqrt(a) * (1.99 - a * (1 - a) * (2.15 - 3.93 * a + 2.7 * a**2))
+        3
+        * np.sqrt(a)
+        * (1.99 - a * (1 - a) * (2.15 - 3.93 * a + 2.7 * a**2))
         / (2 * (1 + 2 * a) * (1 - a) ** 1.5)
     )

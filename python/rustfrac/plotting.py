@@ -318,7 +318,9 @@ def damage_ridge(res: Result, threshold: float = 0.25) -> list[np.ndarray]:
         lo, hi = i, i  # the band of consecutive nodes at or above the threshold around the peak
         while lo > 0 and dc[lo - 1] >= threshold and yc[lo] - yc[lo - 1] <= 1.5 * dx + tol:
             lo -= 1
-        while hi + 1 < len(dc) and dc[hi + 1] >= threshold and yc[hi + 1] - yc[hi] <= 1.5 * dx + tol:
+        while (
+            hi + 1 < len(dc) and dc[hi + 1] >= threshold and yc[hi + 1] - yc[hi] <= 1.5 * dx + tol
+        ):
             hi += 1
         pts.append((x, float(np.average(yc[lo : hi + 1], weights=dc[lo : hi + 1]))))
     lines: list[list[tuple[float, float]]] = []
@@ -348,14 +350,26 @@ def plot_crack_path(
     for k, (x0, y0, x1, y1) in enumerate(regions if isinstance(regions, list) else []):
         ax.add_patch(
             Rectangle(
-                (x0, y0), x1 - x0, y1 - y0, fill=True, fc="#e8f4e8", ec="#2ca02c", lw=0.6,
+                (x0, y0),
+                x1 - x0,
+                y1 - y0,
+                fill=True,
+                fc="#e8f4e8",
+                ec="#2ca02c",
+                lw=0.6,
                 label="PD region" if k == 0 else None,
             )
         )
     initial = _initial_cracks(res)
     for k, c in enumerate(initial):
-        ax.plot(c[:, 0], c[:, 1], "--", color="0.4", lw=1.2,
-                label=("seam crack" if res.method == "fem" else "initial crack") if k == 0 else None)
+        ax.plot(
+            c[:, 0],
+            c[:, 1],
+            "--",
+            color="0.4",
+            lw=1.2,
+            label=("seam crack" if res.method == "fem" else "initial crack") if k == 0 else None,
+        )
     if res.method == "xfem":
         paths, label = res.crack_polylines, "crack path (XFEM)"
     elif res.damage is not None:

@@ -24,9 +24,7 @@ class ProgressBar:
     with different ``done`` counts arrived (e.g. SLA steps after the model setup), it also shows
     the estimated time left, from the rate since the first of them."""
 
-    def __init__(
-        self, stream: TextIO | None = None, width: int = 30, delay: float = 0.5
-    ) -> None:
+    def __init__(self, stream: TextIO | None = None, width: int = 30, delay: float = 0.5) -> None:
         # default: the sys.stderr of the moment (not of import time: redirections apply)
         self.stream = sys.stderr if stream is None else stream
         self.width, self.delay = width, delay

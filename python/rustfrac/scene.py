@@ -136,6 +136,7 @@ def keys(section: str | None = None) -> list[dict[str, Any]]:
 
 def _normalised(kinds: dict[str, str], values: Mapping[str, Any]) -> dict[str, Any]:
     """The core's checked values with pairs and lists as tuples (sections are immutable)."""
+
     def norm(k: str, v: Any) -> Any:
         kind = kinds.get(k)
         if kind == "pairlist":
@@ -492,7 +493,10 @@ class Scene:
     @classmethod
     def from_toml_str(cls, text: str) -> Scene:
         """Reads a scene from TOML text (at most :data:`MAX_SCENE_BYTES` long)."""
-        if len(text) > MAX_SCENE_BYTES or len(text.encode("utf-8", "surrogatepass")) > MAX_SCENE_BYTES:
+        if (
+            len(text) > MAX_SCENE_BYTES
+            or len(text.encode("utf-8", "surrogatepass")) > MAX_SCENE_BYTES
+        ):
             raise _too_large("scene text")
         try:
             data = tomllib.loads(text)
@@ -607,10 +611,14 @@ class Scene:
         else:
             disc = f"PD grid dx={self.pd.dx:.6g}, m={self.pd.m}"
         if self.uses_regions:
-            bc = "bc regions (" + ", ".join(
-                [_region_text("support", s) for s in self.supports]
-                + [_region_text("load", x) for x in self.loads]
-            ) + ")"
+            bc = (
+                "bc regions ("
+                + ", ".join(
+                    [_region_text("support", s) for s in self.supports]
+                    + [_region_text("load", x) for x in self.loads]
+                )
+                + ")"
+            )
         else:
             load = (
                 f"traction {self.load.traction:g}"
@@ -691,6 +699,7 @@ def _show(v: Any) -> str:
 def _dict_toml(d: Mapping[str, Any]) -> str:
     """A TOML-shaped scene dict as TOML text: top-level values, then a ``[table]`` per dict and
     a ``[[table]]`` per entry of a list of dicts."""
+
     def is_tables(v: Any) -> bool:
         return isinstance(v, dict) or (
             isinstance(v, list) and bool(v) and all(isinstance(t, dict) for t in v)

@@ -118,7 +118,9 @@ def _pd_layout(d: dict[str, Any]) -> None:
         )
     mat["nu"] = _CONST["PD_NU"]
     if mat.get("plane", "strain") != "strain":
-        logger.info("specimen: the PD methods are plane strain (the specimen's plane stress is replaced)")
+        logger.info(
+            "specimen: the PD methods are plane strain (the specimen's plane stress is replaced)"
+        )
     mat["plane"] = "strain"
     crack = d.get("crack")
     if isinstance(crack, dict) and crack.get("kind", "edge") != "none":
@@ -147,7 +149,12 @@ class _Layout:
     """The specimen's coordinates in its drawn layout (crack from the bottom, length L along
     x1) or turned a quarter turn clockwise for methods whose cracks start on the left edge."""
 
-    _SIDES: ClassVar[dict[str, str]] = {"bottom": "left", "top": "right", "left": "top", "right": "bottom"}
+    _SIDES: ClassVar[dict[str, str]] = {
+        "bottom": "left",
+        "top": "right",
+        "left": "top",
+        "right": "bottom",
+    }
 
     def __init__(self, length: float, depth: float, turned: bool) -> None:
         self.length, self.depth, self.turned = length, depth, turned

@@ -92,9 +92,7 @@ class SweepInterrupted(KeyboardInterrupt):
     """Ctrl-C during :func:`sweep`: ``records`` holds the points that finished (in point order);
     raised by :func:`write_outputs` too (Ctrl-C while drawing), with ``doc`` the JSON written."""
 
-    def __init__(
-        self, records: list[dict[str, Any]], doc: dict[str, Any] | None = None
-    ) -> None:
+    def __init__(self, records: list[dict[str, Any]], doc: dict[str, Any] | None = None) -> None:
         super().__init__(f"sweep interrupted after {len(records)} points")
         self.records = records
         self.doc = doc
@@ -641,15 +639,14 @@ def scene_points(
 
     scene = _as_scene(scene)
     if not isinstance(param, str) or not (param in SCENE_PARAMS or "." in param.strip(".")):
-        raise InvalidParameterError(
-            f"invalid param {param!r}: expected {_params_help()}", "param"
-        )
+        raise InvalidParameterError(f"invalid param {param!r}: expected {_params_help()}", "param")
     if param in SCENE_PARAMS and scene.method not in SCENE_PARAMS[param]:
         fits = [k for k, m in SCENE_PARAMS.items() if scene.method in m]
         raise InvalidParameterError(
             f"invalid param {param!r} for a {scene.method} scene: it refines "
             f"{' or '.join(SCENE_PARAMS[param])} only; {scene.method} has "
-            + ", ".join(fits) + " or a scene key section.key",
+            + ", ".join(fits)
+            + " or a scene key section.key",
             "param",
         )
     levels = list(levels)
