@@ -48,7 +48,8 @@ def scene_schema() -> list[dict[str, Any]]:
 def scene_constants() -> dict[str, Any]:
     """METHODS, BCS, SECTIONS, METHOD_SECTIONS (method -> sections), CRACK_KINDS (method ->
     kinds), DEFAULT_CRACK_KIND (method -> kind), MAX_ELEMENTS, MAX_STEPS,
-    DEFAULT_A_STOP_FRACTION, PD_NU, XFEM_EXTRA_RADII."""
+    DEFAULT_A_STOP_FRACTION, PD_NU, XFEM_EXTRA_RADII, S0_CALIBRATIONS (pd.s0_calibration's
+    choices), SURFACE_CORRECTIONS (pd.surface_correction's choices)."""
 
 def check_section(section: str, values: Any, name: str | None = None) -> dict[str, Any]:
     """Checks one section's values (kinds, ranges, unknown keys) and returns every key of the

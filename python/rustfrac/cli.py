@@ -38,11 +38,12 @@ if TYPE_CHECKING:
 __all__ = ["ProgressBar", "main"]
 
 
-def _s0_calibrations() -> list[str]:
-    """The choices of ``pd.s0_calibration`` (the core's schema)."""
+def _choices(name: str) -> list[str]:
+    """The choices of a scene key from the core's schema (``S0_CALIBRATIONS`` for
+    ``pd.s0_calibration``, ``SURFACE_CORRECTIONS`` for ``pd.surface_correction``)."""
     from . import _core
 
-    return list(_core.scene_constants()["S0_CALIBRATIONS"])
+    return list(_core.scene_constants()[name])
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -106,7 +107,7 @@ def _parser() -> argparse.ArgumentParser:
     )
     f.add_argument(
         "--s0-calibration",
-        choices=_s0_calibrations(),
+        choices=_choices("S0_CALIBRATIONS"),
         default=None,
         help="CCM-PD critical stretch (scene key pd.s0_calibration): continuum (eq. 48, the "
         "paper's, default), grid (the grid's discrete fracture energy = G0) or sla (the SLA's "
@@ -114,9 +115,9 @@ def _parser() -> argparse.ArgumentParser:
     )
     f.add_argument(
         "--surface-correction",
+        choices=_choices("SURFACE_CORRECTIONS"),
         default=None,
-        metavar="NAME",
-        help="the CCM-PD run's PD surface correction ([pd] surface_correction: none | energy; "
+        help="the CCM-PD run's PD surface correction (scene key pd.surface_correction; "
         "default: the scene's, none)",
     )
     f.add_argument("--quiet", "-q", action="store_true", help="print nothing but errors")
@@ -235,9 +236,9 @@ def _parser() -> argparse.ArgumentParser:
     )
     c.add_argument(
         "--surface-correction",
+        choices=_choices("SURFACE_CORRECTIONS"),
         default=None,
-        metavar="NAME",
-        help="the CCM-PD run's PD surface correction ([pd] surface_correction: none | energy; "
+        help="the CCM-PD run's PD surface correction (scene key pd.surface_correction; "
         "default: a PD scene's, else none)",
     )
     c.add_argument("--growth-steps", type=int, default=None, help="XFEM growth steps")

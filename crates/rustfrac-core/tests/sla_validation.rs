@@ -53,20 +53,7 @@ fn compare(
         a.history.len(),
         b.history.len()
     );
-    let mut worst = 0.0f64;
-    for k in 0..n {
-        let (x, y) = (&a.history[k], &b.history[k]);
-        assert_eq!(x.bonds, y.bonds, "step {} broke different bonds", k + 1);
-        for (p, q) in [
-            (x.lambda, y.lambda),
-            (x.sigma22, y.sigma22),
-            (x.cmod, y.cmod),
-        ] {
-            let rel = (p - q).abs() / q.abs().max(1e-300);
-            worst = worst.max(rel);
-        }
-    }
-    worst
+    common::same_sla_history(a, b, n)
 }
 
 #[test]

@@ -35,6 +35,7 @@ pub fn scene_constants(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     d.set_item("METHODS", schema::METHODS.to_vec())?;
     d.set_item("BCS", schema::BCS.to_vec())?;
     d.set_item("S0_CALIBRATIONS", schema::S0_CALIBRATIONS.to_vec())?;
+    d.set_item("SURFACE_CORRECTIONS", schema::SURFACE_CORRECTIONS.to_vec())?;
     d.set_item("SECTIONS", schema::SECTIONS.to_vec())?;
     let (sections, kinds, default_kind) = (PyDict::new(py), PyDict::new(py), PyDict::new(py));
     for m in schema::METHODS {

@@ -28,7 +28,7 @@ pub(super) const SPARSE_FLOPS: f64 = 8.0e9;
 /// right-hand side alone: 2e9, memory bound).
 pub(super) const BATCH_SOLVE_FLOPS: f64 = 1.2e10;
 /// Columns of S^{-1} computed per SLA step, refills after re-factorisations included: measured
-/// 1.1 (pure PD paper grid, 500 steps) and 1.5 (coarse CCM-PD, 150 steps).
+/// 1.2 (pure PD paper grid, 500 steps: 600 columns) and 1.5 (coarse CCM-PD, 150 steps).
 pub(super) const COLUMNS_PER_STEP: f64 = 1.5;
 /// Rate of the O(k n) update work per step (flop/s; memory bound).
 pub(super) const UPDATE_FLOPS: f64 = 2.0e9;
