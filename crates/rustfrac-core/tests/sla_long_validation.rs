@@ -78,14 +78,17 @@ fn long_run_keeps_the_solver_memory_bounded() {
     assert!(worst < 1e-8);
 }
 
-/// With m = 2 the rectangle is shredded after ~1300 steps: nodes lose their last bonds (or keep
-/// only parallel ones) during the SLA; they are grounded, reported, and the run goes on with a
-/// regular system and finite numbers (before this, the first such node ended the run as
-/// "separated").
+/// With m = 2 and ties within 1e-6 broken together, a node of the rectangle loses its last bonds
+/// across the load (keeps only parallel ones) after about 700 steps, while the plate still carries
+/// load (lambda within 100 x the first step's; later, near 1300 steps, the shredded rectangle is a
+/// mechanism with lambda ~ 1e10 and whether a node detaches before the run separates depends on
+/// round-off). The node is grounded, reported, and the run goes on with a regular system and
+/// finite numbers (before this, the first such node ended the run as "separated").
 #[test]
 fn nodes_detached_during_the_sla_are_grounded() {
-    let mut p = coarse(true, 1500);
+    let mut p = coarse(true, 800);
     p.pd_mut().m = 2;
+    p.pd_mut().sla.tie_tol = 1e-6;
     let r = run(&p, &go_on).unwrap();
     let during: Vec<_> = r.detached_nodes.iter().filter(|d| d.0 > 0).collect();
     println!(
@@ -97,6 +100,8 @@ fn nodes_detached_during_the_sla_are_grounded() {
     );
     assert!(!during.is_empty());
     let first = during[0].0;
+    let (l1, lf) = (r.history[0].lambda, r.history[first - 1].lambda);
+    assert!(lf < 100.0 * l1, "lambda {lf} at the detachment, {l1} at step 1");
     assert!(
         r.history.len() > first,
         "the run went on after step {first}"

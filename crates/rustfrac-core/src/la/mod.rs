@@ -4,7 +4,8 @@
 //! solvers on top of faer, supernodal Cholesky for the SPD FEM/XFEM systems ([`cholesky`]), the
 //! block of the inverse at a few interface unknowns from one factorisation ([`schur`]), the
 //! forward solve with a sparse right-hand side along the elimination tree ([`sparse_forward`]), and
-//! sparse LU for the non-symmetric splice-coupled CCM-PD systems ([`lu`], DESIGN.md section 4),
+//! sparse LU for the non-symmetric splice-coupled CCM-PD systems ([`lu`], DESIGN.md section 4), dense LU
+//! in place for their condensed PD system ([`dense_lu`]),
 //! and the condition estimate with its thresholds ([`condition`]).
 //!
 //! Nothing here knows about elements or meshes: the finite-element layer ([`crate::fe`]) builds
@@ -14,6 +15,7 @@ mod checks;
 pub mod cholesky;
 pub mod condition;
 pub mod csc;
+pub mod dense_lu;
 pub mod lu;
 pub mod ordering;
 pub mod pattern;
@@ -27,6 +29,7 @@ pub use condition::{
     COND_WARN,
 };
 pub use csc::CscMatrix;
+pub use dense_lu::DenseLu;
 pub use lu::Lu;
 pub use pattern::Pattern;
 pub use reduction::Reduction;

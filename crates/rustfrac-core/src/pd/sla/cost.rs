@@ -1,11 +1,12 @@
-//! The engine's cost model: which form of the condensed PD system (dense inverse or sparse
+//! The engine's cost model: which form of the condensed PD system (dense LU or sparse
 //! factor, `fast/base.rs`) runs the SLA, from estimated times, and the re-factorisation interval
 //! of the sparse form.
 //!
 //! With n = n_P condensed unknowns, N the re-condensation interval and k <= N stored updates, the
 //! SLA costs per step O(k n) for the updates (`fast/smw.rs`: x = v + W y) plus:
-//! * dense: one condensation = LU + inverse, 2 n^3 flops at [`DENSE_FLOPS`]; N = n / 2
-//!   ([`super::auto_refactor_every`]); the step's solve is a few columns of S^{-1} (O(n)).
+//! * dense: one condensation = an LU in place, 2 n^3 / 3 flops at [`DENSE_FLOPS`]; N = n / 2
+//!   ([`super::auto_refactor_every`]); per step [`COLUMNS_PER_STEP`] columns of S^{-1}
+//!   (`fast/columns.rs`), 2 n^2 flops each at [`BATCH_SOLVE_FLOPS`].
 //! * sparse: one factorisation, about nnz(L)^2 / n flops (exact for a dense band; the supernodal
 //!   factor of the 2D grids here measured within a factor 2 of it) at [`SPARSE_FLOPS`], and
 //!   per step [`COLUMNS_PER_STEP`] columns of S^{-1} (`fast/columns.rs`), 4 nnz(L) flops each in
@@ -19,7 +20,7 @@
 //! development machine (2 cores; benches/RESULTS.md, "Large PD regions"); only their ratios
 //! matter for the choice.
 
-/// Dense LU + inverse rate (flop/s).
+/// Dense LU rate (flop/s).
 pub(super) const DENSE_FLOPS: f64 = 2.0e10;
 /// Sparse supernodal factorisation rate (flop/s).
 pub(super) const SPARSE_FLOPS: f64 = 8.0e9;
@@ -67,8 +68,9 @@ impl CostEstimate {
         } else {
             super::auto_refactor_every(n_p)
         };
-        let t_cond = 2.0 * n * n * n / DENSE_FLOPS;
-        let dense_seconds = cycle_cost(steps, dense_interval, t_cond, 0.0, per_update);
+        let t_cond = 2.0 * n * n * n / 3.0 / DENSE_FLOPS;
+        let t_cols = COLUMNS_PER_STEP * 2.0 * n * n / BATCH_SOLVE_FLOPS;
+        let dense_seconds = cycle_cost(steps, dense_interval, t_cond, t_cols, per_update);
         let t_fact = factor_nnz * factor_nnz / n / SPARSE_FLOPS;
         let t_solve = COLUMNS_PER_STEP * 4.0 * factor_nnz / BATCH_SOLVE_FLOPS;
         let sparse_interval = if refactor_every > 0 {
@@ -97,13 +99,17 @@ impl CostEstimate {
         }
     }
 
-    /// Bytes the solver of form `kind` keeps: the dense form three n x n matrices, the sparse
+    /// Bytes the solver of form `kind` keeps: the dense form its LU (n x n), N update vectors and
+    /// the kept columns of S^{-1} (about [`COLUMNS_PER_STEP`] N, at most n), the sparse
     /// form its factor (values and indices, 12 bytes a value), N update vectors and the kept
     /// columns of S^{-1} (about [`COLUMNS_PER_STEP`] N).
     pub fn solver_bytes(&self, kind: EngineKind) -> f64 {
         let n = self.n_p as f64;
         match kind {
-            EngineKind::Dense => 3.0 * 8.0 * n * n,
+            EngineKind::Dense => {
+                let nn = self.dense_interval as f64;
+                8.0 * n * (n + nn + (COLUMNS_PER_STEP * nn).min(n))
+            }
             EngineKind::Sparse => {
                 12.0 * self.factor_nnz
                     + 8.0 * n * (1.0 + COLUMNS_PER_STEP) * self.sparse_interval as f64

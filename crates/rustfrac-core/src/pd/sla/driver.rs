@@ -212,7 +212,7 @@ struct Replay {
 }
 
 /// The solver ([`choose`]): the oracle when `fast = false` or `pd.engine = "oracle"`, else the
-/// condensation with the form of the condensed system (dense inverse or sparse factor) the scene
+/// condensation with the form of the condensed system (dense LU or sparse factor) the scene
 /// asks for or, for `"auto"`, the cheaper by the cost model ([`CostEstimate`]). Returns it, its
 /// description (the choice and the estimates) and the re-condensation interval (0 for the oracle).
 fn engine_for<'a>(

@@ -9,9 +9,9 @@
 //! * **fast** (default, `fast/`): condense once onto the PD unknowns (`fast/condensation.rs`);
 //!   a broken bond is a rank-1 change of the condensed system, handled by Sherman-Morrison-
 //!   Woodbury (`fast/smw.rs`) on a base condensed system S_0 kept in one of two forms
-//!   (`fast/base.rs`): its dense inverse (`pd.engine = "dense"`) or a sparse factor of it
+//!   (`fast/base.rs`): its dense LU (`pd.engine = "dense"`) or a sparse factor of it
 //!   (`"sparse"`: K_PP plus a dense block on the FEM interface; sparse Cholesky for pure PD,
-//!   sparse LU for CCM-PD; one sparse solve per step). `"auto"` takes the form the cost model
+//!   sparse LU for CCM-PD); the columns of S_0^{-1} the breaks need are kept (`fast/columns.rs`). `"auto"` takes the form the cost model
 //!   (`cost.rs`: dense O(n_P^3) per condensation vs sparse factorisation + solves, for 500 steps)
 //!   estimates cheaper; the choice and both estimates are in the result's `solver`. Periodic
 //!   re-condensation ([`auto_refactor_every`] dense, the cost model's interval sparse) bounds the

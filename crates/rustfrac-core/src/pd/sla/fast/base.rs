@@ -1,7 +1,8 @@
 //! The base condensed system S_0 of the low-rank updates, in one of two forms
 //! ([`super::super::cost`] chooses):
-//! * **dense**: S_0^{-1} (n_P x n_P) from a dense LU: a column of it per nonzero of a, O(n_P^3)
-//!   per condensation, O(n_P^2) memory.
+//! * **dense**: a dense LU of S_0 (n_P x n_P, in place: [`DenseLu`]), O(n_P^3) per
+//!   condensation, O(n_P^2) memory; the columns of S_0^{-1} the updates need are solved with it
+//!   (`columns.rs`), never the whole inverse.
 //! * **sparse**: a sparse factor of S_0 = K_PP - K_PF Z, which is K_PP (the PD bonds, sparse)
 //!   plus a dense block only on the PD rows coupled to the FEM ring x the PD columns of hybrid
 //!   elements (`pc`); none for pure PD. Pure PD: K_PP is symmetric positive definite, sparse
@@ -11,14 +12,14 @@
 //!   pattern of S_0 does not change between condensations (broken bonds stay stored as zeros),
 //!   so the symbolic analysis is done once.
 //!
-//! Both give w = S_0^{-1} a for the Sherman-Morrison-Woodbury update (`smw.rs`) and
+//! Both give w = S_0^{-1} a for the Sherman-Morrison-Woodbury update (`smw.rs`, from kept columns)
+//! and
 //! x_0 = S_0^{-1} g; separation is a singular S_0 (pivot test of the factorisation) or a
 //! vanishing Schur pivot of the bordering, as before.
 
 use crate::error::{Error, Result};
-use crate::la::{Cholesky, CscMatrix, Lu};
+use crate::la::{Cholesky, CscMatrix, DenseLu, Lu};
 use crate::pd::sla::engine::separated;
-use faer::Mat;
 
 /// The sparse factorisation of S_0.
 pub(in crate::pd::sla) enum SparseFactor {
@@ -30,8 +31,8 @@ pub(in crate::pd::sla) enum SparseFactor {
 pub(in crate::pd::sla) enum Base {
     /// not condensed yet
     None,
-    /// S_0^{-1}
-    Dense(Mat<f64>),
+    /// the dense LU of S_0
+    Dense(Box<DenseLu>),
     Sparse(Box<SparseFactor>),
 }
 
@@ -83,52 +84,24 @@ impl SparseFactor {
 }
 
 impl Base {
-    /// S_0^{-1} g.
-    pub(super) fn solve(&self, g: &[f64]) -> Result<Vec<f64>> {
-        match self {
-            Self::None => Err(Error::Internal {
-                detail: "condensed system used before the condensation".into(),
-            }),
-            Self::Dense(sinv) => {
-                let mut x = vec![0.0; g.len()];
-                for (j, &gj) in g.iter().enumerate() {
-                    if gj != 0.0 {
-                        for (xi, &a) in x.iter_mut().zip(sinv.col_as_slice(j)) {
-                            *xi += a * gj;
-                        }
-                    }
-                }
-                Ok(x)
+    /// Solves S_0 X = B in place (`x` column-major, n_P x k); a failed solve is a separation.
+    pub(super) fn solve_in_place(&self, x: &mut [f64]) -> Result<()> {
+        let r = match self {
+            Self::None => {
+                return Err(Error::Internal {
+                    detail: "condensed system used before the condensation".into(),
+                })
             }
-            Self::Sparse(f) => {
-                let mut x = g.to_vec();
-                f.solve_in_place(&mut x).map_err(|e| {
-                    separated(format!("solve with the sparse condensed PD matrix: {e}"))
-                })?;
-                Ok(x)
-            }
-        }
+            Self::Dense(lu) => lu.solve_in_place(x),
+            Self::Sparse(f) => f.solve_in_place(x),
+        };
+        r.map_err(|e| separated(format!("solve with the condensed PD matrix: {e}")))
     }
 
-    /// w = S_0^{-1} a for a sparse a (index, value) on `n` unknowns.
-    pub(super) fn solve_sparse(&self, a: &[(usize, f64)], n: usize) -> Result<Vec<f64>> {
-        match self {
-            Self::Dense(sinv) => {
-                let mut w = vec![0.0; n];
-                for &(p, val) in a {
-                    for (wi, &s) in w.iter_mut().zip(sinv.col_as_slice(p)) {
-                        *wi += s * val;
-                    }
-                }
-                Ok(w)
-            }
-            _ => {
-                let mut g = vec![0.0; n];
-                for &(p, val) in a {
-                    g[p] += val;
-                }
-                self.solve(&g)
-            }
-        }
+    /// S_0^{-1} g.
+    pub(super) fn solve(&self, g: &[f64]) -> Result<Vec<f64>> {
+        let mut x = g.to_vec();
+        self.solve_in_place(&mut x)?;
+        Ok(x)
     }
 }

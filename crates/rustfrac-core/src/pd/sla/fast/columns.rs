@@ -1,18 +1,19 @@
-//! Columns of S_0^{-1} kept between SMW updates of the sparse base (`base.rs`).
+//! Columns of S_0^{-1} kept between SMW updates (`base.rs`: solved with its dense LU or sparse
+//! factor).
 //!
 //! A broken bond needs w = S_0^{-1} a, where a has at most four nonzeros (the bond's end dofs),
 //! so w is a combination of at most four columns of S_0^{-1}. The bonds an SLA run breaks lie
 //! along the crack, so the same few hundred columns serve thousands of breaks. A column not yet
 //! kept is computed with every missing column within one horizon of it, in one multi-column solve:
 //! the factor is read once for the whole batch (a triangular solve is bound by reading nnz(L)
-//! values), instead of once per break. The batch is exact (the same factor); only the round-off
+//! values, the dense LU n_P^2), instead of once per break. The batch is exact (the same factor); only the round-off
 //! of w differs from one solve with a (the combination is taken after the solve).
 //!
 //! The kept columns are bounded by a memory budget; past it they are dropped and refilled.
 
-use super::base::SparseFactor;
+use super::base::Base;
 use crate::error::{Error, Result};
-use crate::pd::sla::engine::{separated, timing};
+use crate::pd::sla::engine::timing;
 use std::time::Instant;
 
 /// Fraction of the memory available at the first batch that kept columns may take.
@@ -45,7 +46,7 @@ impl Columns {
     /// `radius` of one of them.
     pub(in crate::pd::sla) fn combine(
         &mut self,
-        f: &SparseFactor,
+        f: &Base,
         a: &[(usize, f64)],
         xy: &[[f64; 2]],
         radius: f64,
@@ -82,13 +83,7 @@ impl Columns {
 
     /// Solves for the columns of `need` and of every missing unknown within `radius` of them
     /// (as many as the budget allows) in one multi-column solve.
-    fn fetch(
-        &mut self,
-        f: &SparseFactor,
-        need: &[usize],
-        xy: &[[f64; 2]],
-        radius: f64,
-    ) -> Result<()> {
+    fn fetch(&mut self, f: &Base, need: &[usize], xy: &[[f64; 2]], radius: f64) -> Result<()> {
         let n = xy.len();
         if self.kept + need.len() > self.max_kept {
             self.clear();
@@ -126,8 +121,7 @@ impl Columns {
         for (j, &q) in batch.iter().enumerate() {
             rhs[j * n + q] = 1.0;
         }
-        f.solve_in_place(&mut rhs)
-            .map_err(|e| separated(format!("solve with the sparse condensed PD matrix: {e}")))?;
+        f.solve_in_place(&mut rhs)?;
         for (j, &q) in batch.iter().enumerate() {
             self.col[q] = Some(rhs[j * n..(j + 1) * n].to_vec().into_boxed_slice());
         }

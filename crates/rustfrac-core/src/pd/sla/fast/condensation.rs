@@ -11,18 +11,17 @@
 //! columns of K_FP (0.87 s on the paper's case; now 0.16 s at load 6, benches/RESULTS.md). sigma22 and CMOD
 //! are linear functionals of u, condensed once into constants plus coefficients on x, their Z
 //! parts by one adjoint solve: q_F . Z = (K_FF^{-1} q_F) . K_FP. [`Fast::new`] runs these phases;
-//! `condense` builds and inverts S (also at every re-condensation).
+//! `condense` builds and factorises S (also at every re-condensation).
 
 use super::base::{Base, SparseFactor};
 use super::Columns;
 
 use super::{Fast, SchurKind, CLS_F, CLS_FIXED, CLS_P};
 use crate::error::{Error, Result};
-use crate::la::{CscMatrix, InterfaceCholesky, Reduction};
+use crate::la::{CscMatrix, DenseLu, InterfaceCholesky, Reduction};
 use crate::pd::sla::engine::{separated, timing};
 use crate::pd::sla::params::auto_refactor_every;
 use crate::pd::splice::{SpliceModel, Spring};
-use faer::linalg::solvers::DenseSolveCore;
 use faer::Mat;
 use std::time::Instant;
 
@@ -63,7 +62,7 @@ struct Functionals {
 
 impl<'a> Fast<'a> {
     /// Condenses the matrix `k` of the state (`broken`, `springs`): dof classes, Cholesky of
-    /// K_FF and y0, coupling sets, functionals, Z at the ring, then S and its inverse.
+    /// K_FF and y0, coupling sets, functionals, Z at the ring, then S and its factor.
     pub(in crate::pd::sla) fn new(
         model: &'a SpliceModel,
         k: &CscMatrix,
@@ -103,7 +102,7 @@ impl<'a> Fast<'a> {
             p_xy: Vec::new(),
             x0: Vec::new(),
             v: Vec::new(),
-            w: Vec::new(),
+            w: Default::default(),
             bt: Vec::new(),
             cinv: Vec::new(),
             cs: 0,
@@ -129,16 +128,14 @@ impl<'a> Fast<'a> {
             },
         };
         timing("fast: Z = K_FF^-1 K_FP", t0);
-        if kind == SchurKind::Sparse {
-            me.p_xy = me.p_dofs.iter().map(|&d| model.grid.xy(d / 2)).collect();
-        }
+        me.p_xy = me.p_dofs.iter().map(|&d| model.grid.xy(d / 2)).collect();
         me.condense(&k)?;
-        timing("fast: condensed and inverted", t0);
+        timing("fast: condensed and factorised", t0);
         me.k0 = k;
         Ok(me)
     }
 
-    /// Builds S = K_PP - K_PF Z and g from the current matrix, inverts S, resets the SMW state.
+    /// Builds S = K_PP - K_PF Z and g from the current matrix, factorises S, resets the SMW state.
     pub(super) fn condense(&mut self, k: &CscMatrix) -> Result<()> {
         let t0 = Instant::now();
         // particular vector: prescribed values, y0 at F
@@ -201,7 +198,7 @@ impl<'a> Fast<'a> {
         Ok(())
     }
 
-    /// S = K_PP - K_PF Z dense, inverted.
+    /// S = K_PP - K_PF Z dense, factorised in place (LU).
     fn condense_dense(&mut self, k: &CscMatrix, t0: Instant) -> Result<()> {
         let np = self.p_dofs.len();
         let npc = self.pc.len();
@@ -230,23 +227,15 @@ impl<'a> Fast<'a> {
             }
         }
         timing("fast: S = K_PP - K_PF Z built", t0);
-        let lu = s.partial_piv_lu();
-        timing("fast: S factorised (LU)", t0);
-        let ud = lu.U().diagonal();
-        let (mut dmin, mut dmax) = (f64::INFINITY, 0.0f64);
-        for i in 0..np {
-            let a = ud[i].abs();
-            dmin = dmin.min(a);
-            dmax = dmax.max(a);
-        }
-        if np > 0 && (dmin.is_nan() || dmin <= 1e-13 * dmax) {
-            return Err(separated(format!(
-                "condensed PD matrix is singular (pivot ratio {:.3e})",
-                dmin / dmax
-            )));
-        }
-        self.base = Base::Dense(lu.inverse());
-        timing("fast: S inverted", t0);
+        let lu = DenseLu::new(s, 1e-13).map_err(|e| match e {
+            Error::Singular { detail } => {
+                separated(format!("condensed PD matrix is singular ({detail})"))
+            }
+            e => e,
+        })?;
+        self.base = Base::Dense(Box::new(lu));
+        self.columns.clear();
+        timing("fast: S factorised (dense LU)", t0);
         Ok(())
     }
 }

@@ -4,8 +4,9 @@
 //! y = y0 - Z x where Z = K_FF^{-1} K_FP, and S x = g with S = K_PP - K_PF Z, dense and small
 //! (2 x PD nodes): `condensation.rs`. K_FP and K_PF touch only a thin interface I of FEM dofs, so
 //! S needs only (K_FF^{-1})_II: one sparse Cholesky of the SPD FEM block with I ordered last
-//! gives it from the factor's dense trailing block ([`crate::la::InterfaceCholesky`]). S is inverted once
-//! (or, for large PD regions, factorised sparse: `base.rs`, chosen by `super::cost`); a broken bond is a rank-1
+//! gives it from the factor's dense trailing block ([`crate::la::InterfaceCholesky`]). S is factorised
+//! once, dense LU in place (or, for large PD regions, sparse: `base.rs`, chosen by `super::cost`), and
+//! the columns of S^{-1} the breaks need are solved with it (`columns.rs`); a broken bond is a rank-1
 //! change of S and g (a on the PD rows of its ends), handled by Sherman-Morrison-Woodbury with the
 //! capacitance inverse grown by bordering (O(k^2) per break): `smw.rs`. The Schur pivot of the
 //! bordering is the ratio det(S_k+1)/det(S_k): when it vanishes the body has separated (status
@@ -28,13 +29,15 @@ use crate::la::{CscMatrix, Reduction};
 use crate::pd::splice::{SpliceModel, Spring};
 use base::Base;
 use columns::Columns;
+use faer::linalg::matmul::matmul;
+use faer::{Accum, ColMut, ColRef, MatRef, Par};
 
 /// Dof classes of the condensation.
 const CLS_FIXED: u8 = 0;
 const CLS_F: u8 = 1;
 const CLS_P: u8 = 2;
 
-/// The form of the base condensed system S_0 (`base.rs`): a dense inverse or a sparse factor.
+/// The form of the base condensed system S_0 (`base.rs`): a dense LU or a sparse factor.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(super) enum SchurKind {
     Dense,
@@ -64,7 +67,7 @@ pub(super) struct Fast<'a> {
     sig_coef: Vec<f64>,
     cmod_const: f64,
     cmod_coef: Vec<f64>,
-    /// the base condensed matrix S_0: its dense inverse or its sparse factor (`base.rs`)
+    /// the base condensed matrix S_0: its dense LU or its sparse factor (`base.rs`)
     base: Base,
     /// kept columns of S_0^{-1} (sparse base; `columns.rs`)
     columns: Columns,
@@ -75,7 +78,7 @@ pub(super) struct Fast<'a> {
     x0: Vec<f64>,
     v: Vec<f64>,
     // SMW state
-    w: Vec<Vec<f64>>,
+    w: smw::UpdateColumns,
     bt: Vec<Vec<(usize, f64)>>,
     /// capacitance inverse, k x k in row-major storage of row stride `cs` (updated in place, the
     /// storage grows by doubling: no allocation per step)
@@ -108,9 +111,19 @@ impl Engine for Fast<'_> {
             self.u_full[d] = x[p];
         }
         let xpc: Vec<f64> = self.pc.iter().map(|&p| x[p]).collect();
-        for (r, &d) in self.ring.iter().enumerate() {
-            let zrow = &self.z_ring[r * npc..(r + 1) * npc];
-            let zx: f64 = zrow.iter().zip(&xpc).map(|(a, b)| a * b).sum();
+        // Z_ring x_pc: one matrix-vector product (SIMD kernels)
+        let mut zx = vec![0.0; self.ring.len()];
+        if npc > 0 {
+            matmul(
+                ColMut::from_slice_mut(&mut zx).as_mat_mut(),
+                Accum::Replace,
+                MatRef::from_row_major_slice(&self.z_ring, self.ring.len(), npc),
+                ColRef::from_slice(&xpc).as_mat(),
+                1.0,
+                Par::Seq,
+            );
+        }
+        for (&d, &zx) in self.ring.iter().zip(&zx) {
             self.u_full[d] = self.y0[self.idx[d]] - zx;
         }
         let mut sigma22 = self.sig_const + dot(&self.sig_coef, &x);

@@ -5,9 +5,10 @@
 //! bordering (O(k^2) per update). The Schur pivot of the bordering is det(S_k+1) / det(S_k):
 //! when it vanishes the body has separated; when it is merely small a fresh condensation decides.
 
+use faer::linalg::matmul::matmul;
+use faer::{Accum, ColMut, ColRef, MatRef, Par};
 use rayon::prelude::*;
 
-use super::base::Base;
 use super::{Fast, CLS_F, CLS_P};
 use crate::error::{Error, Result};
 use crate::pd::sla::engine::{separated, Update};
@@ -17,12 +18,63 @@ use crate::pd::splice::Spring;
 /// condensation: legitimate breaks give pivots of order 1e-2..1 (the paper's 500 steps: none
 /// below 1e-3), a mechanism gives round-off (1e-6 after a few hundred updates).
 const SUSPICIOUS_PIVOT: f64 = 1e-4;
-/// Entries of x updated together by all stored columns (16 kB of x in cache).
-const X_CHUNK: usize = 2048;
+/// Entries of x updated together by all stored columns (8 kB of x in cache).
+const X_CHUNK: usize = 1024;
 /// Stored values (k n) above which the update of x runs on all threads.
-const PARALLEL_WORK: usize = 1 << 20;
+const PARALLEL_WORK: usize = 1 << 17;
+
+/// The stored update columns W = S_0^{-1} A (n x k), contiguous and column-major, so that the
+/// update x = v + W y is a matrix-vector product (SIMD kernels, W read once).
+#[derive(Default)]
+pub(super) struct UpdateColumns {
+    n: usize,
+    data: Vec<f64>,
+}
+
+impl UpdateColumns {
+    /// Number of stored columns.
+    pub(super) fn len(&self) -> usize {
+        self.data.len().checked_div(self.n).unwrap_or(0)
+    }
+    /// Drops the columns (a new condensation); the storage is kept for the next ones.
+    pub(super) fn clear(&mut self) {
+        self.data.clear();
+    }
+    fn push(&mut self, w: &[f64]) {
+        if self.data.is_empty() {
+            self.n = w.len();
+        }
+        self.data.extend_from_slice(w);
+    }
+    fn col(&self, j: usize) -> &[f64] {
+        &self.data[j * self.n..(j + 1) * self.n]
+    }
+    fn mat(&self) -> MatRef<'_, f64> {
+        MatRef::from_column_major_slice(&self.data, self.n, self.len())
+    }
+}
+
+/// dst = m x (faer's SIMD kernels; a plain loop of sums is bound by the latency of the adds).
+fn gemv(dst: &mut [f64], m: MatRef<'_, f64>, x: &[f64]) {
+    let x = ColRef::from_slice(x);
+    let dst = ColMut::from_slice_mut(dst);
+    matmul(
+        dst.as_mat_mut(),
+        Accum::Replace,
+        m,
+        x.as_mat(),
+        1.0,
+        Par::Seq,
+    );
+}
 
 impl Fast<'_> {
+    /// The capacitance inverse C^{-1} (k x k).
+    fn cinv_mat(&self) -> MatRef<'_, f64> {
+        let k = self.w.len();
+        MatRef::from_row_major_slice_with_stride(&self.cinv, k, k, self.cs)
+    }
+
     /// The condensed solution of the current state: x = v + W C^{-1} (B^T v), with v = S_0^{-1} g_k
     /// and C^{-1} the capacitance inverse.
     pub(super) fn x(&self) -> Vec<f64> {
@@ -32,22 +84,25 @@ impl Fast<'_> {
             .iter()
             .map(|b| b.iter().map(|&(p, val)| val * self.v[p]).sum())
             .collect();
-        let mut y = vec![0.0; k];
-        for (i, yi) in y.iter_mut().enumerate() {
-            let row = &self.cinv[i * self.cs..i * self.cs + k];
-            *yi = row.iter().zip(&z).map(|(a, b)| a * b).sum();
-        }
         let mut x = self.v.clone();
-        // x += W y, in chunks of x that stay in cache while every stored column passes (W is
-        // read once: the step is bound by reading it); each x_i sums its terms in column order,
-        // so the result does not depend on the chunking or the threads
+        if k == 0 {
+            return x;
+        }
+        let mut y = vec![0.0; k];
+        gemv(&mut y, self.cinv_mat(), &z);
+        // x += W y, in chunks of x (one matrix-vector product each, the chunks on all threads for
+        // large W); the chunks are fixed, so the result does not depend on the threads
+        let (wm, yv) = (self.w.mat(), ColRef::from_slice(&y));
         let add = |(c, xc): (usize, &mut [f64])| {
             let (off, len) = (c * X_CHUNK, xc.len());
-            for (wc, &yc) in self.w.iter().zip(&y) {
-                for (xi, &wi) in xc.iter_mut().zip(&wc[off..off + len]) {
-                    *xi += wi * yc;
-                }
-            }
+            matmul(
+                ColMut::from_slice_mut(xc).as_mat_mut(),
+                Accum::Add,
+                wm.subrows(off, len),
+                yv.as_mat(),
+                1.0,
+                Par::Seq,
+            );
         };
         if k * x.len() >= PARALLEL_WORK {
             x.par_chunks_mut(X_CHUNK).enumerate().for_each(add);
@@ -164,14 +219,10 @@ impl Fast<'_> {
         beta0: f64,
         upd: Update,
     ) -> Result<()> {
-        let np = self.p_dofs.len();
-        // w = S0^{-1} a (sparse base: from kept columns, `columns.rs`)
-        let w = match &self.base {
-            Base::Sparse(f) => self
-                .columns
-                .combine(f, &a, &self.p_xy, self.model.pd.delta)?,
-            base => base.solve_sparse(&a, np)?,
-        };
+        // w = S0^{-1} a from kept columns (`columns.rs`)
+        let w = self
+            .columns
+            .combine(&self.base, &a, &self.p_xy, self.model.pd.delta)?;
         // bordering of the capacitance C = I - B^T W
         let k = self.w.len();
         let col: Vec<f64> = self
@@ -179,19 +230,20 @@ impl Fast<'_> {
             .iter()
             .map(|bl| -bl.iter().map(|&(p, v)| v * w[p]).sum::<f64>())
             .collect();
-        let row: Vec<f64> = self
-            .w
-            .iter()
-            .map(|wm| -bt.iter().map(|&(p, v)| v * wm[p]).sum::<f64>())
+        let row: Vec<f64> = (0..k)
+            .map(|j| {
+                let wm = self.w.col(j);
+                -bt.iter().map(|&(p, v)| v * wm[p]).sum::<f64>()
+            })
             .collect();
         let d = 1.0 - bt.iter().map(|&(p, v)| v * w[p]).sum::<f64>();
-        let (e, cs) = (&self.cinv, self.cs);
-        let ec: Vec<f64> = (0..k)
-            .map(|r| (0..k).map(|c| e[r * cs + c] * col[c]).sum())
-            .collect();
-        let re: Vec<f64> = (0..k)
-            .map(|c| (0..k).map(|r| row[r] * e[r * cs + c]).sum())
-            .collect();
+        // ec = E col, re = E^T row (E = C^{-1}, k x k, row-major of stride cs)
+        let (mut ec, mut re) = (vec![0.0; k], vec![0.0; k]);
+        if k > 0 {
+            let e = self.cinv_mat();
+            gemv(&mut ec, e, &col);
+            gemv(&mut re, e.transpose(), &row);
+        }
         let s = d - row.iter().zip(&ec).map(|(a, b)| a * b).sum::<f64>();
         if s.is_nan() || s.abs() <= 1e-10 {
             return Err(separated(format!(
@@ -221,16 +273,23 @@ impl Fast<'_> {
             let ncs = (2 * self.cs).max(64).max(k + 1);
             let mut grown = vec![0.0; ncs * ncs];
             for r in 0..k {
-                grown[r * ncs..r * ncs + k].copy_from_slice(&self.cinv[r * cs..r * cs + k]);
+                grown[r * ncs..r * ncs + k]
+                    .copy_from_slice(&self.cinv[r * self.cs..r * self.cs + k]);
             }
             self.cinv = grown;
             self.cs = ncs;
         }
-        let (e, cs) = (&mut self.cinv, self.cs);
-        for r in 0..k {
-            for c in 0..k {
-                e[r * cs + c] += ec[r] * re[c] / s;
+        let cs = self.cs;
+        // E += ec re^T / s, row by row (contiguous; faer 0.24.4's matmul into a row-major
+        // destination with an inner dimension of 1 computed the transposed product)
+        for (r, &ecr) in ec.iter().enumerate() {
+            let f = ecr / s;
+            for (ev, &rc) in self.cinv[r * cs..r * cs + k].iter_mut().zip(&re) {
+                *ev += f * rc;
             }
+        }
+        let e = &mut self.cinv;
+        for r in 0..k {
             e[r * cs + k] = -ec[r] / s;
         }
         for c in 0..k {
@@ -240,7 +299,7 @@ impl Fast<'_> {
         for (vi, &wi) in self.v.iter_mut().zip(&w) {
             *vi += wi * beta0;
         }
-        self.w.push(w);
+        self.w.push(&w);
         self.bt.push(bt);
         self.max_rank = self.max_rank.max(self.w.len());
         Ok(())

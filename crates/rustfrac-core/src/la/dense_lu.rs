@@ -1,0 +1,96 @@
+//! Dense LU with partial pivoting, factorised in the matrix's own storage (faer's `lu_in_place`):
+//! no second n x n matrix, no explicit inverse. Used for the condensed CCM-PD system S of the
+//! paper's case (n_P = 2080: 35 MB a matrix; the inverse cost twice the factorisation and one more
+//! matrix of fresh pages), whose SLA needs S^{-1} only at the ends of the bonds it breaks
+//! (`pd::sla::fast::columns`).
+
+use super::checks::{check_rhs, check_solution};
+use crate::error::{catch_panic, Error, Result};
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::lu::partial_pivoting::{factor, solve};
+use faer::perm::PermRef;
+use faer::{Mat, MatMut, Par};
+
+/// P A = L U of a square matrix, L and U in the storage of A.
+pub struct DenseLu {
+    lu: Mat<f64>,
+    perm: Vec<usize>,
+    perm_inv: Vec<usize>,
+}
+
+impl DenseLu {
+    /// Factorises `a` in place. A pivot below `rel_tol` x the largest pivot (or not finite) is
+    /// [`Error::Singular`].
+    pub fn new(mut a: Mat<f64>, rel_tol: f64) -> Result<Self> {
+        let n = a.nrows();
+        if a.ncols() != n {
+            return Err(Error::SizeMismatch {
+                what: "columns of a square matrix".into(),
+                expected: n,
+                got: a.ncols(),
+            });
+        }
+        let (mut perm, mut perm_inv) = (vec![0usize; n], vec![0usize; n]);
+        catch_panic("faer dense LU", || {
+            let par = faer::get_global_parallelism();
+            let req = factor::lu_in_place_scratch::<usize, f64>(n, n, par, Default::default());
+            let mut mem = MemBuffer::new(req);
+            factor::lu_in_place(
+                a.as_mut(),
+                &mut perm,
+                &mut perm_inv,
+                par,
+                MemStack::new(&mut mem),
+                Default::default(),
+            );
+            Ok(())
+        })?;
+        let (mut dmin, mut dmax) = (f64::INFINITY, 0.0f64);
+        for i in 0..n {
+            let d = a[(i, i)].abs();
+            dmin = dmin.min(d);
+            dmax = dmax.max(d);
+        }
+        if n > 0 && (dmin.is_nan() || dmin <= rel_tol * dmax) {
+            return Err(Error::Singular {
+                detail: format!("pivot ratio {:.3e} of the dense LU", dmin / dmax),
+            });
+        }
+        Ok(Self {
+            lu: a,
+            perm,
+            perm_inv,
+        })
+    }
+
+    /// Solves A X = B in place (`x` column-major, n x k).
+    pub fn solve_in_place(&self, x: &mut [f64]) -> Result<()> {
+        let n = self.lu.nrows();
+        let k = check_rhs(n, x)?;
+        if k == 0 {
+            return Ok(());
+        }
+        catch_panic("faer dense LU solve", || {
+            // one thread: the solves are a few columns at a time, called from the SLA's steps
+            let par = Par::Seq;
+            let req = solve::solve_in_place_scratch::<usize, f64>(n, k, par);
+            let mut mem = MemBuffer::new(req);
+            let perm = PermRef::new_checked(&self.perm, &self.perm_inv, n);
+            solve::solve_in_place(
+                self.lu.as_ref(),
+                self.lu.as_ref(),
+                perm,
+                MatMut::from_column_major_slice_mut(x, n, k),
+                par,
+                MemStack::new(&mut mem),
+            );
+            Ok(())
+        })?;
+        check_solution(x)
+    }
+
+    /// Order of the matrix.
+    pub fn n(&self) -> usize {
+        self.lu.nrows()
+    }
+}
