@@ -101,7 +101,10 @@ fn nodes_detached_during_the_sla_are_grounded() {
     assert!(!during.is_empty());
     let first = during[0].0;
     let (l1, lf) = (r.history[0].lambda, r.history[first - 1].lambda);
-    assert!(lf < 100.0 * l1, "lambda {lf} at the detachment, {l1} at step 1");
+    assert!(
+        lf < 100.0 * l1,
+        "lambda {lf} at the detachment, {l1} at step 1"
+    );
     assert!(
         r.history.len() > first,
         "the run went on after step {first}"

@@ -5,7 +5,7 @@
 //! n_P x n_P). Of Z only the rows at the *ring* are kept: the F dofs coupled to PD rows (K_PF
 //! columns), the CMOD, load and probe dofs. K_FP has rows only at H, the F dofs of hybrid
 //! elements, so with the interface I = ring u H, Z_ring = ((K_FF^{-1})_II K_IP)_ring: one sparse
-//! Cholesky of K_FF with I ordered last (AMD on the rest) gives (K_FF^{-1})_II = (L_II L_II^T)^{-1}
+//! Cholesky of K_FF with I ordered last (nested dissection on the rest) gives (K_FF^{-1})_II = (L_II L_II^T)^{-1}
 //! from its dense trailing block ([`InterfaceCholesky`]; |I| = 1164 of 102 499 on the paper's
 //! case), and the same factor gives y0. Earlier versions solved K_FF for each of the |pc| = 256
 //! columns of K_FP (0.87 s on the paper's case; now 0.16 s at load 6, benches/RESULTS.md). sigma22 and CMOD
@@ -302,10 +302,11 @@ fn fem_block(
     let f_red = Reduction::new(k, &mask_f)?;
     let ichol = if nf > 0 {
         let iface = interface(k, dc, cp);
-        // AMD on the rest: geometric nested dissection measured no faster here (whole-process
-        // CPU ratio 0.98 on the paper's case) and changed the round-off enough to turn the m = 2
-        // shredding run of sla_long_validation into an early "separated" status
-        let c = InterfaceCholesky::new(&f_red.reduce(k), &iface, None).map_err(|e| {
+        // geometric nested dissection on the rest (factor 10.29 M values against 10.54 M with AMD
+        // on the paper's case, the factorisation 0.39-0.48 s against 0.51-0.53 s, whole process
+        // 0.95 x; benches/RESULTS.md)
+        let xy: Vec<[f64; 2]> = f_red.free.iter().map(|&d| model.grid.xy(d / 2)).collect();
+        let c = InterfaceCholesky::new(&f_red.reduce(k), &iface, Some(&xy)).map_err(|e| {
             Error::Singular {
                 detail: format!("FEM block of the splice matrix: {e}"),
             }
