@@ -5,10 +5,11 @@
 //! n_P x n_P). Of Z only the rows at the *ring* are kept: the F dofs coupled to PD rows (K_PF
 //! columns), the CMOD, load and probe dofs. K_FP has rows only at H, the F dofs of hybrid
 //! elements, so with the interface I = ring u H, Z_ring = ((K_FF^{-1})_II K_IP)_ring: one sparse
-//! Cholesky of K_FF with I ordered last (nested dissection on the rest) gives (K_FF^{-1})_II = (L_II L_II^T)^{-1}
-//! from its dense trailing block ([`InterfaceCholesky`]; |I| = 1164 of 102 499 on the paper's
-//! case), and the same factor gives y0. Earlier versions solved K_FF for each of the |pc| = 256
-//! columns of K_FP (0.87 s on the paper's case; now 0.16 s at load 6, benches/RESULTS.md). sigma22 and CMOD
+//! Cholesky of K_FF with I ordered last (nested dissection on the rest) gives
+//! (K_FF^{-1})_II = (L_II L_II^T)^{-1} from its dense trailing block ([`InterfaceCholesky`];
+//! |I| = 1164 of 102 499 on the paper's case), and the same factor gives y0. Earlier versions
+//! solved K_FF for each of the |pc| = 256 columns of K_FP (0.87 s on the paper's case; now
+//! 0.16 s at load 6, benches/RESULTS.md). sigma22 and CMOD
 //! are linear functionals of u, condensed once into constants plus coefficients on x, their Z
 //! parts by one adjoint solve: q_F . Z = (K_FF^{-1} q_F) . K_FP. [`Fast::new`] runs these phases;
 //! `condense` builds and factorises S (also at every re-condensation).
@@ -128,7 +129,7 @@ impl<'a> Fast<'a> {
             },
         };
         timing("fast: Z = K_FF^-1 K_FP", t0);
-        me.p_xy = me.p_dofs.iter().map(|&d| model.grid.xy(d / 2)).collect();
+        me.p_xy = dof_xy(model, &me.p_dofs);
         me.condense(&k)?;
         timing("fast: condensed and factorised", t0);
         me.k0 = k;
@@ -241,6 +242,11 @@ impl<'a> Fast<'a> {
 }
 
 /// Classifies the dofs: prescribed (fixed), free FEM (F), free PD (P).
+/// The position of the node of each dof (dofs 2n and 2n + 1 belong to node n).
+fn dof_xy(model: &SpliceModel, dofs: &[usize]) -> Vec<[f64; 2]> {
+    dofs.iter().map(|&d| model.grid.xy(d / 2)).collect()
+}
+
 fn dof_classes(model: &SpliceModel) -> DofClasses {
     let n = model.n_dofs();
     let mut cls = vec![CLS_FIXED; n];
@@ -305,7 +311,7 @@ fn fem_block(
         // geometric nested dissection on the rest (factor 10.29 M values against 10.54 M with AMD
         // on the paper's case, the factorisation 0.39-0.48 s against 0.51-0.53 s, whole process
         // 0.95 x; benches/RESULTS.md)
-        let xy: Vec<[f64; 2]> = f_red.free.iter().map(|&d| model.grid.xy(d / 2)).collect();
+        let xy = dof_xy(model, &f_red.free);
         let c = InterfaceCholesky::new(&f_red.reduce(k), &iface, Some(&xy)).map_err(|e| {
             Error::Singular {
                 detail: format!("FEM block of the splice matrix: {e}"),
@@ -629,6 +635,6 @@ pub(in crate::pd::sla) fn schur_pattern(
         ring_pos: &cp.ring_pos,
     };
     let s = schur_sparse(k, &dc.cls, &dc.idx, &dc.p_dofs, &cr, None);
-    let xy = dc.p_dofs.iter().map(|&d| model.grid.xy(d / 2)).collect();
+    let xy = dof_xy(model, &dc.p_dofs);
     (s, dc.nf == 0, xy)
 }
