@@ -16,7 +16,7 @@ use super::adaptive::{
 use super::checkpoint;
 use super::cost::{CostEstimate, EngineKind};
 use super::engine::{timing, Engine, Update};
-use super::fast::{schur_pattern, Fast, SchurKind, SparseFactor};
+use super::fast::{schur_pattern, Fast, FemPart, SchurKind, SparseFactor};
 use super::grounding::{Grounding, DEBRIS_LIMIT};
 use super::memory::{keep_large_blocks_mmapped, peak_memory_bytes};
 use super::oracle::Oracle;
@@ -27,6 +27,7 @@ use crate::pd::splice::{ProbeFunctional, SpliceModel, Spring, StaticSolution};
 use crate::pd::{damage, BYTES_PER_BOND};
 use crate::problem::{pd_region, validate, Problem, SlaEngine, SlaParams};
 use crate::warning::{Warning, WarningKind};
+use std::sync::Arc;
 use std::time::Instant;
 
 /// Runs a CCM-PD (or pure PD) problem: linear solution at the reference load, then the SLA.
@@ -91,7 +92,7 @@ fn run_from(
             None => st.ground_precrack(model),
             Some(_) => st.ground_again(model),
         };
-        let k = model.assemble_with(&st.broken, &springs);
+        let k = Arc::new(model.assemble_with(&st.broken, &springs));
         st.probes = model.probe_functionals()?;
         let probe_dofs: Vec<usize> = st.probes.iter().flat_map(|p| p.dofs()).collect();
         let (mut engine, solver, refactor_interval) =
@@ -215,10 +216,13 @@ struct Replay {
 /// condensation with the form of the condensed system (dense LU or sparse factor) the scene
 /// asks for or, for `"auto"`, the cheaper by the cost model ([`CostEstimate`]). Returns it, its
 /// description (the choice and the estimates) and the re-condensation interval (0 for the oracle).
+/// The cost model's symbolic analysis and the condensation's FEM part ([`FemPart`]) do not depend
+/// on each other: they run at once (rayon::join), the analysis on the core the FEM part's
+/// ordering and symbolic phases leave idle.
 fn engine_for<'a>(
     model: &'a SpliceModel,
     sla: &SlaParams,
-    k0: &CscMatrix,
+    k0: &Arc<CscMatrix>,
     (broken, springs0): (&[bool], &[Spring]),
     probe_dofs: &[usize],
 ) -> Result<(Box<dyn Engine + 'a>, String, usize)> {
@@ -230,6 +234,45 @@ fn engine_for<'a>(
             0,
         ));
     }
+    let (choice, part) = std::thread::scope(|s| {
+        let choice = s.spawn(|| cost_choice(model, sla, k0, probe_dofs));
+        let part = FemPart::new(model, k0, probe_dofs);
+        (choice.join(), part)
+    });
+    let (schur, analysed, interval, name, why, est) = choice.map_err(|_| Error::Internal {
+        detail: "the cost model's thread panicked".into(),
+    })??;
+    let f = Fast::new(
+        model,
+        Arc::clone(k0),
+        (broken, springs0),
+        part?,
+        interval,
+        (schur, analysed),
+    )?;
+    let solver = format!("{name}; {why}; {}", est.describe());
+    let refactor_interval = f.refactor_every;
+    Ok((Box::new(f), solver, refactor_interval))
+}
+
+/// The form of the condensed system ([`engine_for`]): (kind, the sparse analysis to reuse, the
+/// re-condensation interval, the engine's name, why it was chosen, the estimates).
+type Choice = (
+    SchurKind,
+    Option<SparseFactor>,
+    usize,
+    &'static str,
+    &'static str,
+    CostEstimate,
+);
+
+/// The cost model's choice ([`engine_for`]) from the symbolic analysis of the sparse S.
+fn cost_choice(
+    model: &SpliceModel,
+    sla: &SlaParams,
+    k0: &CscMatrix,
+    probe_dofs: &[usize],
+) -> Result<Choice> {
     let t0 = Instant::now();
     let (pattern, symmetric, xy) = schur_pattern(model, k0, probe_dofs);
     // nnz(L) of the sparse form: its own analysis for the symmetric (pure PD) S, reused by the
@@ -256,12 +299,14 @@ fn engine_for<'a>(
         SlaEngine::Sparse => (EngineKind::Sparse, "pd.engine = \"sparse\""),
         _ => (est.choice(), "auto: the cheaper estimate"),
     };
-    let (schur, analysed, interval, name) = match kind {
+    Ok(match kind {
         EngineKind::Dense => (
             SchurKind::Dense,
             None,
             sla.refactor_every,
             "fast (FEM condensed by Cholesky, dense PD system + Sherman-Morrison-Woodbury)",
+            why,
+            est,
         ),
         EngineKind::Sparse => (
             SchurKind::Sparse,
@@ -273,19 +318,10 @@ fn engine_for<'a>(
                 "fast, sparse (FEM condensed by Cholesky, PD system by sparse LU + \
                  Sherman-Morrison-Woodbury)"
             },
+            why,
+            est,
         ),
-    };
-    let f = Fast::new(
-        model,
-        k0,
-        (broken, springs0),
-        probe_dofs,
-        interval,
-        (schur, analysed),
-    )?;
-    let solver = format!("{name}; {why}; {}", est.describe());
-    let refactor_interval = f.refactor_every;
-    Ok((Box::new(f), solver, refactor_interval))
+    })
 }
 
 /// The pattern of A + A^T (values 0), for a symmetric analysis of a non-symmetric pattern.

@@ -24,6 +24,7 @@ use crate::pd::sla::engine::{separated, timing};
 use crate::pd::sla::params::auto_refactor_every;
 use crate::pd::splice::{SpliceModel, Spring};
 use faer::Mat;
+use std::sync::Arc;
 use std::time::Instant;
 
 /// The Cholesky factor of K_FF with the interface last, and the interface's F indices.
@@ -61,25 +62,67 @@ struct Functionals {
     wh: f64,
 }
 
+/// The condensation's FEM part: dof classes, coupling sets, the Cholesky of K_FF and y0, the
+/// functionals and Z at the ring. It does not depend on the form of S, so the engine computes it
+/// while the cost model chooses that form.
+pub(in crate::pd::sla) struct FemPart {
+    dc: DofClasses,
+    cp: Coupling,
+    f_red: Reduction,
+    ichol: Option<Factor>,
+    y0: Vec<f64>,
+    fun: Functionals,
+    z_ring: Vec<f64>,
+}
+
+impl FemPart {
+    /// The FEM part of the condensation of `k` ([`FemPart`]).
+    pub(in crate::pd::sla) fn new(
+        model: &SpliceModel,
+        k: &CscMatrix,
+        probe_dofs: &[usize],
+    ) -> Result<Self> {
+        let dc = dof_classes(model);
+        let t0 = Instant::now();
+        let cp = coupling_sets(model, k, &dc, probe_dofs);
+        let (f_red, ichol, y0) = fem_block(model, k, &dc, &cp, t0)?;
+        let mut fun = functionals(model, k, &dc, &y0);
+        let z_ring = z_ring(k, &dc, ichol.as_ref(), &cp, &mut fun)?;
+        timing("fast: Z = K_FF^-1 K_FP", t0);
+        Ok(Self {
+            dc,
+            cp,
+            f_red,
+            ichol,
+            y0,
+            fun,
+            z_ring,
+        })
+    }
+}
+
 impl<'a> Fast<'a> {
-    /// Condenses the matrix `k` of the state (`broken`, `springs`): dof classes, Cholesky of
-    /// K_FF and y0, coupling sets, functionals, Z at the ring, then S and its factor.
+    /// The condensation of the matrix `k` of the state (`broken`, `springs`) from its FEM part
+    /// ([`FemPart`]): S and its factor.
     pub(in crate::pd::sla) fn new(
         model: &'a SpliceModel,
-        k: &CscMatrix,
+        k: Arc<CscMatrix>,
         (broken, springs): (&[bool], &[Spring]),
-        probe_dofs: &[usize],
+        part: FemPart,
         refactor_every: usize,
         (kind, analysed): (SchurKind, Option<SparseFactor>),
     ) -> Result<Self> {
-        let dc = dof_classes(model);
-        let np = dc.p_dofs.len();
         let t0 = Instant::now();
-        let k = k.clone();
-        let cp = coupling_sets(model, &k, &dc, probe_dofs);
-        let (f_red, ichol, y0) = fem_block(model, &k, &dc, &cp, t0)?;
-        let mut fun = functionals(model, &k, &dc, &y0);
-        let z_ring = z_ring(&k, &dc, ichol.as_ref(), &cp, &mut fun)?;
+        let FemPart {
+            dc,
+            cp,
+            f_red,
+            ichol,
+            y0,
+            fun,
+            z_ring,
+        } = part;
+        let np = dc.p_dofs.len();
         let chol = ichol.map(|(c, _)| c.into_cholesky());
         let mut me = Self {
             model,
@@ -120,19 +163,11 @@ impl<'a> Fast<'a> {
             resp_coef: fun.resp_coef,
             wh: fun.wh,
             sig_bonds: Vec::new(),
-            k0: CscMatrix {
-                nrows: 0,
-                ncols: 0,
-                col_ptr: vec![0],
-                row_idx: Vec::new(),
-                val: Vec::new(),
-            },
+            k0: Arc::clone(&k),
         };
-        timing("fast: Z = K_FF^-1 K_FP", t0);
         me.p_xy = dof_xy(model, &me.p_dofs);
         me.condense(&k)?;
         timing("fast: condensed and factorised", t0);
-        me.k0 = k;
         Ok(me)
     }
 

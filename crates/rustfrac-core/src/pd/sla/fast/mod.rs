@@ -20,7 +20,7 @@ mod condensation;
 mod smw;
 
 pub(super) use base::SparseFactor;
-pub(super) use condensation::schur_pattern;
+pub(super) use condensation::{schur_pattern, FemPart};
 
 use super::engine::{separated, Engine, State, Update};
 use crate::error::Result;
@@ -31,6 +31,7 @@ use base::Base;
 use columns::Columns;
 use faer::linalg::matmul::matmul;
 use faer::{Accum, ColMut, ColRef, MatRef, Par};
+use std::sync::Arc;
 
 /// Dof classes of the condensation.
 const CLS_FIXED: u8 = 0;
@@ -92,7 +93,7 @@ pub(super) struct Fast<'a> {
     n_fact: usize,
     u_full: Vec<f64>,
     /// the matrix at the start (its FEM rows never change)
-    k0: CscMatrix,
+    k0: Arc<CscMatrix>,
     /// the response's coefficient on each row of K u (sigma22: 1 on the top edge's x2 rows)
     resp_coef: Vec<f64>,
     wh: f64,
