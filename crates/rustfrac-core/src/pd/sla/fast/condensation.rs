@@ -51,8 +51,6 @@ struct Coupling {
 /// sigma22 = q . u with q = sum of the top y rows / (W h), CMOD = e . u, condensed: a constant
 /// (fixed and y0 parts) plus coefficients on x (the Z parts are subtracted by [`z_ring`]).
 struct Functionals {
-    q: Vec<f64>,
-    e: Vec<f64>,
     sig_const: f64,
     sig_coef: Vec<f64>,
     cmod_const: f64,
@@ -85,9 +83,11 @@ impl FemPart {
         let dc = dof_classes(model);
         let t0 = Instant::now();
         let cp = coupling_sets(model, k, &dc, probe_dofs);
-        let (f_red, ichol, y0) = fem_block(model, k, &dc, &cp, t0)?;
-        let mut fun = functionals(model, k, &dc, &y0);
-        let z_ring = z_ring(k, &dc, ichol.as_ref(), &cp, &mut fun)?;
+        let (f_red, ichol) = fem_block(model, k, &dc, &cp, t0)?;
+        let (q, e, resp_coef) = response_rows(model, k);
+        let (y0, qe) = fem_solves(model, k, &dc, &f_red, ichol.as_ref(), (&q, &e))?;
+        let mut fun = functionals(model, &dc, &y0, (q, e, resp_coef));
+        let z_ring = z_ring(k, &dc, ichol.as_ref(), &cp, &qe, &mut fun)?;
         timing("fast: Z = K_FF^-1 K_FP", t0);
         Ok(Self {
             dc,
@@ -337,7 +337,7 @@ fn fem_block(
     dc: &DofClasses,
     cp: &Coupling,
     t0: Instant,
-) -> Result<(Reduction, Option<Factor>, Vec<f64>)> {
+) -> Result<(Reduction, Option<Factor>)> {
     let (n, cls, nf) = (model.n_dofs(), &dc.cls, dc.nf);
     let mask_f: Vec<bool> = (0..n).map(|d| cls[d] != CLS_F).collect();
     let f_red = Reduction::new(k, &mask_f)?;
@@ -364,13 +364,36 @@ fn fem_block(
         );
         timing(&what, t0);
     }
-    let y0 = match &ichol {
-        Some((c, _)) => c
-            .cholesky()
-            .solve(&f_red.rhs(k, &model.f, &model.prescribed))?,
-        None => Vec::new(),
+    Ok((f_red, ichol))
+}
+
+/// The solves with K_FF, all three in one pass over the factor (each pass reads all of it, 82 MB
+/// on the paper's case): y0 = K_FF^{-1} (f_F - K_F0 u0) and the adjoint vectors K_FF^{-1} q_F,
+/// K_FF^{-1} e_F of sigma22 and CMOD ([`z_ring`]). Returns y0 and the adjoint vectors (q's then
+/// e's, each of length n_F); all empty without free FEM dofs.
+fn fem_solves(
+    model: &SpliceModel,
+    k: &CscMatrix,
+    dc: &DofClasses,
+    f_red: &Reduction,
+    ichol: Option<&Factor>,
+    (q, e): (&[f64], &[f64]),
+) -> Result<(Vec<f64>, Vec<f64>)> {
+    let Some((c, _)) = ichol else {
+        return Ok((Vec::new(), Vec::new()));
     };
-    Ok((f_red, ichol, y0))
+    let nf = dc.nf;
+    let mut rhs = f_red.rhs(k, &model.f, &model.prescribed);
+    rhs.resize(3 * nf, 0.0);
+    for (d, &cl) in dc.cls.iter().enumerate() {
+        if cl == CLS_F {
+            rhs[nf + dc.idx[d]] = q[d];
+            rhs[2 * nf + dc.idx[d]] = e[d];
+        }
+    }
+    c.cholesky().solve_in_place(&mut rhs)?;
+    let qe = rhs.split_off(nf);
+    Ok((rhs, qe))
 }
 
 /// The coupling sets of the condensation, from the pattern of `k` ([`Coupling`]); the ring also
@@ -425,9 +448,10 @@ fn coupling_sets(
     Coupling { pc, ring, ring_pos }
 }
 
-/// The sigma22 and CMOD functionals before the Z correction ([`Functionals`]).
-fn functionals(model: &SpliceModel, k: &CscMatrix, dc: &DofClasses, y0: &[f64]) -> Functionals {
-    let (n, cls, idx, np) = (model.n_dofs(), &dc.cls, &dc.idx, dc.p_dofs.len());
+/// The rows of the sigma22 and CMOD functionals on u: q = sum of the response's rows of K / (W h)
+/// and e (the CMOD's node pair), with the response's coefficient on each row of K u.
+fn response_rows(model: &SpliceModel, k: &CscMatrix) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+    let n = model.n_dofs();
     let wh = model.response.divisor;
     let resp_coef = model.response.dense_rows(n);
     let mut q = vec![0.0; n];
@@ -446,6 +470,19 @@ fn functionals(model: &SpliceModel, k: &CscMatrix, dc: &DofClasses, y0: &[f64]) 
         e[2 * lo] -= nr[0];
         e[2 * lo + 1] -= nr[1];
     }
+    (q, e, resp_coef)
+}
+
+/// The sigma22 and CMOD functionals before the Z correction ([`Functionals`]) from their rows
+/// ([`response_rows`]) and y0.
+fn functionals(
+    model: &SpliceModel,
+    dc: &DofClasses,
+    y0: &[f64],
+    (q, e, resp_coef): (Vec<f64>, Vec<f64>, Vec<f64>),
+) -> Functionals {
+    let (n, cls, idx, np) = (model.n_dofs(), &dc.cls, &dc.idx, dc.p_dofs.len());
+    let wh = model.response.divisor;
     let (mut sig_const, mut cmod_const) = (0.0, 0.0);
     let mut sig_coef = vec![0.0; np];
     let mut cmod_coef = vec![0.0; np];
@@ -466,8 +503,6 @@ fn functionals(model: &SpliceModel, k: &CscMatrix, dc: &DofClasses, y0: &[f64]) 
         }
     }
     Functionals {
-        q,
-        e,
         sig_const,
         sig_coef,
         cmod_const,
@@ -480,12 +515,14 @@ fn functionals(model: &SpliceModel, k: &CscMatrix, dc: &DofClasses, y0: &[f64]) 
 /// Z = K_FF^{-1} K_FP at the ring: K_FP has rows only at the interface I, so
 /// Z_I = (K_FF^{-1})_II K_IP from the trailing block of the factor ([`InterfaceCholesky`]).
 /// Returns Z's ring rows (row-major |ring| x |pc|) and subtracts the Z parts from the
-/// functionals' coefficients: q_F . Z = (K_FF^{-1} q_F) . K_FP, one solve for sigma22 and CMOD.
+/// functionals' coefficients: q_F . Z = (K_FF^{-1} q_F) . K_FP with the adjoint vectors `qe`
+/// ([`fem_solves`]).
 fn z_ring(
     k: &CscMatrix,
     dc: &DofClasses,
     ichol: Option<&Factor>,
     cp: &Coupling,
+    qe: &[f64],
     fun: &mut Functionals,
 ) -> Result<Vec<f64>> {
     let (cls, idx, p_dofs, nf) = (&dc.cls, &dc.idx, &dc.p_dofs, dc.nf);
@@ -516,15 +553,7 @@ fn z_ring(
             z_ring[r * npc + t] = zi[(i, t)];
         }
     }
-    // the functionals: adjoint solves with q_F and e_F
-    let mut qe = vec![0.0; 2 * nf];
-    for (d, &c) in cls.iter().enumerate() {
-        if c == CLS_F {
-            qe[idx[d]] = fun.q[d];
-            qe[nf + idx[d]] = fun.e[d];
-        }
-    }
-    ch.cholesky().solve_in_place(&mut qe)?;
+    // the functionals: the adjoint vectors K_FF^{-1} q_F and K_FF^{-1} e_F ([`fem_solves`])
     for &p in pc {
         let col = p_dofs[p];
         for kk in k.col_ptr[col]..k.col_ptr[col + 1] {
