@@ -22,20 +22,22 @@ from __future__ import annotations
 
 import csv
 import functools
+import importlib
 import io
 import json
 import os
 import platform
 import secrets
+import threading
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from . import _core, agreement, energy, figures, handbook
+from . import _core, agreement, energy, handbook
 from ._folder import check_writable, locked, with_fallback, writing
 from ._log import logger
 from .errors import InvalidResultError, ResultNotFoundError
@@ -43,6 +45,9 @@ from .result import OWNED_NAMES, Result, _atomic, _read_json
 from .runner import run
 from .scene import Scene
 from .scenes import edge_crack_plate
+
+if TYPE_CHECKING:
+    from . import figures
 
 __all__ = ["FILES", "PAPER", "PRESETS", "Fig7Interrupted", "Preset", "fig7", "load_summary"]
 
@@ -222,6 +227,7 @@ def fig7(
         )
     say: Log = log or (lambda s: None)
     outdir = check_writable(out)  # before computing: a bad --out must not cost the runs
+    _import_in_background(".figures")  # matplotlib, ~0.5 s, while the runs hold no GIL
     p = PRESETS[preset]
     scenes = _scenes(p, bc, s0_calibration, surface_correction)
     results: dict[str, Result] = {}
@@ -247,6 +253,21 @@ def fig7(
     if summary["interrupted"]:
         raise Fig7Interrupted(summary)
     return summary
+
+
+def _import_in_background(module: str) -> None:
+    """Starts importing ``module`` (of this package) in a daemon thread: the runs release the
+    GIL, so the import costs no wall time while they compute. The drawing's own import then finds
+    the module loaded, or waits for it under the import lock; a failed import here is silent (the
+    drawing's import raises it again)."""
+
+    def load() -> None:
+        try:
+            importlib.import_module(module, __package__)
+        except BaseException:  # re-raised by the import where the module is used
+            pass
+
+    threading.Thread(target=load, name=f"import {module}", daemon=True).start()
 
 
 def run_logged(
@@ -364,6 +385,8 @@ class _Job:
 
     def _drawings(self) -> list[tuple[str, Callable[[Path], Any]]]:
         """(file name, writer into a path) of every file the finished runs give."""
+        from . import figures
+
         results, p = self.results, self.p
         ref = self.scenes["xfem"]  # the plate, material and crack every run shares
         W, mat, a0, yc = ref.plate.width, ref.material, ref.crack.a0, ref.crack.y
@@ -546,10 +569,12 @@ def _xfem_disc(r: Result) -> dict[str, np.ndarray]:
 
 
 def _pd_disc(r: Result, dx: float) -> dict[str, np.ndarray]:
+    from .figures import grid_elements
+
     xy = r.fields["node_xy"]
     nx = round(float(xy[:, 0].max() - xy[:, 0].min()) / dx)
     ny = round(float(xy[:, 1].max() - xy[:, 1].min()) / dx)
-    el = figures.grid_elements(nx, ny)
+    el = grid_elements(nx, ny)
     is_pd = np.zeros(len(xy), bool)
     is_pd[np.asarray(r.fields["pd_nodes"], int)] = True
     cells = xy[el]
