@@ -39,6 +39,11 @@ __all__ = [
 Curve = tuple[str, np.ndarray, np.ndarray, dict[str, Any]]
 
 
+#: zlib level of the PNGs: 1, the fastest (Pillow's default 6 takes 1.7x as long for files
+#: 10 % smaller: 0.14 s against 0.085 s for the four PNGs of a fig7 job)
+PNG_LEVEL = 1
+
+
 def save_figure(fig: Figure, path: str | Path, dpi: int = 150) -> Path:
     """Saves a figure as PNG atomically, cropped to its ink (``bbox_inches="tight"``).
 
@@ -54,7 +59,10 @@ def save_figure(fig: Figure, path: str | Path, dpi: int = 150) -> Path:
             fig.savefig(f, format="png", dpi=dpi, bbox_inches="tight")
         else:
             meta = {"Software": f"Matplotlib version{mpl.__version__}, https://matplotlib.org/"}
-            imsave(f, rgba, format="png", origin="upper", dpi=dpi, metadata=meta)
+            imsave(
+                f, rgba, format="png", origin="upper", dpi=dpi, metadata=meta,
+                pil_kwargs={"compress_level": PNG_LEVEL},
+            )  # fmt: skip
     return p
 
 
