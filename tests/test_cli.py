@@ -236,3 +236,16 @@ def test_ctrl_c_while_plotting_keeps_the_result(
     assert "without s22.png" in capsys.readouterr().err
     assert rf.load(tmp_path).cmod > 0
     assert sorted(p.name for p in tmp_path.iterdir()) == ["fields.npz", "result.json", "result.vtu"]
+
+
+def test_console_runs_main_then_freezes_the_heap(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The command's entry point: main's exit code, then gc.freeze() (a cheap shutdown)."""
+    import gc
+
+    from rustfrac import cli
+
+    calls: list[str] = []
+    monkeypatch.setattr(cli, "main", lambda: calls.append("main") or 7)
+    monkeypatch.setattr(gc, "freeze", lambda: calls.append("freeze"))
+    assert cli.console() == 7
+    assert calls == ["main", "freeze"]

@@ -219,13 +219,13 @@ def test_summary_carries_the_energy_audit(fast_run: tuple[Path, dict]) -> None:
 
 
 def test_summary_splits_the_job_time(fast_run: tuple[Path, dict]) -> None:
-    """issue 15 item 3: the job's own time split (computation, figures, summaries) in
-    summary.json and summary.md; the parts add up to the total."""
+    """issue 15 item 3: the job's own time split (computation, figures, result folders,
+    summaries) in summary.json and summary.md; the parts add up to the total."""
     out, summary = fast_run
     t = summary["time_split_s"]
-    assert set(t) == {"compute", "figures", "summaries", "other", "total"}
+    assert set(t) == {"compute", "figures", "files", "summaries", "other", "total"}
     assert all(v >= 0.0 for v in t.values())
-    parts = t["compute"] + t["figures"] + t["summaries"] + t["other"]
+    parts = t["compute"] + t["figures"] + t["files"] + t["summaries"] + t["other"]
     assert parts == pytest.approx(t["total"], rel=1e-9, abs=1e-9)
     assert t["compute"] >= sum(summary["times_s"].values()) - 1e-9  # the runs are inside it
     assert "Job time: computation" in (out / "summary.md").read_text()
@@ -239,3 +239,28 @@ def test_full_preset_runs_ccm_pd_on_the_adaptive_region_to_the_xfem_end() -> Non
     stop = _core.scene_constants()["DEFAULT_A_STOP_FRACTION"] * 11.0
     assert pd.region == "adaptive" and pd.stop_crack_length == pytest.approx(stop)
     assert _scenes(PRESETS["paper"], "free")["ccm_pd"].pd.region == "fixed"
+
+
+def test_full_disk_while_staging_a_result_folder_leaves_the_folder_as_it_was(
+    fast_run: tuple[Path, dict], tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The result folders are staged in worker threads beside the drawing: their failure still
+    fails the whole job (OutputError, after the temporary-folder fallback fails the same way)
+    and leaves the fig7 folder as it was, without temporaries or new empty folders."""
+    import errno
+    import shutil
+
+    from rustfrac import result as result_mod
+
+    def full(path: object, res: object) -> None:
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(result_mod, "write_vtu", full)
+    old, new = tmp_path / "old", tmp_path / "new"
+    shutil.copytree(fast_run[0], old)
+    before = {p: p.read_bytes() for p in old.rglob("*") if p.is_file()}
+    for out in (old, new):
+        with pytest.raises(rf.OutputError, match="No space left"):
+            fig7(out, preset="fast", log=None)
+    assert {p: p.read_bytes() for p in old.rglob("*") if p.is_file()} == before
+    assert not new.exists() or list(new.rglob("*")) == []

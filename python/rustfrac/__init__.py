@@ -15,6 +15,11 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
+# numpy imported here, before the native core: the core's initialisation reaches numpy's C API,
+# and a Ctrl-C landing in a numpy import made from there ended in a Rust panic ("Failed to access
+# NumPy array API capsule") instead of a clean KeyboardInterrupt (tests/test_fault_campaign.py)
+import numpy as _numpy  # noqa: F401
+
 from . import errors as _errors
 from . import examples, scenes, specimens
 from ._core import __version__

@@ -1,10 +1,10 @@
-"""``python -m rustfrac``: the ``rustfrac`` command line (:func:`rustfrac.cli.main`)."""
+"""``python -m rustfrac``: the ``rustfrac`` command line (:func:`rustfrac.cli.console`)."""
 
 from __future__ import annotations
 
 import sys
 
-from .cli import main
+from .cli import console
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(console())

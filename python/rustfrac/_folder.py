@@ -69,7 +69,8 @@ def _unlink(p: Path) -> None:
         pass
 
 
-def _why(e: OSError) -> str:
+def why(e: OSError) -> str:
+    """The reason of an OS error, for a message."""
     return e.strerror or str(e)
 
 
@@ -100,7 +101,7 @@ def check_writable(path: str | Path) -> Path:
             _unlink(probe)
     except OSError as e:
         where = "" if base == p else f" (in {base})"
-        raise OutputError(f"cannot write output folder {p}{where}: {_why(e)}", p) from e
+        raise OutputError(f"cannot write output folder {p}{where}: {why(e)}", p) from e
     if hasattr(os, "statvfs"):
         st = os.statvfs(base)
         free = st.f_bavail * st.f_frsize
@@ -143,6 +144,7 @@ class FolderWriter:
         self.inner = tuple(inner)
         self._staged: dict[str, Path] = {}
         self._hooks: dict[str, Callable[[], object]] = {}
+        self._synced: set[str] = set()
 
     def stage(self, name: str) -> Path:
         """A fresh temporary path in the folder where the caller writes the file ``name``; it is
@@ -159,6 +161,7 @@ class FolderWriter:
     def discard(self, name: str) -> None:
         """Drops a staged file (e.g. a plot interrupted half-written): it is not committed."""
         p = self._staged.pop(name, None)
+        self._synced.discard(name)
         if p is not None:
             _unlink(p)
 
@@ -167,14 +170,22 @@ class FolderWriter:
         before the renames (e.g. a result folder inside a fig7 folder)."""
         self._hooks[name] = fn
 
-    def _commit(self) -> None:
-        staged = {n: p for n, p in self._staged.items() if p.exists()}
-        for p in staged.values():
+    def sync(self) -> None:
+        """Flushes the files staged so far to disk (fsync; the commit does it for any not yet
+        synced): a writer that stages in a worker thread syncs there too."""
+        for name, p in list(self._staged.items()):
+            if name in self._synced or not p.exists():
+                continue
             fd = os.open(p, os.O_RDONLY)
             try:
                 os.fsync(fd)
             finally:
                 os.close(fd)
+            self._synced.add(name)
+
+    def _commit(self) -> None:
+        self.sync()
+        staged = {n: p for n, p in self._staged.items() if p.exists()}
         with locked(self.path, exclusive=True):
             for fn in self._hooks.values():
                 fn()
@@ -211,7 +222,7 @@ def writing(
     try:
         d.mkdir(parents=True, exist_ok=True)
     except OSError as e:
-        raise OutputError(f"cannot create output folder {d}: {_why(e)}", d) from e
+        raise OutputError(f"cannot create output folder {d}: {why(e)}", d) from e
     w = FolderWriter(d, owned, last, inner)
     try:
         yield w
@@ -223,7 +234,7 @@ def writing(
         w._abort()
         name = Path(e.filename).name if isinstance(e.filename, str) else None
         raise OutputError(
-            f"cannot write output folder {d}: {_why(e)}"
+            f"cannot write output folder {d}: {why(e)}"
             + (f" (writing {name})" if name else "")
             + "; the folder was left as it was",
             d,

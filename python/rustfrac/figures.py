@@ -15,10 +15,13 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
+import matplotlib as mpl
 import numpy as np
 from matplotlib.axes import Axes
+from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.collections import PolyCollection
 from matplotlib.figure import Figure
+from matplotlib.image import imsave
 from matplotlib.patches import Rectangle
 
 from .result import _atomic
@@ -36,12 +39,55 @@ __all__ = [
 Curve = tuple[str, np.ndarray, np.ndarray, dict[str, Any]]
 
 
+#: zlib level of the PNGs: 1, the fastest (Pillow's default 6 takes 1.7x as long for files
+#: 10 % smaller: 0.14 s against 0.085 s for the four PNGs of a fig7 job)
+PNG_LEVEL = 1
+
+
 def save_figure(fig: Figure, path: str | Path, dpi: int = 150) -> Path:
-    """Saves a figure as PNG atomically."""
+    """Saves a figure as PNG atomically, cropped to its ink (``bbox_inches="tight"``).
+
+    Drawn once: ``savefig(bbox_inches="tight")`` lays the figure out twice (once to measure, once
+    to draw), a third of a figure's time. Here the figure is drawn on its canvas, its tight box
+    measured from that drawing and the pixels cropped to it (the padding
+    ``savefig.pad_inches``, cut at the canvas's edge). A figure with ink outside its canvas
+    (which only a larger canvas shows) goes through ``savefig(bbox_inches="tight")``."""
     p = Path(path)
     with _atomic(p, "wb") as f:
-        fig.savefig(f, format="png", dpi=dpi, bbox_inches="tight")
+        rgba = _drawn_tight(fig, dpi)
+        if rgba is None:
+            fig.savefig(f, format="png", dpi=dpi, bbox_inches="tight")
+        else:
+            meta = {"Software": f"Matplotlib version{mpl.__version__}, https://matplotlib.org/"}
+            imsave(
+                f, rgba, format="png", origin="upper", dpi=dpi, metadata=meta,
+                pil_kwargs={"compress_level": PNG_LEVEL},
+            )  # fmt: skip
     return p
+
+
+def _drawn_tight(fig: Figure, dpi: int) -> np.ndarray | None:
+    """The figure drawn at ``dpi`` (Agg) and cropped to its padded tight box, as RGBA rows from
+    the top; None when its tight box leaves the canvas."""
+    old_canvas, old_dpi = fig.canvas, fig.dpi
+    try:
+        canvas = FigureCanvasAgg(fig)
+        fig.dpi = dpi
+        canvas.draw()
+        renderer = canvas.get_renderer()
+        ink = fig.get_tightbbox(renderer)
+        rows = np.asarray(canvas.buffer_rgba())
+    finally:
+        fig.dpi = old_dpi
+        fig.set_canvas(old_canvas)
+    h, w = rows.shape[:2]
+    x0, x1, y0, y1 = ink.x0 * dpi, ink.x1 * dpi, h - ink.y1 * dpi, h - ink.y0 * dpi
+    if x0 < -0.5 or y0 < -0.5 or x1 > w + 0.5 or y1 > h + 0.5:
+        return None
+    pad = mpl.rcParams["savefig.pad_inches"] * dpi
+    c0, c1 = max(int(np.floor(x0 - pad)), 0), min(int(np.ceil(x1 + pad)), w)
+    r0, r1 = max(int(np.floor(y0 - pad)), 0), min(int(np.ceil(y1 + pad)), h)
+    return rows[r0:r1, c0:c1]
 
 
 def plot_fig7(

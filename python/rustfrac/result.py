@@ -8,10 +8,11 @@ then all renamed into place under the folder's lock, the JSON last):
   shapes and the SHA-256 of the other files;
 - ``fields.npz``: the arrays (mesh, displacement, stresses, ...) and the history;
 - ``result.vtu``: the result for ParaView (or meshio), a binary, zlib-compressed VTK unstructured
-  grid written through meshio (:meth:`Result.to_meshio`: FEM quads with displacement and stress;
-  XFEM standard quads plus the enriched elements' cut cells on each side of the crack, with their
-  own displacements, and the crack lines; PD and CCM-PD grid nodes as vertices with displacements,
-  damage, a PD-node flag and broken bonds per node; see ``rustfrac._vtk``). Without meshio
+  grid of the mesh :meth:`Result.to_meshio` gives, written directly (``_vtk.write_vtu``; FEM
+  quads with displacement and stress; XFEM standard quads plus the enriched elements' cut cells
+  on each side of the crack, with their own displacements, and the crack lines; PD and CCM-PD
+  grid nodes as vertices with displacements, damage, a PD-node flag and broken bonds per node;
+  see ``rustfrac._vtk``). Without meshio
   (``pip install 'rustfrac[io]'``) an ASCII VTU of rustfrac's own (mesh nodes and elements only,
   :func:`write_vtu_quads`, :func:`write_vtu_points`), with a note logged to the ``rustfrac``
   logger;
@@ -408,7 +409,7 @@ class Result:
         doc["shapes"] = {k: list(np.shape(v)) for k, v in sorted(arrays.items())}
         files = {NPZ_NAME: w.stage(NPZ_NAME)}
         with open(files[NPZ_NAME], "wb") as f:
-            np.savez_compressed(f, **arrays)
+            _savez(f, arrays)
         if vtu and _has_mesh(self):
             files[VTU_NAME] = w.stage(VTU_NAME)
             write_vtu(files[VTU_NAME], self)
@@ -541,6 +542,21 @@ def _dumps(doc: Any) -> str:
 
     text = json.dumps(fold(doc), indent=2, allow_nan=False)
     return re.sub(f'"{token}:(\\d+)"', lambda m: lists[int(m.group(1))], text) + "\n"
+
+
+#: zlib level of fields.npz: 1, the fastest (float arrays compress little more at numpy's 6:
+#: +2 % bytes for half the time of a fig7 job's two result folders)
+NPZ_LEVEL = 1
+
+
+def _savez(f: IO[bytes], arrays: dict[str, Any]) -> None:
+    """``np.savez_compressed(f, **arrays)`` at zlib level :data:`NPZ_LEVEL` (numpy's own writer,
+    ``numpy.lib.format.write_array`` into a deflated zip member per array, zip64 forced as numpy
+    does; ``np.load`` reads it as any ``.npz``)."""
+    with zipfile.ZipFile(f, "w", zipfile.ZIP_DEFLATED, compresslevel=NPZ_LEVEL) as z:
+        for key, val in arrays.items():
+            with z.open(key + ".npy", "w", force_zip64=True) as member:
+                np.lib.format.write_array(member, np.asanyarray(val), allow_pickle=False)
 
 
 def _sha256(p: Path) -> str:
@@ -745,12 +761,12 @@ def _has_mesh(res: Result) -> bool:
 
 
 def write_vtu(path: Path, res: Result) -> None:
-    """Writes ``res`` as ``result.vtu`` to ``path``: :meth:`Result.to_meshio` as a
-    binary, zlib-compressed VTU when meshio is installed; otherwise rustfrac's ASCII writer
+    """Writes ``res`` as ``result.vtu`` to ``path``: the mesh of :meth:`Result.to_meshio` as a
+    binary, zlib-compressed VTU (``_vtk.write_vtu``) when meshio is installed; otherwise rustfrac's ASCII writer
     (:func:`write_vtu_quads` or :func:`write_vtu_points`: the mesh nodes and elements only),
     logging a note."""
     if _vtk.meshio_or_none() is not None:
-        _vtk.write_meshio_vtu(path, res.to_meshio())
+        _vtk.write_vtu(path, _vtk.mesh_parts(res))
         return
     logger.info(
         "meshio is not installed: result.vtu is rustfrac's ASCII VTU (no XFEM cut cells or crack "
@@ -763,15 +779,15 @@ def write_vtu(path: Path, res: Result) -> None:
 def _stage_series(w: FolderWriter, res: Result) -> dict[str, Path]:
     """Stages the time series of ``res`` (result.pvd and one VTU per state); returns the staged
     files by name (none when the result has no series)."""
-    states = _vtk.series(res)
+    states = _vtk.series_parts(res)
     if not states:
         return {}
     files: dict[str, Path] = {}
     datasets: list[tuple[float, str]] = []
-    for k, (t, mesh) in enumerate(states):
+    for k, (t, parts) in enumerate(states):
         name = f"{SERIES_DIR}/state_{k:04d}.vtu"
         files[name] = w.stage(name)
-        _vtk.write_meshio_vtu(files[name], mesh)
+        _vtk.write_vtu(files[name], parts)
         datasets.append((t, name))
     files[PVD_NAME] = w.stage(PVD_NAME)
     with open(files[PVD_NAME], "w", encoding="utf-8") as f:
