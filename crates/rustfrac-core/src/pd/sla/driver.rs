@@ -16,7 +16,7 @@ use super::adaptive::{
 use super::checkpoint;
 use super::cost::{CostEstimate, EngineKind};
 use super::engine::{timing, Engine, Update};
-use super::fast::{schur_pattern, Fast, FemPart, SchurKind, SparseFactor};
+use super::fast::{dense_kpp, schur_pattern, Fast, FemPart, SchurKind, SparseFactor};
 use super::grounding::{Grounding, DEBRIS_LIMIT};
 use super::memory::{keep_large_blocks_mmapped, peak_memory_bytes};
 use super::oracle::Oracle;
@@ -216,9 +216,10 @@ struct Replay {
 /// condensation with the form of the condensed system (dense LU or sparse factor) the scene
 /// asks for or, for `"auto"`, the cheaper by the cost model ([`CostEstimate`]). Returns it, its
 /// description (the choice and the estimates) and the re-condensation interval (0 for the oracle).
-/// The cost model's symbolic analysis and the condensation's FEM part ([`FemPart`]) do not depend
-/// on each other: they run at once (rayon::join), the analysis on the core the FEM part's
-/// ordering and symbolic phases leave idle.
+/// The cost model's symbolic analysis (then, for the dense form, the K_PP block of S) and the
+/// condensation's FEM part ([`FemPart`]) do not depend on each other: they run at once, the
+/// analysis on its own thread while the FEM part's ordering and symbolic phases leave a core
+/// idle.
 fn engine_for<'a>(
     model: &'a SpliceModel,
     sla: &SlaParams,
@@ -235,13 +236,19 @@ fn engine_for<'a>(
         ));
     }
     let (choice, part) = std::thread::scope(|s| {
-        let choice = s.spawn(|| cost_choice(model, sla, k0, probe_dofs));
+        let choice = s.spawn(|| {
+            let c = cost_choice(model, sla, k0, probe_dofs)?;
+            // the dense S's K_PP block, touched while the FEM part factorises
+            let kpp = (c.0 == SchurKind::Dense).then(|| dense_kpp(model, k0));
+            Ok::<_, Error>((c, kpp))
+        });
         let part = FemPart::new(model, k0, probe_dofs);
         (choice.join(), part)
     });
-    let (schur, analysed, interval, name, why, est) = choice.map_err(|_| Error::Internal {
-        detail: "the cost model's thread panicked".into(),
-    })??;
+    let ((schur, analysed, interval, name, why, est), kpp) =
+        choice.map_err(|_| Error::Internal {
+            detail: "the cost model's thread panicked".into(),
+        })??;
     let f = Fast::new(
         model,
         Arc::clone(k0),
@@ -249,6 +256,7 @@ fn engine_for<'a>(
         part?,
         interval,
         (schur, analysed),
+        kpp,
     )?;
     let solver = format!("{name}; {why}; {}", est.describe());
     let refactor_interval = f.refactor_every;

@@ -111,6 +111,7 @@ impl<'a> Fast<'a> {
         part: FemPart,
         refactor_every: usize,
         (kind, analysed): (SchurKind, Option<SparseFactor>),
+        kpp: Option<Mat<f64>>,
     ) -> Result<Self> {
         let t0 = Instant::now();
         let FemPart {
@@ -143,6 +144,7 @@ impl<'a> Fast<'a> {
             base: analysed.map_or(Base::None, |f| Base::Sparse(Box::new(f))),
             columns: Columns::default(),
             kind,
+            kpp,
             p_xy: Vec::new(),
             x0: Vec::new(),
             v: Vec::new(),
@@ -235,19 +237,14 @@ impl<'a> Fast<'a> {
     }
 
     /// S = K_PP - K_PF Z dense, factorised in place (LU).
+    /// The K_PP part is the one built beside the FEM part ([`dense_kpp`]) at the first
+    /// condensation, built here at the later ones.
     fn condense_dense(&mut self, k: &CscMatrix, t0: Instant) -> Result<()> {
-        let np = self.p_dofs.len();
         let npc = self.pc.len();
-        let mut s = Mat::<f64>::zeros(np, np);
-        for (pcol, &c) in self.p_dofs.iter().enumerate() {
-            let col = s.col_as_slice_mut(pcol);
-            for kk in k.col_ptr[c]..k.col_ptr[c + 1] {
-                let r = k.row_idx[kk];
-                if self.cls[r] == CLS_P {
-                    col[self.idx[r]] += k.val[kk];
-                }
-            }
-        }
+        let mut s = match self.kpp.take() {
+            Some(s) => s,
+            None => kpp_block(k, &self.cls, &self.idx, &self.p_dofs),
+        };
         for &fd in &self.ring {
             let rp = self.ring_pos[fd];
             let zrow = &self.z_ring[rp * npc..(rp + 1) * npc];
@@ -276,7 +273,31 @@ impl<'a> Fast<'a> {
     }
 }
 
-/// Classifies the dofs: prescribed (fixed), free FEM (F), free PD (P).
+/// K_PP as a dense n_P x n_P matrix, the start of the dense S = K_PP - K_PF Z.
+fn kpp_block(k: &CscMatrix, cls: &[u8], idx: &[usize], p_dofs: &[usize]) -> Mat<f64> {
+    let np = p_dofs.len();
+    let mut s = Mat::<f64>::zeros(np, np);
+    for (pcol, &c) in p_dofs.iter().enumerate() {
+        let col = s.col_as_slice_mut(pcol);
+        for kk in k.col_ptr[c]..k.col_ptr[c + 1] {
+            let r = k.row_idx[kk];
+            if cls[r] == CLS_P {
+                col[idx[r]] += k.val[kk];
+            }
+        }
+    }
+    s
+}
+
+/// The dense K_PP of the first condensation ([`kpp_block`]) on its own: the engine builds it
+/// beside the FEM part ([`FemPart`]), so that its fresh memory (n_P^2 values, 35 MB on the
+/// paper's case, zeroed by the kernel page by page on first touch) is touched while the FEM
+/// block factorises.
+pub(in crate::pd::sla) fn dense_kpp(model: &SpliceModel, k: &CscMatrix) -> Mat<f64> {
+    let dc = dof_classes(model);
+    kpp_block(k, &dc.cls, &dc.idx, &dc.p_dofs)
+}
+
 /// The position of the node of each dof (dofs 2n and 2n + 1 belong to node n).
 fn dof_xy(model: &SpliceModel, dofs: &[usize]) -> Vec<[f64; 2]> {
     dofs.iter().map(|&d| model.grid.xy(d / 2)).collect()

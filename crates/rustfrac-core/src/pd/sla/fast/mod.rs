@@ -20,7 +20,7 @@ mod condensation;
 mod smw;
 
 pub(super) use base::SparseFactor;
-pub(super) use condensation::{schur_pattern, FemPart};
+pub(super) use condensation::{dense_kpp, schur_pattern, FemPart};
 
 use super::engine::{separated, Engine, State, Update};
 use crate::error::Result;
@@ -74,6 +74,8 @@ pub(super) struct Fast<'a> {
     columns: Columns,
     /// which form of S_0 to build at each condensation
     kind: SchurKind,
+    /// the dense K_PP built beside the FEM part, for the first condensation (`condensation.rs`)
+    kpp: Option<faer::Mat<f64>>,
     /// positions of the P dofs (nested dissection of the sparse Cholesky)
     p_xy: Vec<[f64; 2]>,
     x0: Vec<f64>,
