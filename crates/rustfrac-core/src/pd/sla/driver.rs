@@ -235,20 +235,27 @@ fn engine_for<'a>(
             0,
         ));
     }
+    // the choice, then the dense S's K_PP block (touched while the FEM part factorises)
+    let choose = || {
+        let c = cost_choice(model, sla, k0, probe_dofs)?;
+        let kpp = (c.0 == SchurKind::Dense).then(|| dense_kpp(model, k0));
+        Ok::<_, Error>((c, kpp))
+    };
     let (choice, part) = std::thread::scope(|s| {
-        let choice = s.spawn(|| {
-            let c = cost_choice(model, sla, k0, probe_dofs)?;
-            // the dense S's K_PP block, touched while the FEM part factorises
-            let kpp = (c.0 == SchurKind::Dense).then(|| dense_kpp(model, k0));
-            Ok::<_, Error>((c, kpp))
-        });
+        let spawned = std::thread::Builder::new()
+            .name("rustfrac cost model".into())
+            .spawn_scoped(s, choose);
         let part = FemPart::new(model, k0, probe_dofs);
-        (choice.join(), part)
+        let choice = match spawned {
+            Ok(h) => h.join().map_err(|_| Error::Internal {
+                detail: "the cost model's thread panicked".into(),
+            }),
+            // no thread to be had (a thread or memory limit): the same work, after the FEM part
+            Err(_) => Ok(choose()),
+        };
+        (choice, part)
     });
-    let ((schur, analysed, interval, name, why, est), kpp) =
-        choice.map_err(|_| Error::Internal {
-            detail: "the cost model's thread panicked".into(),
-        })??;
+    let ((schur, analysed, interval, name, why, est), kpp) = choice??;
     let f = Fast::new(
         model,
         Arc::clone(k0),

@@ -388,8 +388,8 @@ fn fem_block(
     Ok((f_red, ichol))
 }
 
-/// The solves with K_FF, all three in one pass over the factor (each pass reads all of it, 82 MB
-/// on the paper's case): y0 = K_FF^{-1} (f_F - K_F0 u0) and the adjoint vectors K_FF^{-1} q_F,
+/// The solves with K_FF, all three as one 3-column solve (each solve call reads the whole factor,
+/// 82 MB on the paper's case, forward and back): y0 = K_FF^{-1} (f_F - K_F0 u0) and the adjoint vectors K_FF^{-1} q_F,
 /// K_FF^{-1} e_F of sigma22 and CMOD ([`z_ring`]). Returns y0 and the adjoint vectors (q's then
 /// e's, each of length n_F); all empty without free FEM dofs.
 fn fem_solves(
