@@ -150,10 +150,16 @@ impl Cholesky {
 
     /// Numeric factorisation reusing the symbolic analysis; `a` must have the analysed pattern.
     pub fn factorize(&mut self, a: &CscMatrix) -> Result<()> {
+        self.factorize_with(a, faer::get_global_parallelism())
+    }
+
+    /// [`Cholesky::factorize`] on the threads `par` (`Par::Seq` when another thread works beside
+    /// it: the supernodal factorisation's rayon workers then only compete for the cores).
+    pub fn factorize_with(&mut self, a: &CscMatrix, par: Par) -> Result<()> {
         check_factor_input(a, self.n)?;
         self.factorised = false;
         let scaled = self.jacobi_scale(a)?;
-        self.factor_scaled(a, &scaled)?;
+        self.factor_scaled(a, &scaled, par)?;
         self.check_pivots()?;
         self.factorised = true;
         Ok(())
@@ -189,12 +195,11 @@ impl Cholesky {
     /// Phase 2 of [`Cholesky::factorize`]: faer's numeric supernodal factorisation of A^ (values
     /// `scaled` on the pattern of `a`) into `values`, pivots below [`PIVOT_TOL`] replaced by
     /// [`SENTINEL_PIVOT`].
-    fn factor_scaled(&mut self, a: &CscMatrix, scaled: &[f64]) -> Result<()> {
+    fn factor_scaled(&mut self, a: &CscMatrix, scaled: &[f64], par: Par) -> Result<()> {
         let eps = PIVOT_TOL;
         let symbolic = &self.symbolic;
         let values = &mut self.values;
         catch_panic("faer numeric Cholesky", || {
-            let par = faer::get_global_parallelism();
             let req = symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default());
             let mut mem = MemBuffer::try_new(req).map_err(|_| Error::OutOfMemory {
                 what: "the Cholesky workspace".into(),

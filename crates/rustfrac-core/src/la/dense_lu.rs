@@ -11,11 +11,14 @@ use faer::linalg::lu::partial_pivoting::{factor, solve};
 use faer::perm::PermRef;
 use faer::{Mat, MatMut, Par};
 
-/// P A = L U of a square matrix, L and U in the storage of A.
+/// P A = L U of a square matrix, L and U in the storage of A; or of Q^T A Q, the unknowns
+/// reordered (`order`, from [`super::LeadingLu`]).
 pub struct DenseLu {
     lu: Mat<f64>,
     perm: Vec<usize>,
     perm_inv: Vec<usize>,
+    /// the factorised matrix is Q^T A Q: its unknown i is A's unknown `order[i]`
+    order: Option<Vec<usize>>,
 }
 
 impl DenseLu {
@@ -45,9 +48,21 @@ impl DenseLu {
             );
             Ok(())
         })?;
+        Self::from_parts(a, (perm, perm_inv), None, rel_tol)
+    }
+
+    /// The factorisation from its parts (L and U in `lu`, the row permutation), after the pivot
+    /// test: a pivot below `rel_tol` x the largest pivot (or not finite) is [`Error::Singular`].
+    pub(super) fn from_parts(
+        lu: Mat<f64>,
+        (perm, perm_inv): (Vec<usize>, Vec<usize>),
+        order: Option<Vec<usize>>,
+        rel_tol: f64,
+    ) -> Result<Self> {
+        let n = lu.nrows();
         let (mut dmin, mut dmax) = (f64::INFINITY, 0.0f64);
         for i in 0..n {
-            let d = a[(i, i)].abs();
+            let d = lu[(i, i)].abs();
             dmin = dmin.min(d);
             dmax = dmax.max(d);
         }
@@ -57,9 +72,10 @@ impl DenseLu {
             });
         }
         Ok(Self {
-            lu: a,
+            lu,
             perm,
             perm_inv,
+            order,
         })
     }
 
@@ -70,6 +86,29 @@ impl DenseLu {
         if k == 0 {
             return Ok(());
         }
+        if let Some(order) = &self.order {
+            // Q^T A Q (Q^T x) = Q^T b
+            let mut y = vec![0.0; n * k];
+            for (yc, xc) in y.chunks_exact_mut(n).zip(x.chunks_exact(n)) {
+                for (yi, &o) in yc.iter_mut().zip(order) {
+                    *yi = xc[o];
+                }
+            }
+            self.solve_ordered(&mut y, k)?;
+            for (yc, xc) in y.chunks_exact(n).zip(x.chunks_exact_mut(n)) {
+                for (&yi, &o) in yc.iter().zip(order) {
+                    xc[o] = yi;
+                }
+            }
+        } else {
+            self.solve_ordered(x, k)?;
+        }
+        check_solution(x)
+    }
+
+    /// Solves with the factorised matrix itself (Q^T A Q when reordered), `k` columns.
+    fn solve_ordered(&self, x: &mut [f64], k: usize) -> Result<()> {
+        let n = self.lu.nrows();
         catch_panic("faer dense LU solve", || {
             // one thread: the solves are a few columns at a time, called from the SLA's steps
             let par = Par::Seq;
@@ -85,8 +124,7 @@ impl DenseLu {
                 MemStack::new(&mut mem),
             );
             Ok(())
-        })?;
-        check_solution(x)
+        })
     }
 
     /// Order of the matrix.

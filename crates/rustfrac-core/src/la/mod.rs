@@ -5,12 +5,13 @@
 //! block of the inverse at a few interface unknowns from one factorisation ([`schur`]), the
 //! forward solve with a sparse right-hand side along the elimination tree ([`sparse_forward`]), and
 //! sparse LU for the non-symmetric splice-coupled CCM-PD systems ([`lu`], DESIGN.md section 4), dense LU
-//! in place for their condensed PD system ([`dense_lu`]),
+//! in place for their condensed PD system ([`dense_lu`]; in two stages, [`block_lu`]),
 //! and the condition estimate with its thresholds ([`condition`]).
 //!
 //! Nothing here knows about elements or meshes: the finite-element layer ([`crate::fe`]) builds
 //! on it.
 
+pub mod block_lu;
 mod checks;
 pub mod cholesky;
 pub mod condition;
@@ -23,6 +24,7 @@ pub mod reduction;
 pub mod schur;
 pub mod sparse_forward;
 
+pub use block_lu::LeadingLu;
 pub use cholesky::{Cholesky, PIVOT_TOL};
 pub use condition::{
     check_condition, condition_warning, ConditionEstimate, CONDITION_ITERATIONS, COND_SINGULAR,

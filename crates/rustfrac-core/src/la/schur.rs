@@ -19,7 +19,7 @@ use faer::linalg::triangular_solve::{
 use faer::prelude::ReborrowMut;
 use faer::sparse::linalg::amd;
 use faer::sparse::SymbolicSparseColMatRef;
-use faer::{Mat, MatMut};
+use faer::{Mat, MatMut, Par};
 
 /// Sparse Cholesky of A with the interface unknowns eliminated last, and the factor's dense
 /// trailing block L_II.
@@ -33,8 +33,8 @@ pub struct InterfaceCholesky {
 impl InterfaceCholesky {
     /// Orders `iface` (distinct unknowns of `a`) last, the rest by geometric nested dissection of
     /// A_OO when the unknowns' positions `xy` are given (less fill on large meshes), AMD
-    /// otherwise, and factorises.
-    pub fn new(a: &CscMatrix, iface: &[usize], xy: Option<&[[f64; 2]]>) -> Result<Self> {
+    /// otherwise, and factorises on the threads `par` ([`Cholesky::factorize_with`]).
+    pub fn new(a: &CscMatrix, iface: &[usize], xy: Option<&[[f64; 2]]>, par: Par) -> Result<Self> {
         let n = a.nrows;
         let mut pos = vec![0usize; n];
         for &d in iface {
@@ -65,7 +65,7 @@ impl InterfaceCholesky {
             .chain(iface.iter().copied())
             .collect();
         let mut chol = Cholesky::analyze_with_order(a, perm)?;
-        chol.factorize(a)?;
+        chol.factorize_with(a, par)?;
         let l_ii = chol.trailing_factor(iface.len());
         Ok(Self {
             chol,
@@ -186,7 +186,7 @@ mod tests {
         let n = a.nrows;
         // an interface in scrambled order, spread over the grid
         let iface: Vec<usize> = (0..n).map(|k| (k * 37 + 11) % n).step_by(9).collect();
-        let ic = InterfaceCholesky::new(&a, &iface, xy.as_deref()).unwrap();
+        let ic = InterfaceCholesky::new(&a, &iface, xy.as_deref(), Par::Seq).unwrap();
         assert_eq!(ic.cholesky().is_supernodal(), supernodal, "m = {m}");
         let k = 3;
         let mut b = Mat::<f64>::from_fn(iface.len(), k, |i, j| ((i * 7 + j * 3) % 5) as f64 - 2.0);
@@ -233,6 +233,6 @@ mod tests {
     #[test]
     fn repeated_interface_unknown_is_an_error() {
         let a = scaled_laplacian(4);
-        assert!(InterfaceCholesky::new(&a, &[1, 2, 1], None).is_err());
+        assert!(InterfaceCholesky::new(&a, &[1, 2, 1], None, Par::Seq).is_err());
     }
 }

@@ -16,7 +16,7 @@ use super::adaptive::{
 use super::checkpoint;
 use super::cost::{CostEstimate, EngineKind};
 use super::engine::{timing, Engine, Update};
-use super::fast::{dense_kpp, schur_pattern, Fast, FemPart, SchurKind, SparseFactor};
+use super::fast::{dense_lead, schur_pattern, Fast, FemPart, SchurKind, SparseFactor};
 use super::grounding::{Grounding, DEBRIS_LIMIT};
 use super::memory::{keep_large_blocks_mmapped, peak_memory_bytes};
 use super::oracle::Oracle;
@@ -27,6 +27,7 @@ use crate::pd::splice::{ProbeFunctional, SpliceModel, Spring, StaticSolution};
 use crate::pd::{damage, BYTES_PER_BOND};
 use crate::problem::{pd_region, validate, Problem, SlaEngine, SlaParams};
 use crate::warning::{Warning, WarningKind};
+use faer::Par;
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -216,7 +217,7 @@ struct Replay {
 /// condensation with the form of the condensed system (dense LU or sparse factor) the scene
 /// asks for or, for `"auto"`, the cheaper by the cost model ([`CostEstimate`]). Returns it, its
 /// description (the choice and the estimates) and the re-condensation interval (0 for the oracle).
-/// The cost model's symbolic analysis (then, for the dense form, the K_PP block of S) and the
+/// The cost model's symbolic analysis (then, for the dense form, the LU of S's PD block) and the
 /// condensation's FEM part ([`FemPart`]) do not depend on each other: they run at once, the
 /// analysis on its own thread while the FEM part's ordering and symbolic phases leave a core
 /// idle.
@@ -235,17 +236,27 @@ fn engine_for<'a>(
             0,
         ));
     }
-    // the choice, then the dense S's K_PP block (touched while the FEM part factorises)
+    // the choice, then the LU of the dense S's PD block (it does not depend on the FEM part)
     let choose = || {
         let c = cost_choice(model, sla, k0, probe_dofs)?;
-        let kpp = (c.0 == SchurKind::Dense).then(|| dense_kpp(model, k0));
-        Ok::<_, Error>((c, kpp))
+        let lead = (c.0 == SchurKind::Dense)
+            .then(|| dense_lead(model, k0, probe_dofs))
+            .transpose()?;
+        Ok::<_, Error>((c, lead))
     };
     let (choice, part) = std::thread::scope(|s| {
         let spawned = std::thread::Builder::new()
             .name("rustfrac cost model".into())
             .spawn_scoped(s, choose);
-        let part = FemPart::new(model, k0, probe_dofs);
+        // beside the cost model's thread the factorisation runs on one thread: rayon workers
+        // would only compete with it for the cores (0.37 s against 0.48-0.55 s on the paper's
+        // case; benches/RESULTS.md)
+        let par = if spawned.is_ok() {
+            Par::Seq
+        } else {
+            faer::get_global_parallelism()
+        };
+        let part = FemPart::new(model, k0, probe_dofs, par);
         let choice = match spawned {
             Ok(h) => h.join().map_err(|_| Error::Internal {
                 detail: "the cost model's thread panicked".into(),
@@ -255,7 +266,7 @@ fn engine_for<'a>(
         };
         (choice, part)
     });
-    let ((schur, analysed, interval, name, why, est), kpp) = choice??;
+    let ((schur, analysed, interval, name, why, est), lead) = choice??;
     let f = Fast::new(
         model,
         Arc::clone(k0),
@@ -263,7 +274,7 @@ fn engine_for<'a>(
         part?,
         interval,
         (schur, analysed),
-        kpp,
+        lead,
     )?;
     let solver = format!("{name}; {why}; {}", est.describe());
     let refactor_interval = f.refactor_every;

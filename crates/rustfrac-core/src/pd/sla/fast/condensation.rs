@@ -12,18 +12,19 @@
 //! 0.16 s at load 6, benches/RESULTS.md). sigma22 and CMOD
 //! are linear functionals of u, condensed once into constants plus coefficients on x, their Z
 //! parts by one adjoint solve: q_F . Z = (K_FF^{-1} q_F) . K_FP. [`Fast::new`] runs these phases;
-//! `condense` builds and factorises S (also at every re-condensation).
+//! `condense` builds and factorises S (also at every re-condensation); the dense S in two stages,
+//! since K_PF Z changes only its rows and columns at the FEM coupling ([`dense_lead`]).
 
 use super::base::{Base, SparseFactor};
 use super::Columns;
 
 use super::{Fast, SchurKind, CLS_F, CLS_FIXED, CLS_P};
 use crate::error::{Error, Result};
-use crate::la::{CscMatrix, DenseLu, InterfaceCholesky, Reduction};
+use crate::la::{CscMatrix, InterfaceCholesky, LeadingLu, Reduction};
 use crate::pd::sla::engine::{separated, timing};
 use crate::pd::sla::params::auto_refactor_every;
 use crate::pd::splice::{SpliceModel, Spring};
-use faer::Mat;
+use faer::{Mat, Par};
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -74,16 +75,18 @@ pub(in crate::pd::sla) struct FemPart {
 }
 
 impl FemPart {
-    /// The FEM part of the condensation of `k` ([`FemPart`]).
+    /// The FEM part of the condensation of `k` ([`FemPart`]), the Cholesky of K_FF on the threads
+    /// `par`.
     pub(in crate::pd::sla) fn new(
         model: &SpliceModel,
         k: &CscMatrix,
         probe_dofs: &[usize],
+        par: Par,
     ) -> Result<Self> {
         let dc = dof_classes(model);
         let t0 = Instant::now();
         let cp = coupling_sets(model, k, &dc, probe_dofs);
-        let (f_red, ichol) = fem_block(model, k, &dc, &cp, t0)?;
+        let (f_red, ichol) = fem_block(model, k, &dc, &cp, par, t0)?;
         let (q, e, resp_coef) = response_rows(model, k);
         let (y0, qe) = fem_solves(model, k, &dc, &f_red, ichol.as_ref(), (&q, &e))?;
         let mut fun = functionals(model, &dc, &y0, (q, e, resp_coef));
@@ -111,7 +114,7 @@ impl<'a> Fast<'a> {
         part: FemPart,
         refactor_every: usize,
         (kind, analysed): (SchurKind, Option<SparseFactor>),
-        kpp: Option<Mat<f64>>,
+        lead: Option<LeadingLu>,
     ) -> Result<Self> {
         let t0 = Instant::now();
         let FemPart {
@@ -144,7 +147,7 @@ impl<'a> Fast<'a> {
             base: analysed.map_or(Base::None, |f| Base::Sparse(Box::new(f))),
             columns: Columns::default(),
             kind,
-            kpp,
+            lead,
             p_xy: Vec::new(),
             x0: Vec::new(),
             v: Vec::new(),
@@ -236,15 +239,38 @@ impl<'a> Fast<'a> {
         Ok(())
     }
 
-    /// S = K_PP - K_PF Z dense, factorised in place (LU).
-    /// The K_PP part is the one built beside the FEM part ([`dense_kpp`]) at the first
-    /// condensation, built here at the later ones.
+    /// S = K_PP - K_PF Z dense, factorised in place (LU) in two stages ([`LeadingLu`]): K_PF Z
+    /// changes only the rows and columns of the PD unknowns coupled to the FEM part (T, ordered
+    /// last by [`schur_order`]), so the LU of the rest does not depend on Z; at the first
+    /// condensation it was made beside the FEM part ([`dense_lead`]), here at the later ones.
+    /// Then the correction goes into the trailing block and only that is factorised.
     fn condense_dense(&mut self, k: &CscMatrix, t0: Instant) -> Result<()> {
         let npc = self.pc.len();
-        let mut s = match self.kpp.take() {
-            Some(s) => s,
-            None => kpp_block(k, &self.cls, &self.idx, &self.p_dofs),
+        let (order, pos, n1) =
+            schur_order(k, &self.cls, &self.idx, &self.p_dofs, &self.ring, &self.pc);
+        let mut lead = match self.lead.take() {
+            Some(l) => l,
+            None => {
+                let s = kpp_block(k, &self.cls, &self.idx, &self.p_dofs, &pos);
+                LeadingLu::new(s, n1, Some(order), faer::get_global_parallelism())?
+            }
         };
+        let in_t = |p: usize| {
+            pos[p].checked_sub(n1).ok_or_else(|| Error::Internal {
+                detail: "a PD unknown changed by K_PF Z outside the trailing block".into(),
+            })
+        };
+        let pct = self
+            .pc
+            .iter()
+            .map(|&p| in_t(p))
+            .collect::<Result<Vec<_>>>()?;
+        if lead.n1() != n1 {
+            return Err(Error::Internal {
+                detail: "the leading block of the dense S does not match its order".into(),
+            });
+        }
+        let mut t = lead.trailing_mut();
         for &fd in &self.ring {
             let rp = self.ring_pos[fd];
             let zrow = &self.z_ring[rp * npc..(rp + 1) * npc];
@@ -252,20 +278,22 @@ impl<'a> Fast<'a> {
                 let r = k.row_idx[kk];
                 let v = k.val[kk];
                 if self.cls[r] == CLS_P && v != 0.0 {
-                    let pr = self.idx[r];
-                    for (t, &z) in zrow.iter().enumerate() {
-                        s[(pr, self.pc[t])] -= v * z;
+                    let tr = in_t(self.idx[r])?;
+                    for (&tc, &z) in pct.iter().zip(zrow) {
+                        t[(tr, tc)] -= v * z;
                     }
                 }
             }
         }
         timing("fast: S = K_PP - K_PF Z built", t0);
-        let lu = DenseLu::new(s, 1e-13).map_err(|e| match e {
-            Error::Singular { detail } => {
-                separated(format!("condensed PD matrix is singular ({detail})"))
-            }
-            e => e,
-        })?;
+        let lu = lead
+            .finish(1e-13, faer::get_global_parallelism())
+            .map_err(|e| match e {
+                Error::Singular { detail } => {
+                    separated(format!("condensed PD matrix is singular ({detail})"))
+                }
+                e => e,
+            })?;
         self.base = Base::Dense(Box::new(lu));
         self.columns.clear();
         timing("fast: S factorised (dense LU)", t0);
@@ -273,29 +301,85 @@ impl<'a> Fast<'a> {
     }
 }
 
-/// K_PP as a dense n_P x n_P matrix, the start of the dense S = K_PP - K_PF Z.
-fn kpp_block(k: &CscMatrix, cls: &[u8], idx: &[usize], p_dofs: &[usize]) -> Mat<f64> {
+/// The order of the P unknowns in the dense S: the rest first, then T, the unknowns whose rows
+/// or columns K_PF Z changes (the PD rows coupled to the ring's FEM dofs, and `pc`). Returns the
+/// order (its i-th unknown's P index), each P index's position in it, and the size of the rest.
+fn schur_order(
+    k: &CscMatrix,
+    cls: &[u8],
+    idx: &[usize],
+    p_dofs: &[usize],
+    ring: &[usize],
+    pc: &[usize],
+) -> (Vec<usize>, Vec<usize>, usize) {
+    let np = p_dofs.len();
+    let mut in_t = vec![false; np];
+    for &p in pc {
+        in_t[p] = true;
+    }
+    for &fd in ring {
+        for &r in &k.row_idx[k.col_ptr[fd]..k.col_ptr[fd + 1]] {
+            if cls[r] == CLS_P {
+                in_t[idx[r]] = true;
+            }
+        }
+    }
+    let order: Vec<usize> = (0..np)
+        .filter(|&p| !in_t[p])
+        .chain((0..np).filter(|&p| in_t[p]))
+        .collect();
+    let n1 = order.iter().take_while(|&&p| !in_t[p]).count();
+    let mut pos = vec![0; np];
+    for (i, &p) in order.iter().enumerate() {
+        pos[p] = i;
+    }
+    (order, pos, n1)
+}
+
+/// K_PP as a dense n_P x n_P matrix in the order `pos` (P index -> row and column), the start
+/// of the dense S = K_PP - K_PF Z.
+fn kpp_block(
+    k: &CscMatrix,
+    cls: &[u8],
+    idx: &[usize],
+    p_dofs: &[usize],
+    pos: &[usize],
+) -> Mat<f64> {
     let np = p_dofs.len();
     let mut s = Mat::<f64>::zeros(np, np);
     for (pcol, &c) in p_dofs.iter().enumerate() {
-        let col = s.col_as_slice_mut(pcol);
+        let col = s.col_as_slice_mut(pos[pcol]);
         for kk in k.col_ptr[c]..k.col_ptr[c + 1] {
             let r = k.row_idx[kk];
             if cls[r] == CLS_P {
-                col[idx[r]] += k.val[kk];
+                col[pos[idx[r]]] += k.val[kk];
             }
         }
     }
     s
 }
 
-/// The dense K_PP of the first condensation ([`kpp_block`]) on its own: the engine builds it
-/// beside the FEM part ([`FemPart`]), so that its fresh memory (n_P^2 values, 35 MB on the
-/// paper's case, zeroed by the kernel page by page on first touch) is touched while the FEM
-/// block factorises.
-pub(in crate::pd::sla) fn dense_kpp(model: &SpliceModel, k: &CscMatrix) -> Mat<f64> {
+/// The leading stage of the dense S's LU at the first condensation, on its own ([`LeadingLu`]
+/// of K_PP in the order of [`schur_order`], on one thread): it does not depend on Z, so the
+/// engine makes it beside the FEM part ([`FemPart`]), which also touches its fresh memory (n_P^2
+/// values, 35 MB on the paper's case) while the FEM block factorises.
+pub(in crate::pd::sla) fn dense_lead(
+    model: &SpliceModel,
+    k: &CscMatrix,
+    probe_dofs: &[usize],
+) -> Result<LeadingLu> {
+    let t0 = Instant::now();
     let dc = dof_classes(model);
-    kpp_block(k, &dc.cls, &dc.idx, &dc.p_dofs)
+    let cp = coupling_sets(model, k, &dc, probe_dofs);
+    let (order, pos, n1) = schur_order(k, &dc.cls, &dc.idx, &dc.p_dofs, &cp.ring, &cp.pc);
+    let s = kpp_block(k, &dc.cls, &dc.idx, &dc.p_dofs, &pos);
+    let lead = LeadingLu::new(s, n1, Some(order), Par::Seq)?;
+    let what = format!(
+        "engine: LU of the dense S's PD block ({n1} of {} unknowns, beside the FEM part)",
+        dc.p_dofs.len()
+    );
+    timing(&what, t0);
+    Ok(lead)
 }
 
 /// The position of the node of each dof (dofs 2n and 2n + 1 belong to node n).
@@ -357,6 +441,7 @@ fn fem_block(
     k: &CscMatrix,
     dc: &DofClasses,
     cp: &Coupling,
+    par: Par,
     t0: Instant,
 ) -> Result<(Reduction, Option<Factor>)> {
     let (n, cls, nf) = (model.n_dofs(), &dc.cls, dc.nf);
@@ -368,7 +453,7 @@ fn fem_block(
         // on the paper's case, the factorisation 0.39-0.48 s against 0.51-0.53 s, whole process
         // 0.95 x; benches/RESULTS.md)
         let xy = dof_xy(model, &f_red.free);
-        let c = InterfaceCholesky::new(&f_red.reduce(k), &iface, Some(&xy)).map_err(|e| {
+        let c = InterfaceCholesky::new(&f_red.reduce(k), &iface, Some(&xy), par).map_err(|e| {
             Error::Singular {
                 detail: format!("FEM block of the splice matrix: {e}"),
             }

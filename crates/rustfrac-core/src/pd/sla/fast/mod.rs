@@ -5,7 +5,9 @@
 //! (2 x PD nodes): `condensation.rs`. K_FP and K_PF touch only a thin interface I of FEM dofs, so
 //! S needs only (K_FF^{-1})_II: one sparse Cholesky of the SPD FEM block with I ordered last
 //! gives it from the factor's dense trailing block ([`crate::la::InterfaceCholesky`]). S is factorised
-//! once, dense LU in place (or, for large PD regions, sparse: `base.rs`, chosen by `super::cost`), and
+//! once, dense LU in place in two stages, the PD block away from the FEM coupling first (beside the
+//! FEM factorisation; [`crate::la::LeadingLu`]), or, for large PD regions, sparse (`base.rs`, chosen
+//! by `super::cost`), and
 //! the columns of S^{-1} the breaks need are solved with it (`columns.rs`); a broken bond is a rank-1
 //! change of S and g (a on the PD rows of its ends), handled by Sherman-Morrison-Woodbury with the
 //! capacitance inverse grown by bordering (O(k^2) per break): `smw.rs`. The Schur pivot of the
@@ -20,7 +22,7 @@ mod condensation;
 mod smw;
 
 pub(super) use base::SparseFactor;
-pub(super) use condensation::{dense_kpp, schur_pattern, FemPart};
+pub(super) use condensation::{dense_lead, schur_pattern, FemPart};
 
 use super::engine::{separated, Engine, State, Update};
 use crate::error::Result;
@@ -74,8 +76,9 @@ pub(super) struct Fast<'a> {
     columns: Columns,
     /// which form of S_0 to build at each condensation
     kind: SchurKind,
-    /// the dense K_PP built beside the FEM part, for the first condensation (`condensation.rs`)
-    kpp: Option<faer::Mat<f64>>,
+    /// the leading stage of the dense S's LU made beside the FEM part, for the first
+    /// condensation (`condensation.rs`)
+    lead: Option<crate::la::LeadingLu>,
     /// positions of the P dofs (nested dissection of the sparse Cholesky)
     p_xy: Vec<[f64; 2]>,
     x0: Vec<f64>,
