@@ -81,3 +81,28 @@ def test_sigint_at_random_moments(tmp_path: Path, seed: int) -> None:
     print(f"{n} attempts (seed {seed}): {outcomes}")
     interrupted = sum(v for k, v in outcomes.items() if not k.startswith("exit 0"))
     assert n < 8 or interrupted > 0, f"no attempt was interrupted: {outcomes}"
+
+
+def test_core_import_without_numpy_is_an_import_error_not_a_panic() -> None:
+    """The native core reaches numpy's C API at initialisation; when numpy cannot be imported
+    there (here: blocked in ``sys.modules``; in the field: a Ctrl-C landing in numpy's import) the
+    core's import fails with numpy's ImportError, never with a Rust panic in the capsule access.
+    The core is loaded straight from its file, without the package, which imports numpy first."""
+    path = rf._core.__file__
+    code = (
+        "import importlib.util, sys\n"
+        "sys.modules['numpy'] = None\n"
+        f"spec = importlib.util.spec_from_file_location('rustfrac._core', {path!r})\n"
+        "try:\n"
+        "    spec.loader.exec_module(importlib.util.module_from_spec(spec))\n"
+        "except ImportError as e:\n"
+        "    print('import error:', e)\n"
+        "    sys.exit(3)\n"
+    )
+    r = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, timeout=60, check=False
+    )
+    out = r.stdout + r.stderr
+    assert r.returncode == 3, out
+    assert "numpy" in r.stdout, out
+    assert not any(b in out for b in BAD), out

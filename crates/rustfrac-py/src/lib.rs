@@ -66,7 +66,10 @@ fn quiet_panics() {
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     // load NumPy's C API now: loading it later, while a Ctrl-C is pending, fails inside numpy's
-    // import and panicked ("Failed to access NumPy array API capsule")
+    // import and panicked ("Failed to access NumPy array API capsule"). numpy is imported first
+    // through the fallible path, so a failing import (a pending KeyboardInterrupt, numpy missing)
+    // is this module's import error, never a panic inside the capsule access
+    m.py().import("numpy")?;
     let _ = numpy::PyArray1::<f64>::zeros(m.py(), 0, false);
     quiet_panics();
     m.add("PROGRESS_INTERVAL_S", PROGRESS_INTERVAL_S)?;
