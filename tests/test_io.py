@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+import base64
 import json
 import sys
 import xml.etree.ElementTree as ET
+import zlib
 from pathlib import Path
 
 import numpy as np
@@ -84,10 +86,14 @@ def test_failed_save_leaves_no_temp_file(tmp_path: Path) -> None:
 def test_vtu_is_valid_unstructured_grid(
     uncracked: rf.Result, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    # rustfrac's own ASCII writer (without meshio; tests/test_meshio.py reads meshio's VTU)
+    # without meshio: rustfrac's binary VTU, decoded here by hand from the VTK XML format (a
+    # UInt64 header of block count, block size, last block size and compressed sizes, then the
+    # zlib blocks, base64 encoded); tests/test_meshio.py reads the same file with meshio
     monkeypatch.setitem(sys.modules, "meshio", None)
     uncracked.save(tmp_path)
     root = ET.parse(tmp_path / "result.vtu").getroot()
+    assert root.get("compressor") == "vtkZLibDataCompressor"
+    assert root.get("header_type") == "UInt64"
     piece = root.find("UnstructuredGrid/Piece")
     assert piece is not None
     n, m = len(uncracked.coords), len(uncracked.elements)
@@ -95,13 +101,25 @@ def test_vtu_is_valid_unstructured_grid(
     assert int(piece.get("NumberOfCells")) == m
     arrays = {a.get("Name"): a for a in piece.iter("DataArray")}
     assert {"displacement", "stress", "Points", "connectivity", "offsets", "types"} <= set(arrays)
-    pts = np.array(arrays["Points"].text.split(), dtype=float).reshape(-1, 3)
-    np.testing.assert_array_equal(pts[:, :2], uncracked.coords)
-    conn = np.array(arrays["connectivity"].text.split(), dtype=np.int64).reshape(-1, 4)
-    np.testing.assert_array_equal(conn, uncracked.elements)
-    assert set(arrays["types"].text.split()) == {"9"}
-    disp = np.array(arrays["displacement"].text.split(), dtype=float).reshape(-1, 3)
-    np.testing.assert_array_equal(disp[:, :2], uncracked.displacement)
+
+    def decode(name: str) -> np.ndarray:
+        # the header and the blocks are base64-encoded separately, the header first
+        a = arrays[name]
+        text = a.text.strip()
+        nb = int(np.frombuffer(base64.b64decode(text[:12])[:8], dtype="<u8")[0])
+        head = 4 * -(-8 * (3 + nb) // 3)  # base64 characters of the header
+        sizes = np.frombuffer(base64.b64decode(text[:head]), dtype="<u8")[3:]
+        raw, data, pos = base64.b64decode(text[head:]), b"", 0
+        for c in sizes:
+            data += zlib.decompress(raw[pos : pos + int(c)])
+            pos += int(c)
+        dtype = {"Float64": "<f8", "Int64": "<i8", "UInt8": "u1"}[a.get("type")]
+        return np.frombuffer(data, dtype=dtype).reshape(-1, int(a.get("NumberOfComponents", 1)))
+
+    np.testing.assert_array_equal(decode("Points")[:, :2], uncracked.coords)
+    np.testing.assert_array_equal(decode("connectivity").reshape(-1, 4), uncracked.elements)
+    assert set(decode("types").ravel()) == {9}
+    np.testing.assert_array_equal(decode("displacement")[:, :2], uncracked.displacement)
 
 
 def test_plot(seam: rf.Result, tmp_path: Path) -> None:

@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import hashlib
 import json
-import logging
 import sys
 import xml.etree.ElementTree as ET
 from pathlib import Path
@@ -264,34 +263,31 @@ def test_failure_while_staging_the_series_keeps_the_previous_folder(
     assert rf.load(tmp_path).history == {}
 
 
-def test_without_meshio_the_ascii_vtu_is_written(
-    growth: rf.Result, tmp_path: Path, monkeypatch: pytest.MonkeyPatch, caplog: Any
+def test_without_meshio_the_same_files_are_written(
+    growth: rf.Result, ccm: rf.Result, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    growth.save(tmp_path)
-    assert (tmp_path / "result.pvd").exists()
-    with monkeypatch.context() as mp:
-        mp.setitem(sys.modules, "meshio", None)  # import meshio fails
-        with caplog.at_level(logging.INFO, logger="rustfrac"):
-            growth.save(tmp_path)
-        with pytest.raises(ImportError, match=r"meshio.*rustfrac\[io\]"):
-            growth.to_meshio()
-    assert any("meshio is not installed" in r.getMessage() for r in caplog.records)
-    text = (tmp_path / "result.vtu").read_text()
-    assert 'format="ascii"' in text and 'format="binary"' not in text
-    assert not (tmp_path / "result.pvd").exists() and not (tmp_path / "result_series").exists()
-    m = meshio.read(tmp_path / "result.vtu")  # readable
-    np.testing.assert_array_equal(m.points[:, :2], growth.coords)
-    np.testing.assert_array_equal(m.point_data["displacement"][:, :2], growth.displacement)
-    rf.load(tmp_path)
-
-
-def test_ascii_fallback_of_pd_counts_broken_bonds(
-    ccm: rf.Result, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
-) -> None:
-    monkeypatch.setitem(sys.modules, "meshio", None)
-    ccm.save(tmp_path)
-    monkeypatch.undo()
-    m = meshio.read(tmp_path / "result.vtu")
+    # rustfrac writes result.vtu and the time series itself: without meshio the files are the
+    # same, byte for byte, and meshio (an independent reader) reads them back as to_meshio's mesh
+    for res, name in ((growth, "growth"), (ccm, "ccm")):
+        with_meshio, without = tmp_path / f"{name}_with", tmp_path / f"{name}_without"
+        res.save(with_meshio)
+        with monkeypatch.context() as mp:
+            mp.setitem(sys.modules, "meshio", None)  # import meshio fails
+            res.save(without)
+            with pytest.raises(ImportError, match=r"meshio.*rustfrac\[io\]"):
+                res.to_meshio()
+        files = sorted(p.relative_to(with_meshio) for p in with_meshio.rglob("*.vt?"))
+        assert files == sorted(p.relative_to(without) for p in without.rglob("*.vt?"))
+        assert Path("result.vtu") in files
+        for f in files:
+            assert (with_meshio / f).read_bytes() == (without / f).read_bytes(), f
+        m, ref = meshio.read(without / "result.vtu"), res.to_meshio()
+        np.testing.assert_array_equal(m.points, ref.points)
+        for key, a in ref.point_data.items():
+            np.testing.assert_array_equal(m.point_data[key], a, err_msg=key)
+        rf.load(without)
+    assert (tmp_path / "growth_without" / "result.pvd").exists()
+    m = meshio.read(tmp_path / "ccm_without" / "result.vtu")
     assert int(m.point_data["broken_bonds"].sum()) == 2 * int(ccm.fields["broken"].sum())
 
 

@@ -1,7 +1,7 @@
 """Results as meshio meshes and ParaView files (:meth:`Result.to_meshio`, ``result.vtu``,
 ``result.pvd``); meshio is optional (``pip install 'rustfrac[io]'``). The VTU files are written
-by :func:`write_vtu` (the VTK XML format meshio writes, without its XML tree: 2.5x faster); with
-meshio missing, ``Result.save`` keeps its ASCII fallback (``result.write_vtu``).
+by :func:`write_vtu` (the VTK XML format meshio writes, without its XML tree: 2.5x faster, and
+meshio is needed only for :func:`to_meshio` and :func:`series`).
 
 What a mesh holds (every vector has 3 components, z = 0, as ParaView expects):
 

@@ -8,17 +8,14 @@ then all renamed into place under the folder's lock, the JSON last):
   shapes and the SHA-256 of the other files;
 - ``fields.npz``: the arrays (mesh, displacement, stresses, ...) and the history;
 - ``result.vtu``: the result for ParaView (or meshio), a binary, zlib-compressed VTK unstructured
-  grid of the mesh :meth:`Result.to_meshio` gives, written directly (``_vtk.write_vtu``; FEM
-  quads with displacement and stress; XFEM standard quads plus the enriched elements' cut cells
-  on each side of the crack, with their own displacements, and the crack lines; PD and CCM-PD
-  grid nodes as vertices with displacements, damage, a PD-node flag and broken bonds per node;
-  see ``rustfrac._vtk``). Without meshio
-  (``pip install 'rustfrac[io]'``) an ASCII VTU of rustfrac's own (mesh nodes and elements only,
-  :func:`write_vtu_quads`, :func:`write_vtu_points`), with a note logged to the ``rustfrac``
-  logger;
-- ``result.pvd`` + ``result_series/state_NNNN.vtu`` (with meshio): a ParaView time series, one
-  state per history row of an XFEM growth run (the deformed patch) or per damage snapshot of an
-  SLA run (``damage_at_steps``), timestep = the history row / the SLA step.
+  grid of the mesh :meth:`Result.to_meshio` gives, written directly (``_vtk.write_vtu``, meshio
+  not needed; FEM quads with displacement and stress; XFEM standard quads plus the enriched
+  elements' cut cells on each side of the crack, with their own displacements, and the crack
+  lines; PD and CCM-PD grid nodes as vertices with displacements, damage, a PD-node flag and
+  broken bonds per node; see ``rustfrac._vtk``);
+- ``result.pvd`` + ``result_series/state_NNNN.vtu``: a ParaView time series, one state per
+  history row of an XFEM growth run (the deformed patch) or per damage snapshot of an SLA run
+  (``damage_at_steps``), timestep = the history row / the SLA step.
 
 :func:`load` reads the JSON and NPZ back to the same numbers, after checking them.
 """
@@ -42,7 +39,6 @@ import numpy as np
 from . import _vtk
 from ._folder import FolderWriter, locked, writing
 from ._folder import atomic_file as _atomic  # noqa: F401 (figures, fig7 and sweep use it)
-from ._log import logger
 from .errors import InvalidParameterError, InvalidResultError, ResultNotFoundError
 
 __all__ = ["Result", "load"]
@@ -371,7 +367,7 @@ class Result:
 
     def save(self, directory: PathLike, *, vtu: bool = True) -> Path:
         """Writes result.json, fields.npz and (``vtu=True``) result.vtu, and for growth and SLA
-        snapshot runs the ParaView time series result.pvd + result_series/ (with meshio), into
+        snapshot runs the ParaView time series result.pvd + result_series/, into
         ``directory`` (created if needed) as one unit: a reader sees the previous set or the new
         one, never a mix (see the README's "Result folders"). Returns the directory.
 
@@ -413,8 +409,7 @@ class Result:
         if vtu and _has_mesh(self):
             files[VTU_NAME] = w.stage(VTU_NAME)
             write_vtu(files[VTU_NAME], self)
-            if _vtk.meshio_or_none() is not None:
-                files.update(_stage_series(w, self))
+            files.update(_stage_series(w, self))
         doc["files"] = {
             n: {"sha256": _sha256(p), "bytes": p.stat().st_size} for n, p in files.items()
         }
@@ -744,36 +739,14 @@ def _check_arrays(
         )
 
 
-def _vtk_array(f: IO[str], name: str, a: np.ndarray, vtype: str = "Float64") -> None:
-    a = np.asarray(a)
-    ncomp = 1 if a.ndim == 1 else a.shape[1]
-    f.write(
-        f'        <DataArray type="{vtype}" Name="{name}" NumberOfComponents="{ncomp}" '
-        'format="ascii">\n'
-    )
-    fmt = "%.17g" if vtype.startswith("Float") else "%d"
-    np.savetxt(f, a.reshape(len(a), -1), fmt=fmt, delimiter=" ")
-    f.write("        </DataArray>\n")
-
-
 def _has_mesh(res: Result) -> bool:
     return ("coords" in res.fields and "elements" in res.fields) or "node_xy" in res.fields
 
 
 def write_vtu(path: Path, res: Result) -> None:
     """Writes ``res`` as ``result.vtu`` to ``path``: the mesh of :meth:`Result.to_meshio` as a
-    binary, zlib-compressed VTU (``_vtk.write_vtu``) when meshio is installed; otherwise rustfrac's ASCII writer
-    (:func:`write_vtu_quads` or :func:`write_vtu_points`: the mesh nodes and elements only),
-    logging a note."""
-    if _vtk.meshio_or_none() is not None:
-        _vtk.write_vtu(path, _vtk.mesh_parts(res))
-        return
-    logger.info(
-        "meshio is not installed: result.vtu is rustfrac's ASCII VTU (no XFEM cut cells or crack "
-        "lines, no time series); pip install 'rustfrac[io]' for the full output"
-    )
-    with open(path, "w", encoding="utf-8") as f:
-        (write_vtu_quads if "elements" in res.fields else write_vtu_points)(f, res)
+    binary, zlib-compressed VTU (``_vtk.write_vtu``; meshio is not needed)."""
+    _vtk.write_vtu(path, _vtk.mesh_parts(res))
 
 
 def _stage_series(w: FolderWriter, res: Result) -> dict[str, Path]:
@@ -793,74 +766,3 @@ def _stage_series(w: FolderWriter, res: Result) -> dict[str, Path]:
     with open(files[PVD_NAME], "w", encoding="utf-8") as f:
         _vtk.write_pvd(f, datasets)
     return files
-
-
-def write_vtu_quads(f: IO[str], res: Result) -> None:
-    """Writes ``res`` as an ASCII VTK XML unstructured grid of quads (VTK cell type 9) with the
-    point fields displacement (3 components, u3 = 0), stress [s11, s22, s12] and any other
-    array with one row per node (the fallback of :func:`write_vtu` without meshio)."""
-    xy = np.asarray(res.coords, dtype=float)
-    n = len(xy)
-    cells = np.asarray(res.elements, dtype=np.int64)
-    m = len(cells)
-    pts = np.column_stack([xy, np.zeros(n)])
-    f.write('<?xml version="1.0"?>\n')
-    f.write('<VTKFile type="UnstructuredGrid" version="1.0" byte_order="LittleEndian">\n')
-    f.write("  <UnstructuredGrid>\n")
-    f.write(f'    <Piece NumberOfPoints="{n}" NumberOfCells="{m}">\n')
-    f.write("      <PointData>\n")
-    if "u" in res.fields and len(res.fields["u"]) == 2 * n:
-        _vtk_array(f, "displacement", np.column_stack([res.displacement, np.zeros(n)]))
-    if "nodal_stress" in res.fields:
-        _vtk_array(f, "stress", res.fields["nodal_stress"])
-    for k, a in res.fields.items():
-        if k in ("coords", "u", "nodal_stress", "reactions") or np.asarray(a).dtype.kind != "f":
-            continue
-        if len(a) == n and np.asarray(a).ndim <= 2:
-            _vtk_array(f, k, a)
-    f.write("      </PointData>\n")
-    f.write("      <Points>\n")
-    _vtk_array(f, "Points", pts)
-    f.write("      </Points>\n")
-    f.write("      <Cells>\n")
-    _vtk_array(f, "connectivity", cells.reshape(-1), "Int64")
-    _vtk_array(f, "offsets", 4 * np.arange(1, m + 1, dtype=np.int64), "Int64")
-    _vtk_array(f, "types", np.full(m, 9, dtype=np.uint8), "UInt8")
-    f.write("      </Cells>\n")
-    f.write("    </Piece>\n")
-    f.write("  </UnstructuredGrid>\n")
-    f.write("</VTKFile>\n")
-
-
-def write_vtu_points(f: IO[str], res: Result) -> None:
-    """Writes a PD / CCM-PD result (fields ``node_xy``, ``u``, ``u_final``, ``pd_nodes``,
-    ``damage``) as an ASCII VTK XML unstructured grid of VTK_VERTEX cells (type 1), one per grid
-    node, with point data displacement (reference load, before any break), displacement_final
-    (after the last break; absent when the body separated), damage (0 at FEM nodes), is_pd and
-    broken_bonds (the fallback of :func:`write_vtu` without meshio)."""
-    xy = np.asarray(res.fields["node_xy"], dtype=float)
-    n = len(xy)
-    pts = np.column_stack([xy, np.zeros(n)])
-    f.write('<?xml version="1.0"?>\n')
-    f.write('<VTKFile type="UnstructuredGrid" version="1.0" byte_order="LittleEndian">\n')
-    f.write("  <UnstructuredGrid>\n")
-    f.write(f'    <Piece NumberOfPoints="{n}" NumberOfCells="{n}">\n')
-    f.write("      <PointData>\n")
-    for key, name in (("u", "displacement"), ("u_final", "displacement_final")):
-        u = np.asarray(res.fields.get(key, ()), dtype=float)
-        if len(u) == 2 * n:
-            _vtk_array(f, name, np.column_stack([u.reshape(-1, 2), np.zeros(n)]))
-    for name, a in _vtk.pd_point_fields(res).items():
-        _vtk_array(f, name, a, "Int64" if a.dtype.kind in "iu" else "Float64")
-    f.write("      </PointData>\n")
-    f.write("      <Points>\n")
-    _vtk_array(f, "Points", pts)
-    f.write("      </Points>\n")
-    f.write("      <Cells>\n")
-    _vtk_array(f, "connectivity", np.arange(n, dtype=np.int64), "Int64")
-    _vtk_array(f, "offsets", np.arange(1, n + 1, dtype=np.int64), "Int64")
-    _vtk_array(f, "types", np.ones(n, dtype=np.uint8), "UInt8")
-    f.write("      </Cells>\n")
-    f.write("    </Piece>\n")
-    f.write("  </UnstructuredGrid>\n")
-    f.write("</VTKFile>\n")
