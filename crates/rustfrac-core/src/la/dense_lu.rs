@@ -4,10 +4,11 @@
 //! matrix of fresh pages), whose SLA needs S^{-1} only at the ends of the bonds it breaks
 //! (`pd::sla::fast::columns`).
 
+use super::block_lu::LeadingLu;
 use super::checks::{check_rhs, check_solution};
 use crate::error::{catch_panic, Error, Result};
 use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::linalg::lu::partial_pivoting::{factor, solve};
+use faer::linalg::lu::partial_pivoting::solve;
 use faer::perm::PermRef;
 use faer::{Mat, MatMut, Par};
 
@@ -23,8 +24,9 @@ pub struct DenseLu {
 
 impl DenseLu {
     /// Factorises `a` in place. A pivot below `rel_tol` x the largest pivot (or not finite) is
-    /// [`Error::Singular`].
-    pub fn new(mut a: Mat<f64>, rel_tol: f64) -> Result<Self> {
+    /// [`Error::Singular`]. The one-stage LU is the two-stage one ([`LeadingLu`]) with an empty
+    /// leading block.
+    pub fn new(a: Mat<f64>, rel_tol: f64) -> Result<Self> {
         let n = a.nrows();
         if a.ncols() != n {
             return Err(Error::SizeMismatch {
@@ -33,22 +35,8 @@ impl DenseLu {
                 got: a.ncols(),
             });
         }
-        let (mut perm, mut perm_inv) = (vec![0usize; n], vec![0usize; n]);
-        catch_panic("faer dense LU", || {
-            let par = faer::get_global_parallelism();
-            let req = factor::lu_in_place_scratch::<usize, f64>(n, n, par, Default::default());
-            let mut mem = MemBuffer::new(req);
-            factor::lu_in_place(
-                a.as_mut(),
-                &mut perm,
-                &mut perm_inv,
-                par,
-                MemStack::new(&mut mem),
-                Default::default(),
-            );
-            Ok(())
-        })?;
-        Self::from_parts(a, (perm, perm_inv), None, rel_tol)
+        let par = faer::get_global_parallelism();
+        LeadingLu::new(a, 0, None, par)?.finish(rel_tol, par)
     }
 
     /// The factorisation from its parts (L and U in `lu`, the row permutation), after the pivot
