@@ -239,7 +239,7 @@ fn engine_for<'a>(
     // the choice, then the LU of the dense S's PD block (it does not depend on the FEM part)
     let choose = || {
         let c = cost_choice(model, sla, k0, probe_dofs)?;
-        let lead = (c.0 == SchurKind::Dense)
+        let lead = (c.kind == SchurKind::Dense)
             .then(|| dense_lead(model, k0, probe_dofs))
             .transpose()?;
         Ok::<_, Error>((c, lead))
@@ -266,31 +266,34 @@ fn engine_for<'a>(
         };
         (choice, part)
     });
-    let ((schur, analysed, interval, name, why, est), lead) = choice??;
+    let (c, lead) = choice??;
     let f = Fast::new(
         model,
         Arc::clone(k0),
         (broken, springs0),
         part?,
-        interval,
-        (schur, analysed),
+        c.interval,
+        (c.kind, c.analysed),
         lead,
     )?;
-    let solver = format!("{name}; {why}; {}", est.describe());
+    let solver = format!("{}; {}; {}", c.name, c.why, c.est.describe());
     let refactor_interval = f.refactor_every;
     Ok((Box::new(f), solver, refactor_interval))
 }
 
-/// The form of the condensed system ([`engine_for`]): (kind, the sparse analysis to reuse, the
-/// re-condensation interval, the engine's name, why it was chosen, the estimates).
-type Choice = (
-    SchurKind,
-    Option<SparseFactor>,
-    usize,
-    &'static str,
-    &'static str,
-    CostEstimate,
-);
+/// The form of the condensed system the cost model chose ([`engine_for`]).
+struct Choice {
+    kind: SchurKind,
+    /// the sparse S's symbolic analysis, to reuse (sparse form)
+    analysed: Option<SparseFactor>,
+    /// the re-condensation interval
+    interval: usize,
+    /// the engine's name
+    name: &'static str,
+    /// why it was chosen
+    why: &'static str,
+    est: CostEstimate,
+}
 
 /// The cost model's choice ([`engine_for`]) from the symbolic analysis of the sparse S.
 fn cost_choice(
@@ -326,19 +329,19 @@ fn cost_choice(
         _ => (est.choice(), "auto: the cheaper estimate"),
     };
     Ok(match kind {
-        EngineKind::Dense => (
-            SchurKind::Dense,
-            None,
-            sla.refactor_every,
-            "fast (FEM condensed by Cholesky, dense PD system + Sherman-Morrison-Woodbury)",
+        EngineKind::Dense => Choice {
+            kind: SchurKind::Dense,
+            analysed: None,
+            interval: sla.refactor_every,
+            name: "fast (FEM condensed by Cholesky, dense PD system + Sherman-Morrison-Woodbury)",
             why,
             est,
-        ),
-        EngineKind::Sparse => (
-            SchurKind::Sparse,
+        },
+        EngineKind::Sparse => Choice {
+            kind: SchurKind::Sparse,
             analysed,
-            est.sparse_interval,
-            if symmetric {
+            interval: est.sparse_interval,
+            name: if symmetric {
                 "fast, sparse (PD system by sparse Cholesky + Sherman-Morrison-Woodbury)"
             } else {
                 "fast, sparse (FEM condensed by Cholesky, PD system by sparse LU + \
@@ -346,7 +349,7 @@ fn cost_choice(
             },
             why,
             est,
-        ),
+        },
     })
 }
 
