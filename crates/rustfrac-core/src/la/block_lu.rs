@@ -10,9 +10,10 @@
 //! [`DenseLu`] solves with it. The pivots are sought within each block (block LU): stable when
 //! A11 is well conditioned, as the stiffness of the PD nodes away from the FEM coupling is.
 
+use super::checks::workspace;
 use super::dense_lu::DenseLu;
 use crate::error::{catch_panic, Error, Result};
-use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
+use faer::dyn_stack::{MemStack, StackReq};
 use faer::linalg::lu::partial_pivoting::factor;
 use faer::linalg::matmul::matmul;
 use faer::linalg::triangular_solve::{
@@ -30,15 +31,6 @@ pub struct LeadingLu {
     perm: Vec<usize>,
     perm_inv: Vec<usize>,
     order: Option<Vec<usize>>,
-}
-
-/// A fresh workspace of `req` (faer's kernels).
-fn workspace(req: StackReq) -> Result<MemBuffer> {
-    MemBuffer::try_new(req).map_err(|_| Error::OutOfMemory {
-        what: "the dense LU workspace".into(),
-        needed: req.size_bytes() as u64,
-        available: crate::memory::available_bytes().unwrap_or(0.0) as u64,
-    })
 }
 
 impl LeadingLu {
@@ -68,7 +60,7 @@ impl LeadingLu {
             factor::lu_in_place_scratch::<usize, f64>(n1, n1, par, Default::default()),
             permute_rows_in_place_scratch::<usize, f64>(n1, n - n1),
         ]);
-        let mut mem = workspace(req)?;
+        let mut mem = workspace(req, "the dense LU workspace")?;
         catch_panic("faer block LU (leading block)", || {
             let (top, bot) = a.as_mut().split_at_row_mut(n1);
             let (mut a11, mut a12) = top.split_at_col_mut(n1);
@@ -125,7 +117,7 @@ impl LeadingLu {
             factor::lu_in_place_scratch::<usize, f64>(n2, n2, par, Default::default()),
             permute_rows_in_place_scratch::<usize, f64>(n2, n1),
         ]);
-        let mut mem = workspace(req)?;
+        let mut mem = workspace(req, "the dense LU workspace")?;
         let (perm, perm_inv) = (&mut self.perm, &mut self.perm_inv);
         catch_panic("faer block LU (trailing block)", || {
             let (_, bot) = self.a.as_mut().split_at_row_mut(n1);

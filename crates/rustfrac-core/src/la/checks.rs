@@ -98,3 +98,16 @@ pub(super) fn check_solution(x: &[f64]) -> Result<()> {
         })
     }
 }
+
+/// A fresh workspace of `req` for faer's kernels; one that cannot be had is
+/// [`Error::OutOfMemory`] naming `what`, never an abort.
+pub(super) fn workspace(
+    req: faer::dyn_stack::StackReq,
+    what: &str,
+) -> Result<faer::dyn_stack::MemBuffer> {
+    faer::dyn_stack::MemBuffer::try_new(req).map_err(|_| Error::OutOfMemory {
+        what: what.into(),
+        needed: req.size_bytes() as u64,
+        available: crate::memory::available_bytes().unwrap_or(0.0) as u64,
+    })
+}

@@ -14,11 +14,13 @@
 //! caught by [`crate::la::COND_SINGULAR`] (see [`crate::la::check_condition`]) and, for the plate
 //! models, by the rigid-mode check [`crate::fe::Dirichlet::check_rigid_modes`].
 
-use super::checks::{check_factor_input, check_rhs, check_solution, check_square, faer_ref_values};
+use super::checks::{
+    check_factor_input, check_rhs, check_solution, check_square, faer_ref_values, workspace,
+};
 use super::csc::CscMatrix;
 use super::ordering::{inverse, nested_dissection};
 use crate::error::{catch_panic, Error, Result};
-use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::dyn_stack::MemStack;
 use faer::linalg::cholesky::llt::factor::LltRegularization;
 use faer::perm::PermRef;
 use faer::prelude::*;
@@ -201,11 +203,7 @@ impl Cholesky {
         let values = &mut self.values;
         catch_panic("faer numeric Cholesky", || {
             let req = symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default());
-            let mut mem = MemBuffer::try_new(req).map_err(|_| Error::OutOfMemory {
-                what: "the Cholesky workspace".into(),
-                needed: req.size_bytes() as u64,
-                available: crate::memory::available_bytes().unwrap_or(0.0) as u64,
-            })?;
+            let mut mem = workspace(req, "the Cholesky workspace")?;
             let reg = LltRegularization {
                 dynamic_regularization_delta: SENTINEL_PIVOT,
                 dynamic_regularization_epsilon: eps,
@@ -295,11 +293,7 @@ impl Cholesky {
             let par = faer::get_global_parallelism();
             let llt = LltRef::<usize, f64>::new(&self.symbolic, &self.values);
             let req = self.symbolic.solve_in_place_scratch::<f64>(k, par);
-            let mut mem = MemBuffer::try_new(req).map_err(|_| Error::OutOfMemory {
-                what: "the solve workspace".into(),
-                needed: req.size_bytes() as u64,
-                available: crate::memory::available_bytes().unwrap_or(0.0) as u64,
-            })?;
+            let mut mem = workspace(req, "the solve workspace")?;
             // A^-1 = S (S A S)^-1 S
             for col in rhs.chunks_mut(n) {
                 for (v, s) in col.iter_mut().zip(&self.scale) {

@@ -5,9 +5,9 @@
 //! (`pd::sla::fast::columns`).
 
 use super::block_lu::LeadingLu;
-use super::checks::{check_rhs, check_solution};
+use super::checks::{check_rhs, check_solution, workspace};
 use crate::error::{catch_panic, Error, Result};
-use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::dyn_stack::MemStack;
 use faer::linalg::lu::partial_pivoting::solve;
 use faer::perm::PermRef;
 use faer::{Mat, MatMut, Par};
@@ -101,7 +101,7 @@ impl DenseLu {
             // one thread: the solves are a few columns at a time, called from the SLA's steps
             let par = Par::Seq;
             let req = solve::solve_in_place_scratch::<usize, f64>(n, k, par);
-            let mut mem = MemBuffer::new(req);
+            let mut mem = workspace(req, "the dense LU solve workspace")?;
             let perm = PermRef::new_checked(&self.perm, &self.perm_inv, n);
             solve::solve_in_place(
                 self.lu.as_ref(),

@@ -7,12 +7,12 @@
 //! inversion). With the Jacobi scaling of [`Cholesky`] (the factor is that of D A D, D diagonal),
 //! (A^{-1})_II = D_I L_II^{-T} L_II^{-1} D_I. The same factor solves the full system as usual.
 
-use super::checks::faer_error;
+use super::checks::{faer_error, workspace};
 use super::cholesky::Cholesky;
 use super::csc::CscMatrix;
 use super::ordering::nested_dissection;
 use crate::error::{catch_panic, Error, Result};
-use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::dyn_stack::MemStack;
 use faer::linalg::triangular_solve::{
     solve_lower_triangular_in_place, solve_upper_triangular_in_place,
 };
@@ -130,11 +130,7 @@ fn rest_order(
         let mut perm = vec![0usize; m];
         let mut inv = vec![0usize; m];
         let req = amd::order_maybe_unsorted_scratch::<usize>(m, ri.len());
-        let mut mem = MemBuffer::try_new(req).map_err(|_| Error::OutOfMemory {
-            what: "the AMD workspace".into(),
-            needed: req.size_bytes() as u64,
-            available: crate::memory::available_bytes().unwrap_or(0.0) as u64,
-        })?;
+        let mut mem = workspace(req, "the AMD workspace")?;
         let sym = SymbolicSparseColMatRef::new_checked(m, m, &cp, None, &ri);
         amd::order_maybe_unsorted(
             &mut perm,

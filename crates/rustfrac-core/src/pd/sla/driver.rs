@@ -236,10 +236,12 @@ fn engine_for<'a>(
             0,
         ));
     }
-    // the choice, then the LU of the dense S's PD block (it does not depend on the FEM part)
+    // the choice, then the LU of the dense S's PD block (it does not depend on the FEM part);
+    // pure PD has no FEM part to overlap: its whole LU is the leading stage, made on the main
+    // thread with all cores at the condensation
     let choose = || {
         let c = cost_choice(model, sla, k0, probe_dofs)?;
-        let lead = (c.kind == SchurKind::Dense)
+        let lead = (c.kind == SchurKind::Dense && !model.all_pd)
             .then(|| dense_lead(model, k0, probe_dofs))
             .transpose()?;
         Ok::<_, Error>((c, lead))
