@@ -7,7 +7,8 @@
 //!   plus a dense block only on the PD rows coupled to the FEM ring x the PD columns of hybrid
 //!   elements (`pc`); none for pure PD. Pure PD: K_PP is symmetric positive definite, sparse
 //!   Cholesky ([`Cholesky`], nested dissection on the node positions); CCM-PD: S_0 is not
-//!   symmetric (DESIGN.md section 4), sparse LU ([`Lu`], COLAMD). A solve with S_0 costs one
+//!   symmetric (DESIGN.md section 4), sparse LU ([`Lu`], COLAMD with the dense block's columns
+//!   ordered last: [`Lu::analyze_dense_last`]). A solve with S_0 costs one
 //!   pair of triangular solves (about 4 nnz(L) flops), the factorisation O(nnz(L)^2 / n_P). The
 //!   pattern of S_0 does not change between condensations (broken bonds stay stored as zeros),
 //!   so the symbolic analysis is done once.
@@ -38,7 +39,7 @@ pub(in crate::pd::sla) enum Base {
 
 impl SparseFactor {
     /// Symbolic analysis of the pattern of `s`: Cholesky with nested dissection on `xy` (the
-    /// positions of the unknowns) when `symmetric`, LU (COLAMD) otherwise.
+    /// positions of the unknowns) when `symmetric`, LU (COLAMD, dense columns last) otherwise.
     pub(in crate::pd::sla) fn analyze(
         s: &CscMatrix,
         symmetric: bool,
@@ -47,7 +48,7 @@ impl SparseFactor {
         Ok(if symmetric {
             Self::Cholesky(Cholesky::analyze_with(s, Some(xy))?)
         } else {
-            Self::Lu(Lu::analyze(s)?)
+            Self::Lu(Lu::analyze_dense_last(s)?)
         })
     }
 
