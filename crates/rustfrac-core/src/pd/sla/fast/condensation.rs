@@ -230,6 +230,7 @@ impl<'a> Fast<'a> {
         if !matches!(self.base, Base::Sparse(_)) {
             let symmetric = self.chol.is_none();
             self.base = Base::Sparse(Box::new(SparseFactor::analyze(&s, symmetric, &self.p_xy)?));
+            timing("fast: sparse S analysed (ordering, supernodes)", t0);
         }
         if let Base::Sparse(f) = &mut self.base {
             f.factorize(&s)?;
