@@ -146,6 +146,7 @@ impl LeadingLu {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::la::DENSE_PIVOT_TOL;
 
     /// A non-symmetric matrix whose trailing block needs row pivoting.
     fn matrix(n: usize) -> Mat<f64> {
@@ -197,7 +198,7 @@ mod tests {
                     t[(i, j)] += d(n1 + i, n1 + j);
                 }
             }
-            let lu = lead.finish(1e-13, Par::Seq).unwrap();
+            let lu = lead.finish(DENSE_PIVOT_TOL, Par::Seq).unwrap();
             let x_true: Vec<f64> = (0..2 * n).map(|i| (i as f64 * 0.37).sin()).collect();
             let mut b: Vec<f64> = x_true.chunks(n).flat_map(|xc| matvec(&s, xc)).collect();
             let b0 = b.clone();
@@ -208,7 +209,7 @@ mod tests {
                 .map(|(x, y)| (x - y).abs())
                 .fold(0.0, f64::max);
             assert!(err < 1e-11, "reorder {reorder}: max error {err:e}");
-            let one = DenseLu::new(s.clone(), 1e-13).unwrap();
+            let one = DenseLu::new(s.clone(), DENSE_PIVOT_TOL).unwrap();
             let mut b1 = b0.clone();
             one.solve_in_place(&mut b1).unwrap();
             let diff = b
@@ -232,7 +233,7 @@ mod tests {
         // make the Schur complement zero: the whole matrix singular
         lead.trailing_mut().fill(0.0);
         assert!(matches!(
-            lead.finish(1e-13, Par::Seq),
+            lead.finish(DENSE_PIVOT_TOL, Par::Seq),
             Err(Error::Singular { .. })
         ));
     }

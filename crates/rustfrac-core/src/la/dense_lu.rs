@@ -22,6 +22,11 @@ pub struct DenseLu {
     order: Option<Vec<usize>>,
 }
 
+/// The dense LU's pivot test: a pivot below this fraction of the largest pivot is zero (the
+/// condensed PD matrix of a separated body; well-posed condensed PD systems measured pivot ratios
+/// many orders above it).
+pub const DENSE_PIVOT_TOL: f64 = 1e-13;
+
 impl DenseLu {
     /// Factorises `a` in place. A pivot below `rel_tol` x the largest pivot (or not finite) is
     /// [`Error::Singular`]. The one-stage LU is the two-stage one ([`LeadingLu`]) with an empty
@@ -145,7 +150,7 @@ mod tests {
             }
         }
         let b0 = b.clone();
-        let lu = DenseLu::new(a.clone(), 1e-13).unwrap();
+        let lu = DenseLu::new(a.clone(), DENSE_PIVOT_TOL).unwrap();
         assert_eq!(lu.n(), n);
         lu.solve_in_place(&mut b).unwrap();
         let err = b
@@ -169,7 +174,7 @@ mod tests {
     fn singular_matrix_is_an_error() {
         let a = Mat::<f64>::from_fn(3, 3, |i, j| (i.max(1) * 3 + j + 1) as f64);
         assert!(matches!(
-            DenseLu::new(a, 1e-13),
+            DenseLu::new(a, DENSE_PIVOT_TOL),
             Err(Error::Singular { .. })
         ));
     }

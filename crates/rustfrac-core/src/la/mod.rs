@@ -31,7 +31,7 @@ pub use condition::{
     COND_WARN,
 };
 pub use csc::CscMatrix;
-pub use dense_lu::DenseLu;
+pub use dense_lu::{DenseLu, DENSE_PIVOT_TOL};
 pub use lu::Lu;
 pub use pattern::Pattern;
 pub use reduction::Reduction;

@@ -20,7 +20,7 @@ use super::Columns;
 
 use super::{Fast, SchurKind, CLS_F, CLS_FIXED, CLS_P};
 use crate::error::{Error, Result};
-use crate::la::{CscMatrix, InterfaceCholesky, LeadingLu, Reduction};
+use crate::la::{CscMatrix, InterfaceCholesky, LeadingLu, Reduction, DENSE_PIVOT_TOL};
 use crate::pd::sla::engine::{separated, timing};
 use crate::pd::sla::params::auto_refactor_every;
 use crate::pd::splice::{SpliceModel, Spring};
@@ -288,7 +288,7 @@ impl<'a> Fast<'a> {
         }
         timing("fast: S = K_PP - K_PF Z built", t0);
         let lu = lead
-            .finish(1e-13, faer::get_global_parallelism())
+            .finish(DENSE_PIVOT_TOL, faer::get_global_parallelism())
             .map_err(|e| match e {
                 Error::Singular { detail } => {
                     separated(format!("condensed PD matrix is singular ({detail})"))
