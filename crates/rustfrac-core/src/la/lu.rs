@@ -53,7 +53,8 @@ impl Lu {
             *counts.select_nth_unstable(mid).1
         };
         let limit = DENSE_COLUMN_FACTOR * median;
-        // COLAMD's rule: dense when count > max(16, dense_col * n)
+        // faer 0.24.4's COLAMD rule (its code; its doc says sqrt(n)): dense when
+        // count > max(16, dense_col * n); the unit test below checks the effect
         let control = colamd::Control {
             dense_col: limit as f64 / a.nrows.max(1) as f64,
             ..Default::default()
