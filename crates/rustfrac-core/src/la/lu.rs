@@ -44,7 +44,6 @@ impl Lu {
     /// Symbolic analysis with the columns of more than [`DENSE_COLUMN_FACTOR`] times the median
     /// column count ordered last (see the module doc).
     pub fn analyze_dense_last(a: &CscMatrix) -> Result<Self> {
-        check_square(a)?;
         let mut counts: Vec<usize> = a.col_ptr.windows(2).map(|w| w[1] - w[0]).collect();
         let mid = counts.len() / 2;
         let median = if counts.is_empty() {
