@@ -207,6 +207,8 @@ fn meta(s: &Shaped<'_>, r: &CcmPdResult, p: &Problem, wall: f64) -> PyResult<()>
     m.set_item("n_refactorisations", r.n_refactorisations)?;
     m.set_item("max_update_rank", r.max_update_rank)?;
     m.set_item("inverse_columns", r.inverse_columns)?;
+    m.set_item("screened_steps", r.screened_steps)?;
+    m.set_item("screened_bonds", r.screened_bonds)?;
     m.set_item("refactor_interval", r.refactor_interval)?;
     m.set_item("resumed_steps", r.resumed_steps)?;
     m.set_item("n_checkpoints", r.n_checkpoints)?;

@@ -136,6 +136,9 @@ fn run_from(
         info.n_refactorisations += engine.n_refactorisations();
         info.max_update_rank = info.max_update_rank.max(engine.max_update_rank());
         info.inverse_columns += engine.inverse_columns();
+        let (ss, sb) = engine.screening();
+        info.screened_steps += ss;
+        info.screened_bonds += sb;
         let Some(centres) = grow else {
             break if st.status == SlaStatus::Separated {
                 Vec::new()
@@ -628,7 +631,7 @@ impl RunState {
             }
             let tie_tol = sla.tie_tol;
             let Some((lmin, sel)) =
-                critical_bonds(model, &self.broken, engine.u(), s0, tie_tol, &mut lam)
+                critical_bonds(model, &self.broken, engine, s0, tie_tol, &mut lam)
             else {
                 self.status = SlaStatus::NoBondInTension;
                 break;
@@ -716,11 +719,13 @@ fn damage_keys(model: &SpliceModel, d: &[f64]) -> Vec<(NodeKey, f64)> {
         .collect()
 }
 
-/// The bonds to break in the state with displacements `u`: lambda_b = s0 / s_b for every intact
-/// bond in tension (s0 x the bond's factor under the surface correction,
+/// The bonds to break in the engine's last state: lambda_b = s0 / s_b for every intact bond in
+/// tension (s0 x the bond's factor under the surface correction,
 /// [`crate::pd::surface_correction::critical_stretch_scale`]), lmin = min lambda, and every bond
 /// with lambda_b <= lmin (1 + max(tie_tol, 1e-10)) in index order (only the first when
-/// tie_tol = 0). None when no bond is in tension. `lam` is scratch of one value per bond.
+/// tie_tol = 0). None when no bond is in tension. `lam` is scratch of one value per bond. The
+/// stretches come from [`Engine::stretches`]: a bond it leaves at an upper bound cannot reach
+/// that window, so the selection is the one of the exact stretches.
 ///
 /// Without the surface correction the divisions s0 / s_b are taken only where they can decide:
 /// a correctly rounded division is monotone, so min_b s0 / s_b = s0 / max_b s_b exactly, and the
@@ -729,46 +734,44 @@ fn damage_keys(model: &SpliceModel, d: &[f64]) -> Vec<(NodeKey, f64)> {
 fn critical_bonds(
     model: &SpliceModel,
     broken: &[bool],
-    u: &[f64],
+    engine: &mut dyn Engine,
     s0: f64,
     tie_tol: f64,
     lam: &mut [f64],
 ) -> Option<(f64, Vec<usize>)> {
     let tol = tie_tol.max(1e-10);
-    let (lmin, mut sel) = match &model.surface {
-        Some(sf) => {
+    let scale = model.surface.as_ref().map(|sf| &sf.s0_scale[..]);
+    // lam holds the stretches (-inf for broken bonds), of the bonds `only` when screened
+    let mut only = Vec::new();
+    let screened = engine.stretches(model, broken, scale, tol, lam, &mut only);
+    let n = if screened {
+        only.len()
+    } else {
+        model.bonds.len()
+    };
+    let id = |i: usize| if screened { only[i] } else { i };
+    let (lmin, mut sel) = match scale {
+        Some(sc) => {
             let mut lmin = f64::INFINITY;
-            for (b, bond) in model.bonds.iter().enumerate() {
+            for b in (0..n).map(id) {
+                let s = lam[b];
                 lam[b] = f64::INFINITY;
-                if broken[b] {
-                    continue;
-                }
-                let s = bond.stretch(u);
                 if s > 0.0 {
                     // the surface correction keeps each bond's critical energy
-                    lam[b] = s0 * sf.s0_scale[b] / s;
+                    lam[b] = s0 * sc[b] / s;
                     lmin = lmin.min(lam[b]);
                 }
             }
             if !lmin.is_finite() {
                 return None;
             }
-            let sel: Vec<usize> = (0..model.bonds.len())
+            let sel: Vec<usize> = (0..n)
+                .map(id)
                 .filter(|&b| lam[b] <= lmin * (1.0 + tol))
                 .collect();
             (lmin, sel)
         }
-        None => {
-            // lam holds the stretches (-inf for broken bonds)
-            for (b, bond) in model.bonds.iter().enumerate() {
-                lam[b] = if broken[b] {
-                    f64::NEG_INFINITY
-                } else {
-                    bond.stretch(u)
-                };
-            }
-            critical_by_stretch(lam, s0, tol)?
-        }
+        None => critical_by_stretch(lam, (0..n).map(id), s0, tol)?,
     };
     if tie_tol == 0.0 {
         sel.truncate(1);
@@ -780,8 +783,15 @@ fn critical_bonds(
 /// bond): lmin = s0 / max s (exactly min_b s0 / s_b: a correctly rounded division is monotone) and
 /// the bonds with s0 / s_b <= lmin (1 + tol) in index order, the division made only for the bonds
 /// whose stretch passes a looser cut.
-fn critical_by_stretch(s: &[f64], s0: f64, tol: f64) -> Option<(f64, Vec<usize>)> {
-    let smax = s.iter().fold(0.0f64, |m, &v| if v > m { v } else { m });
+fn critical_by_stretch(
+    s: &[f64],
+    bonds: impl Iterator<Item = usize> + Clone,
+    s0: f64,
+    tol: f64,
+) -> Option<(f64, Vec<usize>)> {
+    let smax = bonds
+        .clone()
+        .fold(0.0f64, |m, b| if s[b] > m { s[b] } else { m });
     let lmin = s0 / smax;
     if !(smax > 0.0 && lmin.is_finite()) {
         return None;
@@ -793,7 +803,7 @@ fn critical_by_stretch(s: &[f64], s0: f64, tol: f64) -> Option<(f64, Vec<usize>)
     } else {
         0.0
     };
-    let sel = (0..s.len())
+    let sel = bonds
         .filter(|&b| s[b] > 0.0 && s[b] >= cut && s0 / s[b] <= bound)
         .collect();
     Some((lmin, sel))
@@ -870,6 +880,8 @@ struct RunInfo {
     n_refactorisations: usize,
     max_update_rank: usize,
     inverse_columns: usize,
+    screened_steps: usize,
+    screened_bonds: usize,
     resumed_steps: usize,
     n_checkpoints: usize,
     setup_seconds: f64,
@@ -957,6 +969,8 @@ fn results(
         n_refactorisations: info.n_refactorisations,
         max_update_rank: info.max_update_rank,
         inverse_columns: info.inverse_columns,
+        screened_steps: info.screened_steps,
+        screened_bonds: info.screened_bonds,
         refactor_interval: info.refactor_interval,
         detached_nodes,
         warnings,
@@ -1073,7 +1087,7 @@ mod tests {
             }
             let s0 = 10f64.powi((rnd() * 8.0) as i32 - 6) * (1.0 + rnd());
             for tol in [1e-10, 1e-6, 1e-2, 0.5] {
-                let got = critical_by_stretch(&s, s0, tol);
+                let got = critical_by_stretch(&s, 0..s.len(), s0, tol);
                 let want = reference(&s, s0, tol);
                 match (&got, &want) {
                     (Some((a, sa)), Some((b, sb))) => {
@@ -1085,6 +1099,6 @@ mod tests {
                 }
             }
         }
-        assert!(critical_by_stretch(&[-1.0, f64::NEG_INFINITY, 0.0], 1e-3, 1e-10).is_none());
+        assert!(critical_by_stretch(&[-1.0, f64::NEG_INFINITY, 0.0], 0..3, 1e-3, 1e-10).is_none());
     }
 }

@@ -3,7 +3,7 @@
 //! a grounding spring added), and the diagnostics both use.
 
 use crate::error::{Error, Result};
-use crate::pd::splice::Spring;
+use crate::pd::splice::{SpliceModel, Spring};
 use std::time::Instant;
 
 /// A state of the model at the reference load.
@@ -21,8 +21,26 @@ pub(super) enum Update {
 
 pub(super) trait Engine {
     fn state(&mut self) -> Result<State>;
-    /// displacements of the last `state`, valid at least at every bond end dof
+    /// displacements of the last `state`, valid at least at the load displacement's and the
+    /// probes' dofs, and at the ends of the bonds [`Self::stretches`] evaluated exactly
     fn u(&self) -> &[f64];
+    /// The stretch of every bond of `model` in the last `state` into `out` (-inf when
+    /// `broken`), or, when it returns true, only of the bonds it lists in `only` (in index
+    /// order): every other bond then has a stretch whose ratio to its `scale` is below the
+    /// largest such ratio divided by 1 + `tol`, so it can be neither critical nor tie with the
+    /// critical one. This default evaluates all.
+    fn stretches(
+        &mut self,
+        model: &SpliceModel,
+        broken: &[bool],
+        _scale: Option<&[f64]>,
+        _tol: f64,
+        out: &mut [f64],
+        _only: &mut Vec<usize>,
+    ) -> bool {
+        all_stretches(model, broken, self.u(), out);
+        false
+    }
     /// Applies one change; Err(Separated) when the body separates.
     fn apply(&mut self, upd: Update) -> Result<()>;
     fn full_u(&mut self) -> Result<Vec<f64>>;
@@ -32,6 +50,21 @@ pub(super) trait Engine {
     /// columns of S_0^{-1} computed for the updates (sparse base, `fast/columns.rs`; else 0)
     fn inverse_columns(&self) -> usize {
         0
+    }
+    /// steps screened and bonds evaluated exactly in them ([`Self::stretches`] returning true)
+    fn screening(&self) -> (usize, usize) {
+        (0, 0)
+    }
+}
+
+/// The stretch of every bond of `model` in `u` into `out` (-inf when `broken`).
+pub(super) fn all_stretches(model: &SpliceModel, broken: &[bool], u: &[f64], out: &mut [f64]) {
+    for ((o, bond), &br) in out.iter_mut().zip(&model.bonds).zip(broken) {
+        *o = if br {
+            f64::NEG_INFINITY
+        } else {
+            bond.stretch(u)
+        };
     }
 }
 

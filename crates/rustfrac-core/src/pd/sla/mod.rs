@@ -53,6 +53,8 @@ mod result;
 
 pub use cost::{factor_nnz_guess, CostEstimate, EngineKind, HORIZON_STEPS};
 pub use driver::{run, run_model};
+#[doc(hidden)]
+pub use fast::force_screening;
 pub use grounding::DEBRIS_LIMIT;
 pub use memory::peak_memory_bytes;
 pub use params::auto_refactor_every;

@@ -155,6 +155,11 @@ pub struct CcmPdResult {
     /// columns of S_0^{-1} the sparse engine computed, in batches, for its updates (0 for the
     /// dense engine and the oracle): far fewer than 4 per step when the crack reuses them
     pub inverse_columns: usize,
+    /// SLA steps whose critical bond the bond screening found (fast solver on at least 4 096 PD
+    /// unknowns, `fast/screening.rs`) and the bonds it evaluated exactly in them (the rest were
+    /// cleared by their bound)
+    pub screened_steps: usize,
+    pub screened_bonds: usize,
     /// the re-condensation interval in use (fast solver; 0 for the oracle)
     pub refactor_interval: usize,
     /// (step, node) of every grounding of a detached node; step 0 = detached by the pre-crack

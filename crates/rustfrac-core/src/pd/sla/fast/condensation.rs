@@ -72,6 +72,7 @@ pub(in crate::pd::sla) struct FemPart {
     y0: Vec<f64>,
     fun: Functionals,
     z_ring: Vec<f64>,
+    probe_dofs: Vec<usize>,
 }
 
 impl FemPart {
@@ -100,6 +101,7 @@ impl FemPart {
             y0,
             fun,
             z_ring,
+            probe_dofs: probe_dofs.to_vec(),
         })
     }
 }
@@ -125,6 +127,7 @@ impl<'a> Fast<'a> {
             y0,
             fun,
             z_ring,
+            probe_dofs,
         } = part;
         let np = dc.p_dofs.len();
         let chol = ichol.map(|(c, _)| c.into_cholesky());
@@ -141,9 +144,12 @@ impl<'a> Fast<'a> {
             ring_pos: cp.ring_pos,
             z_ring,
             sig_const: fun.sig_const,
-            sig_coef: fun.sig_coef,
             cmod_const: fun.cmod_const,
-            cmod_coef: fun.cmod_coef,
+            needed: Vec::new(),
+            needed_mask: vec![false; np],
+            sig_nz: super::nonzeros(&fun.sig_coef),
+            cmod_nz: super::nonzeros(&fun.cmod_coef),
+            scr: Default::default(),
             base: analysed.map_or(Base::None, |f| Base::Sparse(Box::new(f))),
             columns: Columns::default(),
             kind,
@@ -171,6 +177,17 @@ impl<'a> Fast<'a> {
             k0: Arc::clone(&k),
         };
         me.p_xy = dof_xy(model, &me.p_dofs);
+        let pc_dofs: Vec<usize> = me.pc.iter().map(|&p| me.p_dofs[p]).collect();
+        let nz: Vec<usize> = (me.sig_nz.iter().chain(&me.cmod_nz))
+            .map(|&(p, _)| me.p_dofs[p])
+            .collect();
+        let load = model
+            .response
+            .displacement
+            .iter()
+            .flatten()
+            .map(|&(d, _)| d);
+        me.need(pc_dofs.into_iter().chain(nz).chain(load).chain(probe_dofs));
         me.condense(&k)?;
         timing("fast: condensed and factorised", t0);
         Ok(me)
@@ -206,6 +223,7 @@ impl<'a> Fast<'a> {
         self.x0 = x0;
         self.w.clear();
         self.bt.clear();
+        self.screen_start();
         self.n_fact += 1;
         Ok(())
     }

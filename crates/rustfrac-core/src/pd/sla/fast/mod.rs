@@ -19,12 +19,14 @@
 mod base;
 mod columns;
 mod condensation;
+mod screening;
 mod smw;
 
 pub(super) use base::SparseFactor;
 pub(super) use condensation::{dense_lead, schur_pattern, FemPart};
+pub use screening::force_screening;
 
-use super::engine::{separated, Engine, State, Update};
+use super::engine::{all_stretches, separated, Engine, State, Update};
 use crate::error::Result;
 use crate::la::Cholesky;
 use crate::la::{CscMatrix, Reduction};
@@ -67,9 +69,7 @@ pub(super) struct Fast<'a> {
     /// Z rows at the ring, row-major |ring| x |pc|
     z_ring: Vec<f64>,
     sig_const: f64,
-    sig_coef: Vec<f64>,
     cmod_const: f64,
-    cmod_coef: Vec<f64>,
     /// the base condensed matrix S_0: its dense LU or its sparse factor (`base.rs`)
     base: Base,
     /// kept columns of S_0^{-1} (sparse base; `columns.rs`)
@@ -83,6 +83,16 @@ pub(super) struct Fast<'a> {
     p_xy: Vec<[f64; 2]>,
     x0: Vec<f64>,
     v: Vec<f64>,
+    /// the P unknowns where every state computes x: `pc` (the ring's Z x_pc), the nonzeros of
+    /// the sigma22 and CMOD coefficients, the load displacement's, the probes' and the
+    /// loaded-edge bonds' PD dofs ([`Self::need`])
+    needed: Vec<usize>,
+    needed_mask: Vec<bool>,
+    /// nonzeros (P index, value) of `sig_coef` and `cmod_coef`
+    sig_nz: Vec<(usize, f64)>,
+    cmod_nz: Vec<(usize, f64)>,
+    /// bond screening (`screening.rs`)
+    scr: screening::Screening,
     // SMW state
     w: smw::UpdateColumns,
     bt: Vec<Vec<(usize, f64)>>,
@@ -108,43 +118,75 @@ pub(super) struct Fast<'a> {
 
 impl Engine for Fast<'_> {
     fn state(&mut self) -> Result<State> {
-        let x = self.x();
-        if x.iter().any(|v| !v.is_finite()) {
+        let y = self.smw_coefficients();
+        if y.iter().any(|v| !v.is_finite()) {
             return Err(separated("non-finite PD displacements".into()));
         }
-        let npc = self.pc.len();
-        for (p, &d) in self.p_dofs.iter().enumerate() {
-            self.u_full[d] = x[p];
+        if self.scr.on {
+            // x only where the state needs it; the bonds' ends as `stretches` evaluates them
+            self.scr.epoch = self.scr.epoch.wrapping_add(1);
+            if self.scr.stamp.len() != self.p_dofs.len() || self.scr.epoch == 0 {
+                self.scr.stamp = vec![0; self.p_dofs.len()];
+                self.scr.epoch = 1;
+            }
+            for &p in &self.needed {
+                self.u_full[self.p_dofs[p]] = self.x_at(p, &y);
+                self.scr.stamp[p] = self.scr.epoch;
+            }
+        } else {
+            let x = self.x_full(&y);
+            for (&d, &xv) in self.p_dofs.iter().zip(&x) {
+                self.u_full[d] = xv;
+            }
         }
-        let xpc: Vec<f64> = self.pc.iter().map(|&p| x[p]).collect();
-        // Z_ring x_pc: one matrix-vector product (SIMD kernels)
-        let mut zx = vec![0.0; self.ring.len()];
-        if npc > 0 {
-            matmul(
-                ColMut::from_slice_mut(&mut zx).as_mat_mut(),
-                Accum::Replace,
-                MatRef::from_row_major_slice(&self.z_ring, self.ring.len(), npc),
-                ColRef::from_slice(&xpc).as_mat(),
-                1.0,
-                Par::Seq,
-            );
+        if self
+            .needed
+            .iter()
+            .any(|&p| !self.u_full[self.p_dofs[p]].is_finite())
+        {
+            return Err(separated("non-finite PD displacements".into()));
         }
+        let xpc: Vec<f64> = self
+            .pc
+            .iter()
+            .map(|&p| self.u_full[self.p_dofs[p]])
+            .collect();
+        let zx = self.z_ring_times(&xpc);
         for (&d, &zx) in self.ring.iter().zip(&zx) {
             self.u_full[d] = self.y0[self.idx[d]] - zx;
         }
-        let mut sigma22 = self.sig_const + dot(&self.sig_coef, &x);
+        let at = |nz: &[(usize, f64)]| -> f64 {
+            nz.iter()
+                .map(|&(p, c)| c * self.u_full[self.p_dofs[p]])
+                .sum()
+        };
+        let mut sigma22 = self.sig_const + at(&self.sig_nz);
         for (c, dofs, bv) in &self.sig_bonds {
             let bu: f64 = (0..4).map(|t| bv[t] * self.u_full[dofs[t]]).sum();
             sigma22 -= c * bu;
         }
-        let cmod = self.cmod_const
-            + self
-                .cmod_coef
-                .iter()
-                .zip(&x)
-                .map(|(a, b)| a * b)
-                .sum::<f64>();
+        let cmod = self.cmod_const + at(&self.cmod_nz);
+        self.scr.ynorm = y.iter().map(|v| v * v).sum::<f64>().sqrt();
+        self.scr.y = y;
         Ok(State { sigma22, cmod })
+    }
+
+    fn stretches(
+        &mut self,
+        model: &SpliceModel,
+        broken: &[bool],
+        scale: Option<&[f64]>,
+        tol: f64,
+        out: &mut [f64],
+        only: &mut Vec<usize>,
+    ) -> bool {
+        if self.scr.on {
+            self.screened_stretches(scale, tol, out, only);
+            true
+        } else {
+            all_stretches(model, broken, &self.u_full, out);
+            false
+        }
     }
 
     fn apply(&mut self, upd: Update) -> Result<()> {
@@ -159,7 +201,10 @@ impl Engine for Fast<'_> {
         };
         self.smw_append(a, bt, beta0, upd)?;
         match upd {
-            Update::Break(b) => self.broken[b] = true,
+            Update::Break(b) => {
+                self.broken[b] = true;
+                self.screen_broken(b);
+            }
             Update::Ground(sp) => self.springs.push(sp),
         }
         Ok(())
@@ -174,12 +219,24 @@ impl Engine for Fast<'_> {
     fn inverse_columns(&self) -> usize {
         self.columns.computed
     }
+    fn screening(&self) -> (usize, usize) {
+        (self.scr.steps, self.scr.evaluated)
+    }
     fn u(&self) -> &[f64] {
         &self.u_full
     }
 
     fn full_u(&mut self) -> Result<Vec<f64>> {
         self.state()?;
+        let y = std::mem::take(&mut self.scr.y);
+        let x = self.x_full(&y);
+        self.scr.y = y;
+        if x.iter().any(|v| !v.is_finite()) {
+            return Err(separated("non-finite PD displacements".into()));
+        }
+        for (&d, &xv) in self.p_dofs.iter().zip(&x) {
+            self.u_full[d] = xv;
+        }
         let mut u = self.u_full.clone();
         if let Some(ch) = &self.chol {
             // y = y0 - K_FF^{-1} K_FP x
@@ -199,6 +256,43 @@ impl Engine for Fast<'_> {
     }
 }
 
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
+impl Fast<'_> {
+    /// Z_ring x_pc: one matrix-vector product (SIMD kernels).
+    fn z_ring_times(&self, xpc: &[f64]) -> Vec<f64> {
+        let npc = self.pc.len();
+        let mut zx = vec![0.0; self.ring.len()];
+        if npc > 0 {
+            matmul(
+                ColMut::from_slice_mut(&mut zx).as_mat_mut(),
+                Accum::Replace,
+                MatRef::from_row_major_slice(&self.z_ring, self.ring.len(), npc),
+                ColRef::from_slice(xpc).as_mat(),
+                1.0,
+                Par::Seq,
+            );
+        }
+        zx
+    }
+
+    /// Adds the PD dofs among `dofs` to the unknowns every state computes x at.
+    fn need(&mut self, dofs: impl IntoIterator<Item = usize>) {
+        for d in dofs {
+            if self.cls[d] == CLS_P {
+                let p = self.idx[d];
+                if !self.needed_mask[p] {
+                    self.needed_mask[p] = true;
+                    self.needed.push(p);
+                }
+            }
+        }
+    }
+}
+
+/// The nonzeros (index, value) of a dense vector.
+fn nonzeros(v: &[f64]) -> Vec<(usize, f64)> {
+    v.iter()
+        .enumerate()
+        .filter(|(_, c)| **c != 0.0)
+        .map(|(p, &c)| (p, c))
+        .collect()
 }

@@ -18,40 +18,79 @@ use crate::pd::splice::Spring;
 /// condensation: legitimate breaks give pivots of order 1e-2..1 (the paper's 500 steps: none
 /// below 1e-3), a mechanism gives round-off (1e-6 after a few hundred updates).
 const SUSPICIOUS_PIVOT: f64 = 1e-4;
-/// Entries of x updated together by all stored columns (8 kB of x in cache).
+/// Rows of W multiplied together in the full x = v + W y (8 kB of x in cache).
 const X_CHUNK: usize = 1024;
-/// Stored values (k n) above which the update of x runs on all threads.
+/// Stored values (k n) above which the full x runs on all threads.
 const PARALLEL_WORK: usize = 1 << 17;
+/// Columns of W stored before the first growth of its rows.
+const FIRST_CAPACITY: usize = 64;
 
-/// The stored update columns W = S_0^{-1} A (n x k), contiguous and column-major, so that the
-/// update x = v + W y is a matrix-vector product (SIMD kernels, W read once).
+/// The stored update columns W = S_0^{-1} A (n x k), row-major with a row stride (`cap`) grown
+/// by doubling, so that the value of x at one unknown, v_p + W_p y, reads one contiguous row:
+/// the step needs x only where a stretch can be critical (`screening.rs`).
 #[derive(Default)]
 pub(super) struct UpdateColumns {
     n: usize,
+    k: usize,
+    cap: usize,
     data: Vec<f64>,
 }
 
 impl UpdateColumns {
     /// Number of stored columns.
     pub(super) fn len(&self) -> usize {
-        self.data.len().checked_div(self.n).unwrap_or(0)
+        self.k
     }
     /// Drops the columns (a new condensation); the storage is kept for the next ones.
     pub(super) fn clear(&mut self) {
-        self.data.clear();
+        self.k = 0;
     }
-    fn push(&mut self, w: &[f64]) {
-        if self.data.is_empty() {
+    /// Appends the column `w`; the row stride grows (doubling, at most to `max_cols`) when full.
+    fn push(&mut self, w: &[f64], max_cols: usize) {
+        if self.k == 0 && w.len() != self.n {
             self.n = w.len();
+            self.cap = 0;
+            self.data.clear();
         }
-        self.data.extend_from_slice(w);
+        if self.k == self.cap {
+            let cap = (2 * self.cap)
+                .max(FIRST_CAPACITY)
+                .min(max_cols.max(self.k + 1));
+            let mut grown = vec![0.0; self.n * cap];
+            for (r, row) in grown.chunks_exact_mut(cap).enumerate() {
+                row[..self.k].copy_from_slice(&self.data[r * self.cap..r * self.cap + self.k]);
+            }
+            self.data = grown;
+            self.cap = cap;
+        }
+        let (k, cap) = (self.k, self.cap);
+        for (r, &v) in w.iter().enumerate() {
+            self.data[r * cap + k] = v;
+        }
+        self.k += 1;
     }
-    fn col(&self, j: usize) -> &[f64] {
-        &self.data[j * self.n..(j + 1) * self.n]
+    /// Row p of W (its k stored values).
+    pub(super) fn row(&self, p: usize) -> &[f64] {
+        &self.data[p * self.cap..p * self.cap + self.k]
     }
     fn mat(&self) -> MatRef<'_, f64> {
-        MatRef::from_column_major_slice(&self.data, self.n, self.len())
+        MatRef::from_row_major_slice_with_stride(&self.data, self.n, self.k, self.cap.max(1))
     }
+}
+
+/// a . b with four partial sums (a fixed order: the same bits on every call).
+pub(super) fn dot4(a: &[f64], b: &[f64]) -> f64 {
+    let (mut s0, mut s1, mut s2, mut s3) = (0.0, 0.0, 0.0, 0.0);
+    let (ca, cb) = (a.chunks_exact(4), b.chunks_exact(4));
+    let (ra, rb) = (ca.remainder(), cb.remainder());
+    for (x, y) in ca.zip(cb) {
+        s0 += x[0] * y[0];
+        s1 += x[1] * y[1];
+        s2 += x[2] * y[2];
+        s3 += x[3] * y[3];
+    }
+    let tail: f64 = ra.iter().zip(rb).map(|(x, y)| x * y).sum();
+    (s0 + s1) + (s2 + s3) + tail
 }
 
 /// dst = m x (faer's SIMD kernels; a plain loop of sums is bound by the latency of the adds).
@@ -75,24 +114,42 @@ impl Fast<'_> {
         MatRef::from_row_major_slice_with_stride(&self.cinv, k, k, self.cs)
     }
 
-    /// The condensed solution of the current state: x = v + W C^{-1} (B^T v), with v = S_0^{-1} g_k
-    /// and C^{-1} the capacitance inverse.
-    pub(super) fn x(&self) -> Vec<f64> {
+    /// y = C^{-1} (B^T v), the coefficients of the stored columns in x = v + W y (`cinv` the
+    /// capacitance inverse).
+    pub(super) fn smw_coefficients(&self) -> Vec<f64> {
         let k = self.w.len();
         let z: Vec<f64> = self
             .bt
             .iter()
             .map(|b| b.iter().map(|&(p, val)| val * self.v[p]).sum())
             .collect();
+        let mut y = vec![0.0; k];
+        if k > 0 {
+            gemv(&mut y, self.cinv_mat(), &z);
+        }
+        y
+    }
+
+    /// x_p = v_p + W_p y at one unknown (the same bits at every call for the same y).
+    pub(super) fn x_at(&self, p: usize, y: &[f64]) -> f64 {
+        if y.is_empty() {
+            self.v[p]
+        } else {
+            self.v[p] + dot4(self.w.row(p), y)
+        }
+    }
+
+    /// The condensed solution of the current state at every unknown, x = v + W y, for the
+    /// coefficients `y` ([`Self::smw_coefficients`]).
+    pub(super) fn x_full(&self, y: &[f64]) -> Vec<f64> {
+        let k = self.w.len();
         let mut x = self.v.clone();
         if k == 0 {
             return x;
         }
-        let mut y = vec![0.0; k];
-        gemv(&mut y, self.cinv_mat(), &z);
-        // x += W y, in chunks of x (one matrix-vector product each, the chunks on all threads for
-        // large W); the chunks are fixed, so the result does not depend on the threads
-        let (wm, yv) = (self.w.mat(), ColRef::from_slice(&y));
+        // x += W y, in chunks of rows (one matrix-vector product each, the chunks on all threads
+        // for large W); the chunks are fixed, so the result does not depend on the threads
+        let (wm, yv) = (self.w.mat(), ColRef::from_slice(y));
         let add = |(c, xc): (usize, &mut [f64])| {
             let (off, len) = (c * X_CHUNK, xc.len());
             matmul(
@@ -137,6 +194,7 @@ impl Fast<'_> {
         }
         if c_top != 0.0 {
             self.sig_bonds.push((c_top, dofs, bv));
+            self.need(dofs);
         }
         // a on free PD rows
         let mut a: Vec<(usize, f64)> = Vec::new();
@@ -203,6 +261,7 @@ impl Fast<'_> {
         }
         if c_top != 0.0 {
             let dofs = [2 * n, 2 * n + 1, 2 * n, 2 * n + 1];
+            self.need(dofs);
             self.sig_bonds
                 .push((c_top, dofs, [sp.p[0], sp.p[1], 0.0, 0.0]));
         }
@@ -223,6 +282,9 @@ impl Fast<'_> {
         let w = self
             .columns
             .combine(&self.base, &a, &self.p_xy, self.model.pd.delta)?;
+        if w.iter().any(|v| !v.is_finite()) {
+            return Err(separated(format!("{upd:?}: non-finite update column")));
+        }
         // bordering of the capacitance C = I - B^T W
         let k = self.w.len();
         let col: Vec<f64> = self
@@ -230,12 +292,12 @@ impl Fast<'_> {
             .iter()
             .map(|bl| -bl.iter().map(|&(p, v)| v * w[p]).sum::<f64>())
             .collect();
-        let row: Vec<f64> = (0..k)
-            .map(|j| {
-                let wm = self.w.col(j);
-                -bt.iter().map(|&(p, v)| v * wm[p]).sum::<f64>()
-            })
-            .collect();
+        let mut row = vec![0.0; k];
+        for &(p, v) in &bt {
+            for (r, &wv) in row.iter_mut().zip(self.w.row(p)) {
+                *r -= v * wv;
+            }
+        }
         let d = 1.0 - bt.iter().map(|&(p, v)| v * w[p]).sum::<f64>();
         // ec = E col, re = E^T row (E = C^{-1}, k x k, row-major of stride cs)
         let (mut ec, mut re) = (vec![0.0; k], vec![0.0; k]);
@@ -299,7 +361,10 @@ impl Fast<'_> {
         for (vi, &wi) in self.v.iter_mut().zip(&w) {
             *vi += wi * beta0;
         }
-        self.w.push(&w);
+        if self.scr.on {
+            self.screen_column(&w, beta0);
+        }
+        self.w.push(&w, self.refactor_every);
         self.bt.push(bt);
         self.max_rank = self.max_rank.max(self.w.len());
         Ok(())

@@ -1,0 +1,320 @@
+//! Bond screening: the SLA step's critical bond found without the whole x = v + W y.
+//!
+//! The stretch of a bond is affine in the condensed unknowns, s_b(x) = s_b(v) + h_b . y with
+//! h_b[j] = the stretch of bond b in the field of the update column w_j (its ring values
+//! -Z_ring w_pc, fixed dofs zero). The screening keeps s_b(v) and |h_b|^2 for every bond, updated
+//! once per stored column (O(bonds)), so each step has the bound (Cauchy-Schwarz)
+//! s_b <= s_b(v) + |h_b| |y| at O(1) a bond. Only the bonds whose bound reaches the tie window of
+//! the largest exact stretch need x, at their end unknowns (one row of W each): the step costs
+//! O(bonds + candidates k) instead of O(n k). The other bonds can be neither critical nor tie
+//! with the critical one, so the driver's selection is the one of the exact stretches.
+//!
+//! Small condensations go without it ([`SCREEN_MIN_UNKNOWNS`]): x in full.
+
+use rayon::prelude::*;
+
+use super::{Fast, CLS_P};
+use crate::pd::bonds::Bond;
+
+/// Bonds above which the screening's passes over them run on all threads.
+const PARALLEL_BONDS: usize = 1 << 15;
+/// Bonds a thread takes at once in those passes (fixed: the result does not depend on threads).
+const BOND_CHUNK: usize = 4096;
+/// Relative slack of each bound's terms, above the error of the columns' stretches (single
+/// precision coefficients, 1e-7), the round-off of the exact stretches and the bounds' own
+/// accumulation (near 1e-14 of the terms).
+const BOUND_SLACK: f64 = 1e-6;
+/// Relative margin of the cut below the tie window, for the round-off of the window's ends.
+const CUT_MARGIN: f64 = 1e-8;
+/// Bonds of the largest exact stretches kept as the next step's seeds.
+const SEEDS: usize = 8;
+/// PD unknowns from which a condensation is screened. Below, the full x = v + W y is cheap and
+/// the bonds the bound cannot clear (1 000-3 000 near the tip, each needing rows of W) cost as
+/// much: on the paper's case (2 080 unknowns) the screening made the 500 steps 1.09x slower; on
+/// the adaptive run (to 8 748 unknowns) and pure PD (103 583) it is faster (benches/RESULTS.md).
+const SCREEN_MIN_UNKNOWNS: usize = 4096;
+
+thread_local! {
+    /// Screens every condensation made on this thread, whatever its size (tests: the small
+    /// cases then check the screening against the oracle).
+    static FORCE: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
+/// Screens (`on`) or not (the size rule) every condensation the fast solver makes on this thread
+/// from now on: for tests, which check the screening on small cases against the oracle.
+#[doc(hidden)]
+pub fn force_screening(on: bool) {
+    FORCE.with(|f| f.set(on));
+}
+
+/// The screening's state: s_b(v) and |h_b|^2 per bond, and the last state's coefficients y.
+#[derive(Default)]
+pub(super) struct Screening {
+    /// on for the current condensation (else x in full)
+    pub(super) on: bool,
+    /// end nodes and stretch coefficients xi / |xi|^2 (single precision) of each bond: the
+    /// bounds' copy, 16 bytes a bond read per column
+    bonds: Vec<ScreenBond>,
+    /// stretch of each bond in the field of v (with the constant parts: y0 at the ring,
+    /// prescribed values); -inf once broken
+    sv: Vec<f64>,
+    /// |h_b|^2: the sum over the stored columns of the bond's stretch in each column's field
+    hn2: Vec<f64>,
+    /// scratch: a column's field at every dof (zero except at P and ring dofs)
+    uw: Vec<f64>,
+    /// the coefficients y of the last state and |y|
+    pub(super) y: Vec<f64>,
+    pub(super) ynorm: f64,
+    /// x is current at P unknown p when `stamp[p] == epoch` (one epoch per state)
+    pub(super) stamp: Vec<u32>,
+    pub(super) epoch: u32,
+    /// the bonds of the largest exact stretches at the last step
+    seeds: Vec<usize>,
+    /// steps screened and bonds evaluated exactly in them (for the run's report)
+    pub(super) steps: usize,
+    pub(super) evaluated: usize,
+}
+
+/// A bond as the bounds read it.
+#[derive(Clone, Copy)]
+struct ScreenBond {
+    ends: [u32; 2],
+    coef: [f32; 2],
+}
+
+/// f(chunk offset, chunk) over fixed chunks of `n` items, on all threads for many items.
+fn chunked<T: Send, F: Fn(usize, T) + Sync>(items: Vec<T>, n: usize, f: F) {
+    if n >= PARALLEL_BONDS {
+        items
+            .into_par_iter()
+            .enumerate()
+            .for_each(|(c, t)| f(c * BOND_CHUNK, t));
+    } else {
+        items
+            .into_iter()
+            .enumerate()
+            .for_each(|(c, t)| f(c * BOND_CHUNK, t));
+    }
+}
+
+/// The stretch of a bond in the field `u` (its coefficients rounded to single precision: within
+/// a relative 1e-7 of the exact one, inside [`BOUND_SLACK`]).
+#[inline(always)]
+fn stretch(b: ScreenBond, u: &[f64]) -> f64 {
+    let (i, j) = (b.ends[0] as usize, b.ends[1] as usize);
+    f64::from(b.coef[0]) * (u[2 * j] - u[2 * i])
+        + f64::from(b.coef[1]) * (u[2 * j + 1] - u[2 * i + 1])
+}
+
+impl Fast<'_> {
+    /// Writes the field of the condensed unknowns `x` into `u` at the P and ring dofs: u_P = x,
+    /// u_ring = c y0 - Z_ring x_pc (c = 1 for a state, 0 for an update column).
+    pub(super) fn spread(&self, x: &[f64], with_y0: bool, u: &mut [f64]) {
+        for (&d, &xv) in self.p_dofs.iter().zip(x) {
+            u[d] = xv;
+        }
+        let xpc: Vec<f64> = self.pc.iter().map(|&p| x[p]).collect();
+        let zx = self.z_ring_times(&xpc);
+        for (&d, &zx) in self.ring.iter().zip(&zx) {
+            u[d] = if with_y0 { self.y0[self.idx[d]] } else { 0.0 } - zx;
+        }
+    }
+
+    /// Starts the screening of a new condensation when it pays (at least
+    /// [`SCREEN_MIN_UNKNOWNS`] PD unknowns, or forced by [`force`]): s_b(v) of every bond, no
+    /// columns yet.
+    pub(super) fn screen_start(&mut self) {
+        self.scr.on = self.p_dofs.len() >= SCREEN_MIN_UNKNOWNS || FORCE.with(|f| f.get());
+        if !self.scr.on {
+            return;
+        }
+        let model = self.model;
+        let nb = model.bonds.len();
+        if self.scr.bonds.len() != nb {
+            self.scr.bonds = model
+                .bonds
+                .iter()
+                .map(|b| {
+                    let l2 = b.xi[0] * b.xi[0] + b.xi[1] * b.xi[1];
+                    ScreenBond {
+                        ends: [b.i, b.j],
+                        coef: [(b.xi[0] / l2) as f32, (b.xi[1] / l2) as f32],
+                    }
+                })
+                .collect();
+        }
+        let mut u = self.model.prescribed.clone();
+        self.spread(&self.v, true, &mut u);
+        self.scr.sv.clear();
+        self.scr
+            .sv
+            .extend(model.bonds.iter().zip(&self.broken).map(|(b, &br)| {
+                if br {
+                    f64::NEG_INFINITY
+                } else {
+                    b.stretch(&u)
+                }
+            }));
+        self.scr.hn2.clear();
+        self.scr.hn2.resize(nb, 0.0);
+        if self.scr.uw.len() != u.len() {
+            self.scr.uw = vec![0.0; u.len()];
+        }
+    }
+
+    /// Adds the update column `w` (v grew by `beta0` w) to the screening: |h_b|^2 += h_b^2 and
+    /// s_b(v) += beta0 h_b, with h_b the bond's stretch in the field of w.
+    pub(super) fn screen_column(&mut self, w: &[f64], beta0: f64) {
+        let mut uw = std::mem::take(&mut self.scr.uw);
+        self.spread(w, false, &mut uw);
+        let s = &mut self.scr;
+        let nb = s.bonds.len();
+        if beta0 == 0.0 {
+            let items: Vec<_> = s
+                .bonds
+                .chunks(BOND_CHUNK)
+                .zip(s.hn2.chunks_mut(BOND_CHUNK))
+                .collect();
+            chunked(items, nb, |_, (bc, hn2)| {
+                for (&b, h2) in bc.iter().zip(hn2.iter_mut()) {
+                    let h = stretch(b, &uw);
+                    *h2 += h * h;
+                }
+            });
+        } else {
+            // v moved: s_b(v) with the exact coefficients (its bound has no slack for them)
+            let items: Vec<_> = self
+                .model
+                .bonds
+                .chunks(BOND_CHUNK)
+                .zip(s.sv.chunks_mut(BOND_CHUNK))
+                .zip(s.hn2.chunks_mut(BOND_CHUNK))
+                .collect();
+            chunked(items, nb, |_, ((bc, sv), hn2)| {
+                for ((b, sv), h2) in bc.iter().zip(sv.iter_mut()).zip(hn2.iter_mut()) {
+                    let h = b.stretch(&uw);
+                    *h2 += h * h;
+                    *sv += beta0 * h;
+                }
+            });
+        }
+        self.scr.uw = uw;
+    }
+
+    /// A broken bond leaves the screening (its s_b(v) is -inf).
+    pub(super) fn screen_broken(&mut self, b: usize) {
+        if self.scr.on {
+            self.scr.sv[b] = f64::NEG_INFINITY;
+        }
+    }
+
+    /// x at the end unknowns of `bond` (current for this state), then its exact stretch.
+    fn exact_stretch(&mut self, bond: &Bond) -> f64 {
+        let (i, j) = (bond.i as usize, bond.j as usize);
+        for d in [2 * i, 2 * i + 1, 2 * j, 2 * j + 1] {
+            if self.cls[d] == CLS_P {
+                let p = self.idx[d];
+                if self.scr.stamp[p] != self.scr.epoch {
+                    self.u_full[d] = self.x_at(p, &self.scr.y);
+                    self.scr.stamp[p] = self.scr.epoch;
+                }
+            }
+        }
+        bond.stretch(&self.u_full)
+    }
+
+    /// The bonds whose bound s_b(v) + |h_b| |y| reaches `cut` (its ratio to the bond's `scale`),
+    /// in index order.
+    fn candidates(&self, cut: f64, scale: Option<&[f64]>) -> Vec<usize> {
+        let s = &self.scr;
+        let yn = s.ynorm * (1.0 + BOUND_SLACK);
+        let yn2 = yn * yn;
+        let nb = s.sv.len();
+        let items: Vec<_> =
+            s.sv.chunks(BOND_CHUNK)
+                .zip(s.hn2.chunks(BOND_CHUNK))
+                .map(|c| (c, Vec::new()))
+                .collect();
+        let found = std::sync::Mutex::new(vec![Vec::new(); nb.div_ceil(BOND_CHUNK)]);
+        chunked(
+            items,
+            nb,
+            |off, ((sv, hn2), mut out): ((&[f64], &[f64]), Vec<usize>)| {
+                for (i, (&v, &h2)) in sv.iter().zip(hn2).enumerate() {
+                    let b = off + i;
+                    let t = scale.map_or(cut, |sc| cut * sc[b]);
+                    // bound >= t <=> |h| |y| (1 + slack) >= t - v - slack |v| =: d
+                    let d = t - v - BOUND_SLACK * v.abs();
+                    if v > f64::NEG_INFINITY && (d <= 0.0 || h2 * yn2 >= d * d) {
+                        out.push(b);
+                    }
+                }
+                if let Ok(mut f) = found.lock() {
+                    f[off / BOND_CHUNK] = out;
+                }
+            },
+        );
+        found
+            .into_inner()
+            .unwrap_or_default()
+            .into_iter()
+            .flatten()
+            .collect()
+    }
+
+    /// The bonds to evaluate at this state and their exact stretches in `out` (in index order;
+    /// [`crate::pd::sla::engine::Engine::stretches`]): every bond whose bound reaches the cut
+    /// below the tie window (ratio to its `scale` within a factor 1 + `tol` of the largest exact
+    /// ratio, found from the last step's largest stretches).
+    pub(super) fn screened_stretches(
+        &mut self,
+        scale: Option<&[f64]>,
+        tol: f64,
+        out: &mut [f64],
+        only: &mut Vec<usize>,
+    ) {
+        let model = self.model;
+        let bonds = &model.bonds;
+        let ratio = |b: usize, s: f64| scale.map_or(s, |sc| s / sc[b]);
+        let mut lmax = f64::NEG_INFINITY;
+        let seeds = std::mem::take(&mut self.scr.seeds);
+        for &b in &seeds {
+            if self.scr.sv[b] > f64::NEG_INFINITY {
+                lmax = lmax.max(ratio(b, self.exact_stretch(&bonds[b])));
+            }
+        }
+        if lmax <= 0.0 {
+            // no seed in tension: the largest bound's bond
+            let yn = self.scr.ynorm;
+            let top = (0..bonds.len())
+                .map(|b| (ratio(b, self.scr.sv[b] + self.scr.hn2[b].sqrt() * yn), b))
+                .max_by(|a, b| a.0.total_cmp(&b.0).then(b.1.cmp(&a.1)));
+            if let Some((r, b)) = top {
+                if r > f64::NEG_INFINITY {
+                    lmax = lmax.max(ratio(b, self.exact_stretch(&bonds[b])));
+                }
+            }
+        }
+        let cut = if lmax > 0.0 {
+            lmax / (1.0 + tol) * (1.0 - CUT_MARGIN)
+        } else {
+            0.0
+        };
+        *only = self.candidates(cut, scale);
+        let mut top: Vec<(f64, usize)> = Vec::with_capacity(only.len());
+        for &b in only.iter() {
+            out[b] = self.exact_stretch(&bonds[b]);
+            top.push((ratio(b, out[b]), b));
+        }
+        let ns = SEEDS.min(top.len());
+        let mut seeds = seeds;
+        seeds.clear();
+        if ns > 0 {
+            top.select_nth_unstable_by(ns - 1, |a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+            seeds.extend(top[..ns].iter().map(|c| c.1));
+        }
+        self.scr.seeds = seeds;
+        self.scr.steps += 1;
+        self.scr.evaluated += only.len();
+    }
+}
