@@ -33,6 +33,13 @@ pub(super) const BATCH_SOLVE_FLOPS: f64 = 1.2e10;
 pub(super) const COLUMNS_PER_STEP: f64 = 1.5;
 /// Rate of the O(k n) update work per step (flop/s; memory bound).
 pub(super) const UPDATE_FLOPS: f64 = 2.0e9;
+/// Unknowns whose x a screened step evaluates (`fast/screening.rs`, from
+/// [`super::SCREEN_MIN_UNKNOWNS`] on): the ends of the 1 000-3 000 bonds near the tip whose
+/// bound reaches the tie window. Its O(bonds) passes do not grow with k.
+pub(super) const SCREENED_UNKNOWNS: f64 = 4096.0;
+/// Bytes the stored update vectors (n x N) may take when the interval is chosen for a screened
+/// step, whose cost hardly grows with N.
+const UPDATE_BYTES: f64 = 5.12e8;
 /// Steps the estimates are made for.
 pub const HORIZON_STEPS: usize = 500;
 /// Bounds of the sparse re-factorisation interval.
@@ -62,7 +69,13 @@ impl CostEstimate {
     pub fn new(n_p: usize, factor_nnz: f64, refactor_every: usize) -> Self {
         let n = n_p.max(1) as f64;
         let steps = HORIZON_STEPS as f64;
-        let per_update = n / UPDATE_FLOPS;
+        // the O(k) work per step: x at every unknown, or at those a screened step evaluates
+        let screened = n_p >= super::SCREEN_MIN_UNKNOWNS;
+        let per_update = if screened {
+            SCREENED_UNKNOWNS.min(n)
+        } else {
+            n
+        } / UPDATE_FLOPS;
         let dense_interval = if refactor_every > 0 {
             refactor_every
         } else {
@@ -77,7 +90,14 @@ impl CostEstimate {
             refactor_every
         } else {
             let (lo, hi) = SPARSE_INTERVAL;
-            ((t_fact / per_update).sqrt().round() as usize).clamp(lo, hi)
+            let by_memory = if screened {
+                (UPDATE_BYTES / (8.0 * n)) as usize
+            } else {
+                usize::MAX
+            };
+            ((t_fact / per_update).sqrt().round() as usize)
+                .min(by_memory)
+                .clamp(lo, hi)
         };
         let sparse_seconds = cycle_cost(steps, sparse_interval, t_fact, t_solve, per_update);
         Self {
@@ -163,5 +183,17 @@ mod tests {
         let big = CostEstimate::new(103_583, 8.56e7, 0);
         assert_eq!(big.choice(), EngineKind::Sparse, "{big:?}");
         assert!(big.sparse_interval >= 16 && big.sparse_interval <= 4096);
+        // screened (n_P >= 4096): the interval is longer than the O(k n) step's, within the
+        // update vectors' memory
+        let n = 103_583.0;
+        let unscreened = (big.factor_nnz.powi(2) / n / SPARSE_FLOPS * UPDATE_FLOPS / n).sqrt();
+        assert!(
+            big.sparse_interval as f64 > 1.2 * unscreened,
+            "{big:?} vs {unscreened}"
+        );
+        assert!(
+            8.0 * n * big.sparse_interval as f64 <= UPDATE_BYTES,
+            "{big:?}"
+        );
     }
 }

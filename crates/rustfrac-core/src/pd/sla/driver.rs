@@ -611,6 +611,8 @@ impl RunState {
         let max_steps = sla.max_steps;
         let mut lam = vec![f64::INFINITY; model.bonds.len()];
         let first_step = self.history.len() + 1;
+        let mut crack_len = crack_length(model, &self.broken);
+        let (_, extent) = crack_extent(model);
         for step in first_step..=max_steps {
             if self.status != SlaStatus::Completed {
                 break;
@@ -650,7 +652,10 @@ impl RunState {
                 advance(model, engine, &mut self.broken, &mut self.grounding, &sel)?;
             self.detached_nodes
                 .extend(detached.iter().map(|&n| (step, n)));
-            let cl = crack_length(model, &self.broken);
+            // the crack length, updated from this step's bonds (O(bonds) only once a model)
+            let cl =
+                (sel.iter().filter(|&&b| self.broken[b])).fold(crack_len, |l, &b| l.max(extent(b)));
+            crack_len = cl;
             let bf = &model.bonds[first];
             let row = SlaStep {
                 step,
@@ -848,7 +853,18 @@ fn advance(
     Ok((detached, false))
 }
 
+/// The crack length of the broken bonds: the pre-crack's length, or the farthest projection on
+/// its direction of a broken bond's midpoint (pre-crack bonds aside), whichever is larger.
 fn crack_length(model: &SpliceModel, broken: &[bool]) -> f64 {
+    let (b, extent) = crack_extent(model);
+    (0..model.bonds.len())
+        .filter(|&i| broken[i])
+        .fold(b, |len, i| len.max(extent(i)))
+}
+
+/// The pre-crack's length and the crack length a broken bond reaches ([`crack_length`]: the
+/// length is the max of both over the broken bonds, so a step updates it from its own bonds).
+fn crack_extent(model: &SpliceModel) -> (f64, impl Fn(usize) -> f64 + '_) {
     let pc = &model.precrack;
     let (p0, t, l0) = if pc.len() >= 2 {
         let d = [pc[1][0] - pc[0][0], pc[1][1] - pc[0][1]];
@@ -861,15 +877,16 @@ fn crack_length(model: &SpliceModel, broken: &[bool]) -> f64 {
     } else {
         ([0.0, 0.0], [1.0, 0.0], 0.0)
     };
-    let mut len = l0;
-    for (b, bond) in model.bonds.iter().enumerate() {
-        if broken[b] && !model.precrack_broken[b] {
-            let xi = model.grid.xy(bond.i as usize);
-            let mid = [xi[0] + 0.5 * bond.xi[0], xi[1] + 0.5 * bond.xi[1]];
-            len = len.max((mid[0] - p0[0]) * t[0] + (mid[1] - p0[1]) * t[1]);
+    let extent = move |b: usize| {
+        if model.precrack_broken[b] {
+            return f64::NEG_INFINITY;
         }
-    }
-    len
+        let bond = &model.bonds[b];
+        let xi = model.grid.xy(bond.i as usize);
+        let mid = [xi[0] + 0.5 * bond.xi[0], xi[1] + 0.5 * bond.xi[1]];
+        (mid[0] - p0[0]) * t[0] + (mid[1] - p0[1]) * t[1]
+    };
+    (l0, extent)
 }
 
 /// What the driver knows of a run besides its state: the solver, its counters and the timings.

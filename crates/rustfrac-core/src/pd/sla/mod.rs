@@ -55,6 +55,7 @@ pub use cost::{factor_nnz_guess, CostEstimate, EngineKind, HORIZON_STEPS};
 pub use driver::{run, run_model};
 #[doc(hidden)]
 pub use fast::force_screening;
+use fast::SCREEN_MIN_UNKNOWNS;
 pub use grounding::DEBRIS_LIMIT;
 pub use memory::peak_memory_bytes;
 pub use params::auto_refactor_every;

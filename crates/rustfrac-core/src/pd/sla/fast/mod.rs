@@ -25,6 +25,7 @@ mod smw;
 pub(super) use base::SparseFactor;
 pub(super) use condensation::{dense_lead, schur_pattern, FemPart};
 pub use screening::force_screening;
+pub(super) use screening::SCREEN_MIN_UNKNOWNS;
 
 use super::engine::{all_stretches, separated, Engine, State, Update};
 use crate::error::Result;

@@ -32,7 +32,7 @@ const SEEDS: usize = 8;
 /// the bonds the bound cannot clear (1 000-3 000 near the tip, each needing rows of W) cost as
 /// much: on the paper's case (2 080 unknowns) the screening made the 500 steps 1.09x slower; on
 /// the adaptive run (to 8 748 unknowns) and pure PD (103 583) it is faster (benches/RESULTS.md).
-const SCREEN_MIN_UNKNOWNS: usize = 4096;
+pub(in crate::pd::sla) const SCREEN_MIN_UNKNOWNS: usize = 4096;
 
 thread_local! {
     /// Screens every condensation made on this thread, whatever its size (tests: the small

@@ -22,18 +22,19 @@ const SUSPICIOUS_PIVOT: f64 = 1e-4;
 const X_CHUNK: usize = 1024;
 /// Stored values (k n) above which the full x runs on all threads.
 const PARALLEL_WORK: usize = 1 << 17;
-/// Columns of W stored before the first growth of its rows.
-const FIRST_CAPACITY: usize = 64;
+/// Columns of a panel of W.
+const PANEL: usize = 64;
 
-/// The stored update columns W = S_0^{-1} A (n x k), row-major with a row stride (`cap`) grown
-/// by doubling, so that the value of x at one unknown, v_p + W_p y, reads one contiguous row:
-/// the step needs x only where a stretch can be critical (`screening.rs`).
+/// The stored update columns W = S_0^{-1} A (n x k), in panels of [`PANEL`] columns, each
+/// row-major, so that the value of x at one unknown, v_p + W_p y, reads k / 8 whole cache
+/// lines (the step needs x only where a stretch can be critical, `screening.rs`); a new column
+/// fills the last panel or starts one (no copy of the stored ones).
 #[derive(Default)]
 pub(super) struct UpdateColumns {
     n: usize,
     k: usize,
-    cap: usize,
-    data: Vec<f64>,
+    /// panels, n x PANEL row-major each; kept across condensations for reuse
+    panels: Vec<Vec<f64>>,
 }
 
 impl UpdateColumns {
@@ -41,40 +42,50 @@ impl UpdateColumns {
     pub(super) fn len(&self) -> usize {
         self.k
     }
-    /// Drops the columns (a new condensation); the storage is kept for the next ones.
+    /// Drops the columns (a new condensation); the panels are kept for the next ones.
     pub(super) fn clear(&mut self) {
         self.k = 0;
     }
-    /// Appends the column `w`; the row stride grows (doubling, at most to `max_cols`) when full.
-    fn push(&mut self, w: &[f64], max_cols: usize) {
-        if self.k == 0 && w.len() != self.n {
+    /// Appends the column `w`.
+    fn push(&mut self, w: &[f64]) {
+        if w.len() != self.n {
             self.n = w.len();
-            self.cap = 0;
-            self.data.clear();
+            self.panels.clear();
+            self.k = 0;
         }
-        if self.k == self.cap {
-            let cap = (2 * self.cap)
-                .max(FIRST_CAPACITY)
-                .min(max_cols.max(self.k + 1));
-            let mut grown = vec![0.0; self.n * cap];
-            for (r, row) in grown.chunks_exact_mut(cap).enumerate() {
-                row[..self.k].copy_from_slice(&self.data[r * self.cap..r * self.cap + self.k]);
-            }
-            self.data = grown;
-            self.cap = cap;
+        let (pi, j) = (self.k / PANEL, self.k % PANEL);
+        if pi == self.panels.len() {
+            self.panels.push(vec![0.0; self.n * PANEL]);
         }
-        let (k, cap) = (self.k, self.cap);
+        let panel = &mut self.panels[pi];
         for (r, &v) in w.iter().enumerate() {
-            self.data[r * cap + k] = v;
+            panel[r * PANEL + j] = v;
         }
         self.k += 1;
     }
-    /// Row p of W (its k stored values).
-    pub(super) fn row(&self, p: usize) -> &[f64] {
-        &self.data[p * self.cap..p * self.cap + self.k]
+    /// The stored panels with their column counts.
+    fn used(&self) -> impl Iterator<Item = (&[f64], usize)> {
+        let k = self.k;
+        self.panels
+            .iter()
+            .take(k.div_ceil(PANEL))
+            .enumerate()
+            .map(move |(i, p)| (&p[..], (k - i * PANEL).min(PANEL)))
     }
-    fn mat(&self) -> MatRef<'_, f64> {
-        MatRef::from_row_major_slice_with_stride(&self.data, self.n, self.k, self.cap.max(1))
+    /// W_p . y (row p of W against the k values of y).
+    pub(super) fn row_dot(&self, p: usize, y: &[f64]) -> f64 {
+        self.used()
+            .zip(y.chunks(PANEL))
+            .map(|((panel, c), yc)| dot4(&panel[p * PANEL..p * PANEL + c], yc))
+            .sum()
+    }
+    /// out[j] -= alpha W[p][j] for the k stored columns.
+    fn row_sub(&self, p: usize, alpha: f64, out: &mut [f64]) {
+        for ((panel, c), oc) in self.used().zip(out.chunks_mut(PANEL)) {
+            for (o, &w) in oc.iter_mut().zip(&panel[p * PANEL..p * PANEL + c]) {
+                *o -= alpha * w;
+            }
+        }
     }
 }
 
@@ -135,7 +146,7 @@ impl Fast<'_> {
         if y.is_empty() {
             self.v[p]
         } else {
-            self.v[p] + dot4(self.w.row(p), y)
+            self.v[p] + self.w.row_dot(p, y)
         }
     }
 
@@ -147,19 +158,27 @@ impl Fast<'_> {
         if k == 0 {
             return x;
         }
-        // x += W y, in chunks of rows (one matrix-vector product each, the chunks on all threads
-        // for large W); the chunks are fixed, so the result does not depend on the threads
-        let (wm, yv) = (self.w.mat(), ColRef::from_slice(y));
+        // x += W y, panel by panel in chunks of rows (one matrix-vector product each, the
+        // chunks on all threads for large W); the chunks are fixed, so the result does not depend
+        // on the threads
         let add = |(c, xc): (usize, &mut [f64])| {
             let (off, len) = (c * X_CHUNK, xc.len());
-            matmul(
-                ColMut::from_slice_mut(xc).as_mat_mut(),
-                Accum::Add,
-                wm.subrows(off, len),
-                yv.as_mat(),
-                1.0,
-                Par::Seq,
-            );
+            for ((panel, nc), yc) in self.w.used().zip(y.chunks(PANEL)) {
+                let wm = MatRef::from_row_major_slice_with_stride(
+                    &panel[off * PANEL..(off + len) * PANEL],
+                    len,
+                    nc,
+                    PANEL,
+                );
+                matmul(
+                    ColMut::from_slice_mut(xc).as_mat_mut(),
+                    Accum::Add,
+                    wm,
+                    ColRef::from_slice(yc).as_mat(),
+                    1.0,
+                    Par::Seq,
+                );
+            }
         };
         if k * x.len() >= PARALLEL_WORK {
             x.par_chunks_mut(X_CHUNK).enumerate().for_each(add);
@@ -294,9 +313,7 @@ impl Fast<'_> {
             .collect();
         let mut row = vec![0.0; k];
         for &(p, v) in &bt {
-            for (r, &wv) in row.iter_mut().zip(self.w.row(p)) {
-                *r -= v * wv;
-            }
+            self.w.row_sub(p, v, &mut row);
         }
         let d = 1.0 - bt.iter().map(|&(p, v)| v * w[p]).sum::<f64>();
         // ec = E col, re = E^T row (E = C^{-1}, k x k, row-major of stride cs)
@@ -364,7 +381,7 @@ impl Fast<'_> {
         if self.scr.on {
             self.screen_column(&w, beta0);
         }
-        self.w.push(&w, self.refactor_every);
+        self.w.push(&w);
         self.bt.push(bt);
         self.max_rank = self.max_rank.max(self.w.len());
         Ok(())
