@@ -136,6 +136,9 @@ impl Engine for Fast<'_> {
             }
         } else {
             let x = self.x_full(&y);
+            if x.iter().any(|v| !v.is_finite()) {
+                return Err(separated("non-finite PD displacements".into()));
+            }
             for (&d, &xv) in self.p_dofs.iter().zip(&x) {
                 self.u_full[d] = xv;
             }

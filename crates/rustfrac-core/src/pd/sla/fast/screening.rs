@@ -20,10 +20,10 @@ use crate::pd::bonds::Bond;
 const PARALLEL_BONDS: usize = 1 << 15;
 /// Bonds a thread takes at once in those passes (fixed: the result does not depend on threads).
 const BOND_CHUNK: usize = 4096;
-/// Relative slack of each bound's terms, above the error of the columns' stretches (single
-/// precision coefficients, 1e-7), the round-off of the exact stretches and the bounds' own
-/// accumulation (near 1e-14 of the terms).
-const BOUND_SLACK: f64 = 1e-6;
+/// Relative slack of each bound's terms, above the round-off of the exact stretches and of the
+/// bounds' own accumulation (near 1e-14 of the terms; the single-precision coefficients of the
+/// column passes are bounded apart, [`stretch_bound`]).
+const BOUND_SLACK: f64 = 1e-9;
 /// Relative margin of the cut below the tie window, for the round-off of the window's ends.
 const CUT_MARGIN: f64 = 1e-8;
 /// Bonds of the largest exact stretches kept as the next step's seeds.
@@ -52,8 +52,8 @@ pub fn force_screening(on: bool) {
 pub(super) struct Screening {
     /// on for the current condensation (else x in full)
     pub(super) on: bool,
-    /// end nodes and stretch coefficients xi / |xi|^2 (single precision) of each bond: the
-    /// bounds' copy, 16 bytes a bond read per column
+    /// end nodes and stretch coefficients xi / |xi|^2 (single precision, their rounding bounded
+    /// in [`stretch_bound`]) of each bond: the bounds' copy, 16 bytes a bond read per column
     bonds: Vec<ScreenBond>,
     /// stretch of each bond in the field of v (with the constant parts: y0 at the ring,
     /// prescribed values); -inf once broken
@@ -97,13 +97,18 @@ fn chunked<T: Send, F: Fn(usize, T) + Sync>(items: Vec<T>, n: usize, f: F) {
     }
 }
 
-/// The stretch of a bond in the field `u` (its coefficients rounded to single precision: within
-/// a relative 1e-7 of the exact one, inside [`BOUND_SLACK`]).
+/// Relative rounding of the single-precision stretch coefficients (2^-24).
+const COEF_ROUNDING: f64 = 5.960_464_477_539_063e-8;
+
+/// An upper bound of |h|, h the stretch of a bond in the field `u`: its value with the
+/// single-precision coefficients plus their rounding, |c - c32| <= 2^-24 |c32| each (the
+/// bound holds even when the two terms cancel).
 #[inline(always)]
-fn stretch(b: ScreenBond, u: &[f64]) -> f64 {
+fn stretch_bound(b: ScreenBond, u: &[f64]) -> f64 {
     let (i, j) = (b.ends[0] as usize, b.ends[1] as usize);
-    f64::from(b.coef[0]) * (u[2 * j] - u[2 * i])
-        + f64::from(b.coef[1]) * (u[2 * j + 1] - u[2 * i + 1])
+    let t0 = f64::from(b.coef[0]) * (u[2 * j] - u[2 * i]);
+    let t1 = f64::from(b.coef[1]) * (u[2 * j + 1] - u[2 * i + 1]);
+    (t0 + t1).abs() + COEF_ROUNDING * (t0.abs() + t1.abs())
 }
 
 impl Fast<'_> {
@@ -177,7 +182,7 @@ impl Fast<'_> {
                 .collect();
             chunked(items, nb, |_, (bc, hn2)| {
                 for (&b, h2) in bc.iter().zip(hn2.iter_mut()) {
-                    let h = stretch(b, &uw);
+                    let h = stretch_bound(b, &uw);
                     *h2 += h * h;
                 }
             });
@@ -230,36 +235,34 @@ impl Fast<'_> {
         let yn = s.ynorm * (1.0 + BOUND_SLACK);
         let yn2 = yn * yn;
         let nb = s.sv.len();
-        let items: Vec<_> =
-            s.sv.chunks(BOND_CHUNK)
-                .zip(s.hn2.chunks(BOND_CHUNK))
-                .map(|c| (c, Vec::new()))
-                .collect();
-        let found = std::sync::Mutex::new(vec![Vec::new(); nb.div_ceil(BOND_CHUNK)]);
-        chunked(
-            items,
-            nb,
-            |off, ((sv, hn2), mut out): ((&[f64], &[f64]), Vec<usize>)| {
-                for (i, (&v, &h2)) in sv.iter().zip(hn2).enumerate() {
-                    let b = off + i;
-                    let t = scale.map_or(cut, |sc| cut * sc[b]);
-                    // bound >= t <=> |h| |y| (1 + slack) >= t - v - slack |v| =: d
-                    let d = t - v - BOUND_SLACK * v.abs();
-                    if v > f64::NEG_INFINITY && (d <= 0.0 || h2 * yn2 >= d * d) {
-                        out.push(b);
-                    }
+        let scan = |(c, (sv, hn2)): (usize, (&[f64], &[f64]))| -> Vec<usize> {
+            let off = c * BOND_CHUNK;
+            let mut out = Vec::new();
+            for (i, (&v, &h2)) in sv.iter().zip(hn2).enumerate() {
+                let b = off + i;
+                let t = scale.map_or(cut, |sc| cut * sc[b]);
+                // bound >= t <=> |h| |y| (1 + slack) >= t - v - slack |v| =: d
+                let d = t - v - BOUND_SLACK * v.abs();
+                if v > f64::NEG_INFINITY && (d <= 0.0 || h2 * yn2 >= d * d) {
+                    out.push(b);
                 }
-                if let Ok(mut f) = found.lock() {
-                    f[off / BOND_CHUNK] = out;
-                }
-            },
-        );
-        found
-            .into_inner()
-            .unwrap_or_default()
-            .into_iter()
-            .flatten()
+            }
+            out
+        };
+        let parts: Vec<Vec<usize>> = if nb >= PARALLEL_BONDS {
+            (s.sv
+                .par_chunks(BOND_CHUNK)
+                .zip(s.hn2.par_chunks(BOND_CHUNK)))
+            .enumerate()
+            .map(scan)
             .collect()
+        } else {
+            (s.sv.chunks(BOND_CHUNK).zip(s.hn2.chunks(BOND_CHUNK)))
+                .enumerate()
+                .map(scan)
+                .collect()
+        };
+        parts.concat()
     }
 
     /// The bonds to evaluate at this state and their exact stretches in `out` (in index order;
