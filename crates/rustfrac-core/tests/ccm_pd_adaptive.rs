@@ -9,19 +9,12 @@ mod common;
 
 use common::{coarse, go_on, same_sla_history};
 use rustfrac_core::pd::sla::{run, CcmPdResult};
-use rustfrac_core::problem::pd_region::{self, AdaptiveRegion};
 use rustfrac_core::problem::{Hole, Problem, Shape};
 
 /// The coarse paper case (dx = 0.2, m = 4: delta = 0.8) with an adaptive region of `margin`
 /// and `size` horizons, starting around the tip.
 fn adaptive(fast: bool, steps: usize, margin: f64, size: f64) -> Problem {
-    let mut p = coarse(fast, steps);
-    let a = AdaptiveRegion { margin, size };
-    let pd = p.pd_mut();
-    pd.adaptive = Some(a);
-    let (dx, m) = (pd.dx, pd.m);
-    p.pd_mut().regions = pd_region::initial(&p, dx, m, &a);
-    p
+    common::with_adaptive(coarse(fast, steps), margin, size)
 }
 
 /// The broken bonds of step `k` by position, mirror pairs across the crack line x2 = 10.5 as

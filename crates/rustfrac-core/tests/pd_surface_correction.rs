@@ -315,17 +315,8 @@ fn fast_engines_match_the_oracle_with_the_correction() {
     assert_eq!(ns, oracle.history.len());
     let w2 = same_sla_history(&fast, &oracle, ns);
 
-    let adaptive = |fast: bool| {
-        let mut p = with_correction(coarse(fast, 320), e);
-        let a = pd_region::AdaptiveRegion {
-            margin: 1.5,
-            size: 2.5,
-        };
-        p.pd_mut().adaptive = Some(a);
-        let (dx, m) = (p.pd().unwrap().dx, p.pd().unwrap().m);
-        p.pd_mut().regions = pd_region::initial(&p, dx, m, &a);
-        p
-    };
+    let adaptive =
+        |fast: bool| common::with_adaptive(with_correction(coarse(fast, 320), e), 1.5, 2.5);
     let fast = run(&adaptive(true), &go_on).unwrap();
     let oracle = run(&adaptive(false), &go_on).unwrap();
     assert!(!fast.switches.is_empty());

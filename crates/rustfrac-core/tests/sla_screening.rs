@@ -10,7 +10,7 @@ mod common;
 use common::{coarse, go_on, pd_plate, pd_strip, same_sla_history};
 use rustfrac_core::fe::loading::Grip;
 use rustfrac_core::pd::sla::{force_screening, run, CcmPdResult};
-use rustfrac_core::problem::{pd_region, Problem, SlaEngine, SurfaceCorrection};
+use rustfrac_core::problem::{Problem, SlaEngine, SurfaceCorrection};
 
 fn with_engine(mut p: Problem, e: SlaEngine) -> Problem {
     p.pd_mut().sla.engine = e;
@@ -109,14 +109,7 @@ fn separation_and_surface_correction_screened() {
 /// The adaptive region: every switch builds a new condensation, screened from its start.
 #[test]
 fn adaptive_region_screened_matches_oracle() {
-    let mut p = coarse(true, 320);
-    let a = pd_region::AdaptiveRegion {
-        margin: 1.5,
-        size: 2.5,
-    };
-    p.pd_mut().adaptive = Some(a);
-    let (dx, m) = (p.pd().unwrap().dx, p.pd().unwrap().m);
-    p.pd_mut().regions = pd_region::initial(&p, dx, m, &a);
+    let p = common::with_adaptive(coarse(true, 320), 1.5, 2.5);
     let fast = screened(&p);
     assert!(!fast.switches.is_empty());
     check("adaptive coarse CCM-PD", &p, 0.5);

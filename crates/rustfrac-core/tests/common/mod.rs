@@ -50,6 +50,15 @@ pub fn same_sla_history(
     worst
 }
 
+/// `p` with an adaptive PD region of `margin` and `size` horizons, starting around the tip.
+pub fn with_adaptive(mut p: Problem, margin: f64, size: f64) -> Problem {
+    let a = rustfrac_core::problem::pd_region::AdaptiveRegion { margin, size };
+    p.pd_mut().adaptive = Some(a);
+    let (dx, m) = (p.pd().unwrap().dx, p.pd().unwrap().m);
+    p.pd_mut().regions = rustfrac_core::problem::pd_region::initial(&p, dx, m, &a);
+    p
+}
+
 /// A coarse version of the paper's CCM-PD plate (dx = 1/5 keeps x2 = 10.5 and x1 = 1.1 between
 /// nodes), with a larger PD rectangle (4.4 x 2.4, ~600 PD dofs) so that hundreds of steps stay
 /// inside it.

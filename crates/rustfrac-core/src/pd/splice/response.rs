@@ -91,6 +91,11 @@ impl Response {
         s / self.divisor
     }
 
+    /// The dofs the load displacement reads (none for the grips).
+    pub(crate) fn load_dofs(&self) -> impl Iterator<Item = usize> + '_ {
+        self.displacement.iter().flatten().map(|&(d, _)| d)
+    }
+
     /// The load displacement of u (None: grips).
     pub(crate) fn load_displacement(&self, u: &[f64]) -> Option<f64> {
         self.displacement

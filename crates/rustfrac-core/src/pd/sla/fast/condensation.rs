@@ -181,12 +181,7 @@ impl<'a> Fast<'a> {
         let nz: Vec<usize> = (me.sig_nz.iter().chain(&me.cmod_nz))
             .map(|&(p, _)| me.p_dofs[p])
             .collect();
-        let load = model
-            .response
-            .displacement
-            .iter()
-            .flatten()
-            .map(|&(d, _)| d);
+        let load = model.response.load_dofs();
         me.need(pc_dofs.into_iter().chain(nz).chain(load).chain(probe_dofs));
         me.condense(&k)?;
         timing("fast: condensed and factorised", t0);
@@ -554,13 +549,7 @@ fn coupling_sets(
         }
     }
     // the load displacement of region scenes is read from u
-    let load_dofs = model
-        .response
-        .displacement
-        .iter()
-        .flatten()
-        .map(|&(d, _)| d);
-    for d in load_dofs.chain(probe_dofs.iter().copied()) {
+    for d in model.response.load_dofs().chain(probe_dofs.iter().copied()) {
         if cls[d] == CLS_F {
             ring_flag[d] = true;
         }

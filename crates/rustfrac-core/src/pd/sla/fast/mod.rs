@@ -155,10 +155,9 @@ impl Engine for Fast<'_> {
             .iter()
             .map(|&p| self.u_full[self.p_dofs[p]])
             .collect();
-        let zx = self.z_ring_times(&xpc);
-        for (&d, &zx) in self.ring.iter().zip(&zx) {
-            self.u_full[d] = self.y0[self.idx[d]] - zx;
-        }
+        let mut u = std::mem::take(&mut self.u_full);
+        self.ring_into(&xpc, true, &mut u);
+        self.u_full = u;
         let at = |nz: &[(usize, f64)]| -> f64 {
             nz.iter()
                 .map(|&(p, c)| c * self.u_full[self.p_dofs[p]])

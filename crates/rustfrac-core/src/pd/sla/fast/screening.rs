@@ -30,7 +30,8 @@ const CUT_MARGIN: f64 = 1e-8;
 const SEEDS: usize = 8;
 /// PD unknowns from which a condensation is screened. Below, the full x = v + W y is cheap and
 /// the bonds the bound cannot clear (1 000-3 000 near the tip, each needing rows of W) cost as
-/// much: on the paper's case (2 080 unknowns) the screening made the 500 steps 1.09x slower; on
+/// much: on the paper's case (2 080 unknowns) a version that turned it on at k = 400 made the
+/// 500 steps 1.085x slower (10 alternating pairs); on
 /// the adaptive run (to 8 748 unknowns) and pure PD (103 583) it is faster (benches/RESULTS.md).
 pub(in crate::pd::sla) const SCREEN_MIN_UNKNOWNS: usize = 4096;
 
@@ -58,7 +59,8 @@ pub(super) struct Screening {
     /// stretch of each bond in the field of v (with the constant parts: y0 at the ring,
     /// prescribed values); -inf once broken
     sv: Vec<f64>,
-    /// |h_b|^2: the sum over the stored columns of the bond's stretch in each column's field
+    /// a bound of |h_b|^2: the sum over the stored columns of the square of a bound of the
+    /// bond's |stretch| in each column's field ([`stretch_bound`])
     hn2: Vec<f64>,
     /// scratch: a column's field at every dof (zero except at P and ring dofs)
     uw: Vec<f64>,
@@ -119,7 +121,12 @@ impl Fast<'_> {
             u[d] = xv;
         }
         let xpc: Vec<f64> = self.pc.iter().map(|&p| x[p]).collect();
-        let zx = self.z_ring_times(&xpc);
+        self.ring_into(&xpc, with_y0, u);
+    }
+
+    /// u at the ring from x at `pc`: c y0 - Z_ring x_pc (c = 1 for a state, 0 for a column).
+    pub(super) fn ring_into(&self, xpc: &[f64], with_y0: bool, u: &mut [f64]) {
+        let zx = self.z_ring_times(xpc);
         for (&d, &zx) in self.ring.iter().zip(&zx) {
             u[d] = if with_y0 { self.y0[self.idx[d]] } else { 0.0 } - zx;
         }
