@@ -1,9 +1,15 @@
 //! The sparsity pattern built once from element (or bond) dof blocks, and race-free parallel value
 //! assembly on it.
 //!
-//! Assembly colours the blocks so that two blocks of one colour share no dof; the blocks of a colour
-//! are then scattered in parallel (rayon) without locks or atomics, and the result is deterministic
-//! (each entry receives its contributions in the same order at every run).
+//! Assembly sweeps the blocks in the order of their lowest row, cut into chunks of which every
+//! other one shares no row with the next but one ([`Sweep`]): the even chunks are scattered in
+//! parallel (rayon), then the odd ones, each chunk in order, without locks or atomics. The blocks
+//! of a chunk are neighbours, so their columns stay in cache: the 1.75 M bonds of the pure PD
+//! paper grid assemble in 0.39 s instead of 1.3 s coloured (68 colours, each spread over the
+//! whole grid, so the pattern was read once per colour). Patterns that cannot be cut so (few
+//! blocks, or blocks sharing one dof) are coloured: two blocks of one colour share no dof.
+//! Either way the result is deterministic (each entry receives its contributions in the same
+//! order at every run, whatever the number of threads).
 
 use super::csc::{column_pointers, for_column_chunks, CscMatrix};
 use crate::error::{Error, Result};
@@ -20,8 +26,75 @@ pub struct Pattern {
     pub n: usize,
     pub col_ptr: Vec<usize>,
     pub row_idx: Vec<usize>,
-    /// `colours[c]` = blocks of colour c; two blocks of one colour write no common row.
+    /// `colours[c]` = blocks of colour c; two blocks of one colour write no common row (empty
+    /// when the blocks are swept).
     pub colours: Vec<Vec<usize>>,
+    /// the chunks of the sweep, if the blocks could be cut so
+    sweep: Option<Sweep>,
+}
+
+/// The blocks in the order of their lowest row, cut at `bounds` into chunks such that chunk k
+/// writes only rows below those of chunk k + 2: the even chunks share no row, nor do the odd.
+#[derive(Debug, Clone)]
+struct Sweep {
+    order: Vec<usize>,
+    bounds: Vec<usize>,
+}
+
+/// Blocks from which the sweep is tried (below, the colouring's passes are cheap).
+const SWEEP_MIN_BLOCKS: usize = 1 << 14;
+/// Chunk counts tried for the sweep, most first (fixed, so the order of the sums does not depend
+/// on the threads).
+const SWEEP_CHUNKS: [usize; 5] = [64, 32, 16, 8, 4];
+
+/// The sweep of the blocks `rows_of` (their rows, all < n), if some chunk count of
+/// [`SWEEP_CHUNKS`] separates every chunk from the next but one.
+fn sweep_plan(n: usize, rows_of: &[Vec<usize>]) -> Option<Sweep> {
+    if rows_of.len() < SWEEP_MIN_BLOCKS {
+        return None;
+    }
+    // counting sort by the lowest row (blocks without rows write nothing: left out)
+    let low = |r: &Vec<usize>| r.iter().min().copied();
+    let mut start = vec![0usize; n + 1];
+    for r in rows_of {
+        if let Some(m) = low(r) {
+            start[m + 1] += 1;
+        }
+    }
+    for i in 0..n {
+        start[i + 1] += start[i];
+    }
+    let mut order = vec![0usize; start[n]];
+    for (b, r) in rows_of.iter().enumerate() {
+        if let Some(m) = low(r) {
+            order[start[m]] = b;
+            start[m] += 1;
+        }
+    }
+    let nb = order.len();
+    SWEEP_CHUNKS.iter().find_map(|&nc| {
+        if nb < 2 * nc {
+            return None;
+        }
+        let bounds: Vec<usize> = (0..=nc).map(|k| k * nb / nc).collect();
+        let span = |k: usize| {
+            let blocks = &order[bounds[k]..bounds[k + 1]];
+            let lo = low(&rows_of[blocks[0]]).unwrap_or(0);
+            let hi = blocks
+                .iter()
+                .flat_map(|&b| rows_of[b].iter().copied())
+                .max()
+                .unwrap_or(0);
+            (lo, hi)
+        };
+        let spans: Vec<(usize, usize)> = (0..nc).map(span).collect();
+        (0..nc.saturating_sub(2))
+            .all(|k| spans[k].1 < spans[k + 2].0)
+            .then(|| Sweep {
+                order: order.clone(),
+                bounds,
+            })
+    })
 }
 
 impl Pattern {
@@ -99,12 +172,18 @@ impl Pattern {
                 seg[start..k].sort_unstable();
             }
         });
-        let colours = colour_blocks(n, rows_of);
+        let sweep = sweep_plan(n, rows_of);
+        let colours = if sweep.is_some() {
+            Vec::new()
+        } else {
+            colour_blocks(n, rows_of)
+        };
         Ok(Self {
             n,
             col_ptr,
             row_idx,
             colours,
+            sweep,
         })
     }
 
@@ -167,46 +246,66 @@ impl Pattern {
     where
         F: Fn(usize, &mut Vec<f64>) + Sync,
     {
-        let mut val = vec![0.0; self.row_idx.len()];
+        // written, not calloc'ed: a scatter's read-then-write of a zero page faults twice (copy
+        // on write, with a TLB shootdown to the other threads)
+        let mut val: Vec<f64> = Vec::with_capacity(self.row_idx.len());
+        val.resize(self.row_idx.len(), 0.0);
         let ptr = SyncPtr(val.as_mut_ptr());
         let col_ptr = &self.col_ptr;
         let row_idx = &self.row_idx;
-        for colour in &self.colours {
-            colour
-                .par_iter()
-                .for_each_init(Scratch::default, |Scratch { buf, order, pos }, &b| {
-                    buf.clear();
-                    block(b, buf);
-                    let (rows, cols) = (&rows_of[b], &cols_of[b]);
-                    debug_assert_eq!(buf.len(), rows.len() * cols.len());
-                    // the block's rows in increasing order, so that each column's positions are
-                    // found by one merge along the (sorted) column instead of a search per entry
-                    order.clear();
-                    order.extend(0..rows.len());
-                    order.sort_unstable_by_key(|&i| rows[i]);
-                    pos.resize(rows.len(), 0);
-                    for (j, &c) in cols.iter().enumerate() {
-                        let (c0, c1) = (col_ptr[c], col_ptr[c + 1]);
-                        let mut k = c0;
-                        for &i in order.iter() {
-                            while row_idx[k] < rows[i] {
-                                k += 1;
-                                assert!(k < c1, "entry in pattern");
-                            }
-                            assert!(row_idx[k] == rows[i], "entry in pattern");
-                            pos[i] = k;
-                        }
-                        for (i, &k) in pos.iter().enumerate() {
-                            let v = buf[i * cols.len() + j];
-                            if v == 0.0 {
-                                continue;
-                            }
-                            // SAFETY: blocks of one colour write disjoint rows, so no two
-                            // threads touch the same entry `k`; `k` < nnz (checked above).
-                            unsafe { *ptr.get().add(k) += v };
-                        }
+        // SAFETY (of the writes): the blocks scattered at the same time write disjoint rows (one
+        // colour, or the chunks of one parity of the sweep), so no two threads touch the same
+        // entry `k`; `k` < nnz (checked).
+        let scatter = |Scratch { buf, order, pos }: &mut Scratch, b: usize| {
+            buf.clear();
+            block(b, buf);
+            let (rows, cols) = (&rows_of[b], &cols_of[b]);
+            debug_assert_eq!(buf.len(), rows.len() * cols.len());
+            // the block's rows in increasing order, so that each column's positions are
+            // found by one merge along the (sorted) column instead of a search per entry
+            order.clear();
+            order.extend(0..rows.len());
+            order.sort_unstable_by_key(|&i| rows[i]);
+            pos.resize(rows.len(), 0);
+            for (j, &c) in cols.iter().enumerate() {
+                let (c0, c1) = (col_ptr[c], col_ptr[c + 1]);
+                let mut k = c0;
+                for &i in order.iter() {
+                    while row_idx[k] < rows[i] {
+                        k += 1;
+                        assert!(k < c1, "entry in pattern");
                     }
-                });
+                    assert!(row_idx[k] == rows[i], "entry in pattern");
+                    pos[i] = k;
+                }
+                for (i, &k) in pos.iter().enumerate() {
+                    let v = buf[i * cols.len() + j];
+                    if v == 0.0 {
+                        continue;
+                    }
+                    unsafe { *ptr.get().add(k) += v };
+                }
+            }
+        };
+        match &self.sweep {
+            Some(sw) => {
+                let nc = sw.bounds.len() - 1;
+                for parity in 0..2 {
+                    let chunks: Vec<usize> = (parity..nc).step_by(2).collect();
+                    chunks.par_iter().for_each_init(Scratch::default, |sc, &k| {
+                        for &b in &sw.order[sw.bounds[k]..sw.bounds[k + 1]] {
+                            scatter(sc, b);
+                        }
+                    });
+                }
+            }
+            None => {
+                for colour in &self.colours {
+                    colour
+                        .par_iter()
+                        .for_each_init(Scratch::default, |sc, &b| scatter(sc, b));
+                }
+            }
         }
         val
     }
@@ -303,5 +402,64 @@ mod tests {
             assert_eq!(a.get(i, i + 1), -((i + 1) as f64));
         }
         assert_eq!(a.asymmetry(), 0.0);
+    }
+
+    /// Many blocks are swept (a 2D grid of 4-node cells numbered in scrambled order: the sweep
+    /// sorts them), and the sum equals the coloured one and a serial triplet sum; blocks that all
+    /// share a dof cannot be cut into separated chunks and are coloured.
+    #[test]
+    fn sweep_matches_colouring_and_serial_sum() {
+        let (nx, ny) = (150usize, 120usize);
+        let node = |i: usize, j: usize| j * (nx + 1) + i;
+        let n = (nx + 1) * (ny + 1);
+        let mut cells: Vec<Vec<usize>> = (0..nx * ny)
+            .map(|c| {
+                let (i, j) = (c % nx, c / nx);
+                vec![
+                    node(i, j),
+                    node(i + 1, j),
+                    node(i + 1, j + 1),
+                    node(i, j + 1),
+                ]
+            })
+            .collect();
+        // scrambled (a permutation: 7919 is prime to nx ny)
+        let m = cells.len();
+        cells = (0..m).map(|k| cells[(k * 7919) % m].clone()).collect();
+        let val = |b: usize, r: usize, c: usize| ((b * 31 + r * 7 + c * 3) % 17) as f64 - 8.0 + 0.1;
+        let fill = |b: usize, out: &mut Vec<f64>| {
+            for r in 0..4 {
+                for c in 0..4 {
+                    out.push(val(b, r, c));
+                }
+            }
+        };
+        let swept = Pattern::symmetric(n, &cells).unwrap();
+        assert!(swept.sweep.is_some() && swept.colours.is_empty());
+        let a = swept.assemble(&cells, &cells, fill);
+        let mut coloured = swept.clone();
+        coloured.sweep = None;
+        coloured.colours = colour_blocks(n, &cells);
+        let b = coloured.assemble(&cells, &cells, fill);
+        let mut trip = Vec::new();
+        for (k, cell) in cells.iter().enumerate() {
+            for (r, &dr) in cell.iter().enumerate() {
+                for (c, &dc) in cell.iter().enumerate() {
+                    trip.push((dr, dc, val(k, r, c)));
+                }
+            }
+        }
+        let t = CscMatrix::from_triplets(n, n, &trip).unwrap();
+        assert_eq!((&a.col_ptr, &a.row_idx), (&t.col_ptr, &t.row_idx));
+        for ((x, y), z) in a.val.iter().zip(&b.val).zip(&t.val) {
+            assert!(
+                (x - z).abs() <= 1e-12 && (y - z).abs() <= 1e-12,
+                "{x} {y} {z}"
+            );
+        }
+        // every block on dof 0: no two chunks are separated
+        let star: Vec<Vec<usize>> = (1..=SWEEP_MIN_BLOCKS).map(|i| vec![0, i]).collect();
+        let ps = Pattern::symmetric(SWEEP_MIN_BLOCKS + 1, &star).unwrap();
+        assert!(ps.sweep.is_none() && ps.colours.len() == SWEEP_MIN_BLOCKS);
     }
 }

@@ -93,7 +93,9 @@ fn run_from(
             None => st.ground_precrack(model),
             Some(_) => st.ground_again(model),
         };
+        timing("groundings", t0);
         let k = Arc::new(model.assemble_with(&st.broken, &springs));
+        timing("matrix assembled", t0);
         st.probes = model.probe_functionals()?;
         let probe_dofs: Vec<usize> = st.probes.iter().flat_map(|p| p.dofs()).collect();
         let (mut engine, solver, refactor_interval) =
