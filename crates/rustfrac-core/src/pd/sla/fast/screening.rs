@@ -9,6 +9,11 @@
 //! O(bonds + candidates k) instead of O(n k). The other bonds can be neither critical nor tie
 //! with the critical one, so the driver's selection is the one of the exact stretches.
 //!
+//! The step's pass over the bonds goes by blocks of [`SCREEN_BLOCK`] consecutive bonds (a few
+//! neighbouring nodes' families): each block keeps the largest s_b(v) and |h_b|^2 of its bonds
+//! (and the smallest critical-stretch scale), so a block whose bound stays below the cut is
+//! cleared at O(1), and only the blocks near the tip are read bond by bond.
+//!
 //! Small condensations go without it ([`SCREEN_MIN_UNKNOWNS`]): x in full.
 
 use rayon::prelude::*;
@@ -20,6 +25,13 @@ use crate::pd::bonds::Bond;
 const PARALLEL_BONDS: usize = 1 << 15;
 /// Bonds a thread takes at once in those passes (fixed: the result does not depend on threads).
 const BOND_CHUNK: usize = 4096;
+/// Bonds of a block of the step's pass (a divisor of [`BOND_CHUNK`]): the bonds are numbered
+/// node by node, so a block is the families of about 18 neighbouring nodes.
+const SCREEN_BLOCK: usize = 256;
+const BLOCKS_PER_CHUNK: usize = BOND_CHUNK / SCREEN_BLOCK;
+/// Relative margin of a block's test over its bonds' own tests (which it must never clear a
+/// candidate of): covers the rounding of the two forms of the same inequality.
+const BLOCK_MARGIN: f64 = 1e-12;
 /// Relative slack of each bound's terms, above the round-off of the exact stretches and of the
 /// bounds' own accumulation (near 1e-14 of the terms; the single-precision coefficients of the
 /// column passes are bounded apart, [`stretch_bound`]).
@@ -62,6 +74,12 @@ pub(super) struct Screening {
     /// a bound of |h_b|^2: the sum over the stored columns of the square of a bound of the
     /// bond's |stretch| in each column's field ([`stretch_bound`])
     hn2: Vec<f64>,
+    /// per block of [`SCREEN_BLOCK`] bonds: the largest s_b(v) (1 + slack) (an upper bound
+    /// once a bond broke), the largest |h_b|^2 and the smallest critical-stretch scale (1
+    /// without the surface correction)
+    blk_v: Vec<f64>,
+    blk_h2: Vec<f64>,
+    blk_scale: Vec<f64>,
     /// scratch: a column's field at every dof (zero except at P and ring dofs)
     uw: Vec<f64>,
     /// the coefficients y of the last state and |y|
@@ -111,6 +129,24 @@ fn stretch_bound(b: ScreenBond, u: &[f64]) -> f64 {
     let t0 = f64::from(b.coef[0]) * (u[2 * j] - u[2 * i]);
     let t1 = f64::from(b.coef[1]) * (u[2 * j + 1] - u[2 * i + 1]);
     (t0 + t1).abs() + COEF_ROUNDING * (t0.abs() + t1.abs())
+}
+
+/// s_b(v) with its slack (the bound's first term, [`Fast::candidates`]); -inf for a broken
+/// bond.
+#[inline(always)]
+fn v_slack(v: f64) -> f64 {
+    if v == f64::NEG_INFINITY {
+        v
+    } else {
+        v + BOUND_SLACK * v.abs()
+    }
+}
+
+/// The largest value of `f` over each block of `x` (-inf for an empty one).
+fn block_max(x: &[f64], out: &mut [f64], f: impl Fn(f64) -> f64) {
+    for (xb, o) in x.chunks(SCREEN_BLOCK).zip(out.iter_mut()) {
+        *o = xb.iter().fold(f64::NEG_INFINITY, |m, &v| m.max(f(v)));
+    }
 }
 
 impl Fast<'_> {
@@ -169,6 +205,19 @@ impl Fast<'_> {
             }));
         self.scr.hn2.clear();
         self.scr.hn2.resize(nb, 0.0);
+        let nblk = nb.div_ceil(SCREEN_BLOCK);
+        self.scr.blk_v.resize(nblk, 0.0);
+        block_max(&self.scr.sv, &mut self.scr.blk_v, v_slack);
+        self.scr.blk_h2.clear();
+        self.scr.blk_h2.resize(nblk, 0.0);
+        self.scr.blk_scale = match &model.surface {
+            Some(sf) => sf
+                .s0_scale
+                .chunks(SCREEN_BLOCK)
+                .map(|c| c.iter().fold(f64::INFINITY, |m, &v| m.min(v)))
+                .collect(),
+            None => vec![1.0; nblk],
+        };
         if self.scr.uw.len() != u.len() {
             self.scr.uw = vec![0.0; u.len()];
         }
@@ -186,12 +235,14 @@ impl Fast<'_> {
                 .bonds
                 .chunks(BOND_CHUNK)
                 .zip(s.hn2.chunks_mut(BOND_CHUNK))
+                .zip(s.blk_h2.chunks_mut(BLOCKS_PER_CHUNK))
                 .collect();
-            chunked(items, nb, |_, (bc, hn2)| {
+            chunked(items, nb, |_, ((bc, hn2), bh2)| {
                 for (&b, h2) in bc.iter().zip(hn2.iter_mut()) {
                     let h = stretch_bound(b, &uw);
                     *h2 += h * h;
                 }
+                block_max(hn2, bh2, |v| v);
             });
         } else {
             // v moved: s_b(v) with the exact coefficients (its bound has no slack for them)
@@ -201,19 +252,24 @@ impl Fast<'_> {
                 .chunks(BOND_CHUNK)
                 .zip(s.sv.chunks_mut(BOND_CHUNK))
                 .zip(s.hn2.chunks_mut(BOND_CHUNK))
+                .zip(s.blk_v.chunks_mut(BLOCKS_PER_CHUNK))
+                .zip(s.blk_h2.chunks_mut(BLOCKS_PER_CHUNK))
                 .collect();
-            chunked(items, nb, |_, ((bc, sv), hn2)| {
+            chunked(items, nb, |_, ((((bc, sv), hn2), bv), bh2)| {
                 for ((b, sv), h2) in bc.iter().zip(sv.iter_mut()).zip(hn2.iter_mut()) {
                     let h = b.stretch(&uw);
                     *h2 += h * h;
                     *sv += beta0 * h;
                 }
+                block_max(sv, bv, v_slack);
+                block_max(hn2, bh2, |v| v);
             });
         }
         self.scr.uw = uw;
     }
 
-    /// A broken bond leaves the screening (its s_b(v) is -inf).
+    /// A broken bond leaves the screening (its s_b(v) is -inf; its block's largest s_b(v)
+    /// stays an upper bound).
     pub(super) fn screen_broken(&mut self, b: usize) {
         if self.scr.on {
             self.scr.sv[b] = f64::NEG_INFINITY;
@@ -236,22 +292,40 @@ impl Fast<'_> {
     }
 
     /// The bonds whose bound s_b(v) + |h_b| |y| reaches `cut` (its ratio to the bond's `scale`),
-    /// in index order.
+    /// in index order. A block is read bond by bond only when its own bound (largest s_b(v),
+    /// largest |h_b|, smallest scale) reaches the cut: otherwise none of its bonds can.
     fn candidates(&self, cut: f64, scale: Option<&[f64]>) -> Vec<usize> {
         let s = &self.scr;
         let yn = s.ynorm * (1.0 + BOUND_SLACK);
         let yn2 = yn * yn;
         let nb = s.sv.len();
+        // bound >= t <=> |h| |y| (1 + slack) >= t - v - slack |v| =: d
+        let clear = |d: f64, h2: f64| d > 0.0 && h2 * yn2 < d * d;
         let scan = |(c, (sv, hn2)): (usize, (&[f64], &[f64]))| -> Vec<usize> {
-            let off = c * BOND_CHUNK;
+            let blocks =
+                c * BLOCKS_PER_CHUNK..(c * BLOCKS_PER_CHUNK + sv.len().div_ceil(SCREEN_BLOCK));
+            let (bv, bh2, bs) = (
+                &s.blk_v[blocks.clone()],
+                &s.blk_h2[blocks.clone()],
+                &s.blk_scale[blocks],
+            );
             let mut out = Vec::new();
-            for (i, (&v, &h2)) in sv.iter().zip(hn2).enumerate() {
-                let b = off + i;
-                let t = scale.map_or(cut, |sc| cut * sc[b]);
-                // bound >= t <=> |h| |y| (1 + slack) >= t - v - slack |v| =: d
-                let d = t - v - BOUND_SLACK * v.abs();
-                if v > f64::NEG_INFINITY && (d <= 0.0 || h2 * yn2 >= d * d) {
-                    out.push(b);
+            for (k, ((&vmax, &h2max), &smin)) in bv.iter().zip(bh2).zip(bs).enumerate() {
+                let t = cut * smin;
+                let d = t - vmax;
+                if vmax == f64::NEG_INFINITY
+                    || clear(d - BLOCK_MARGIN * (t.abs() + vmax.abs()), h2max)
+                {
+                    continue;
+                }
+                let lo = k * SCREEN_BLOCK;
+                let hi = (lo + SCREEN_BLOCK).min(sv.len());
+                for (i, (&v, &h2)) in sv[lo..hi].iter().zip(&hn2[lo..hi]).enumerate() {
+                    let b = c * BOND_CHUNK + lo + i;
+                    let t = scale.map_or(cut, |sc| cut * sc[b]);
+                    if v > f64::NEG_INFINITY && !clear(t - v_slack(v), h2) {
+                        out.push(b);
+                    }
                 }
             }
             out
