@@ -19,12 +19,14 @@
 //! vanishing Schur pivot of the bordering, as before.
 
 use crate::error::{Error, Result};
-use crate::la::{Cholesky, CscMatrix, DenseLu, Lu};
+use crate::la::{Cholesky, CscMatrix, DenseLu, Lu, SparseForward};
 use crate::pd::sla::engine::separated;
 
 /// The sparse factorisation of S_0.
 pub(in crate::pd::sla) enum SparseFactor {
-    Cholesky(Cholesky),
+    /// with the elimination tree of its last factorisation, for columns of S_0^-1 by sparse
+    /// forward solves ([`SparseForward::solve_unit_columns`])
+    Cholesky(Cholesky, Option<SparseForward>),
     Lu(Lu),
 }
 
@@ -46,7 +48,7 @@ impl SparseFactor {
         xy: &[[f64; 2]],
     ) -> Result<Self> {
         Ok(if symmetric {
-            Self::Cholesky(Cholesky::analyze_with(s, Some(xy))?)
+            Self::Cholesky(Cholesky::analyze_with(s, Some(xy))?, None)
         } else {
             Self::Lu(Lu::analyze_dense_last(s)?)
         })
@@ -55,7 +57,13 @@ impl SparseFactor {
     /// Numeric factorisation of `s` (the analysed pattern); a singular S_0 is a separation.
     pub(in crate::pd::sla) fn factorize(&mut self, s: &CscMatrix) -> Result<()> {
         let r = match self {
-            Self::Cholesky(c) => c.factorize(s),
+            Self::Cholesky(c, tree) => {
+                *tree = None;
+                c.factorize(s).and_then(|()| {
+                    *tree = Some(SparseForward::new(c)?);
+                    Ok(())
+                })
+            }
             Self::Lu(l) => l.factorize(s),
         };
         r.map_err(|e| match e {
@@ -69,7 +77,7 @@ impl SparseFactor {
     /// Solves S_0 X = B in place (`x` column-major, n_P x k).
     pub(in crate::pd::sla) fn solve_in_place(&self, x: &mut [f64]) -> Result<()> {
         match self {
-            Self::Cholesky(c) => c.solve_in_place(x),
+            Self::Cholesky(c, _) => c.solve_in_place(x),
             Self::Lu(l) => l.solve_in_place(x),
         }
     }
@@ -78,7 +86,7 @@ impl SparseFactor {
     /// factorisation, None).
     pub(in crate::pd::sla) fn factor_nnz(&self) -> Option<usize> {
         match self {
-            Self::Cholesky(c) => Some(c.factor_nnz()),
+            Self::Cholesky(c, _) => Some(c.factor_nnz()),
             Self::Lu(_) => None,
         }
     }
@@ -97,6 +105,24 @@ impl Base {
             Self::Sparse(f) => f.solve_in_place(x),
         };
         r.map_err(|e| separated(format!("solve with the condensed PD matrix: {e}")))
+    }
+
+    /// Columns `cols` of S_0^{-1} (column-major, n_P x k): by sparse forward solves for the
+    /// sparse Cholesky, by a solve of the unit vectors otherwise.
+    pub(super) fn unit_columns(&self, cols: &[usize], n: usize) -> Result<Vec<f64>> {
+        if let Self::Sparse(f) = self {
+            if let SparseFactor::Cholesky(c, Some(tree)) = f.as_ref() {
+                return tree
+                    .solve_unit_columns(c, cols, &mut tree.work())
+                    .map_err(|e| separated(format!("solve with the condensed PD matrix: {e}")));
+            }
+        }
+        let mut x = vec![0.0; n * cols.len()];
+        for (j, &q) in cols.iter().enumerate() {
+            x[j * n + q] = 1.0;
+        }
+        self.solve_in_place(&mut x)?;
+        Ok(x)
     }
 
     /// S_0^{-1} g.

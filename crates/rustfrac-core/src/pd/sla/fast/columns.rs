@@ -117,11 +117,7 @@ impl Columns {
         }
         let t0 = Instant::now();
         let k = batch.len();
-        let mut rhs = vec![0.0; n * k];
-        for (j, &q) in batch.iter().enumerate() {
-            rhs[j * n + q] = 1.0;
-        }
-        f.solve_in_place(&mut rhs)?;
+        let rhs = f.unit_columns(&batch, n)?;
         for (j, &q) in batch.iter().enumerate() {
             self.col[q] = Some(rhs[j * n..(j + 1) * n].to_vec().into_boxed_slice());
         }
