@@ -9,10 +9,13 @@
 //! O(bonds + candidates k) instead of O(n k). The other bonds can be neither critical nor tie
 //! with the critical one, so the driver's selection is the one of the exact stretches.
 //!
-//! The step's pass over the bonds goes by blocks of [`SCREEN_BLOCK`] consecutive bonds (a few
-//! neighbouring nodes' families): each block keeps the largest s_b(v) and |h_b|^2 of its bonds
-//! (and the smallest critical-stretch scale), so a block whose bound stays below the cut is
-//! cleared at O(1), and only the blocks near the tip are read bond by bond.
+//! The screening keeps its bonds in the order of their lattice vector, then first node
+//! ([`Lattice`]): a column's pass then reads runs of parallel bonds between consecutive nodes,
+//! whose end values are contiguous slices (vectorised, no gathers). The step's pass goes by
+//! blocks of [`SCREEN_BLOCK`] bonds of that order (a run of parallel bonds along a grid row):
+//! each block keeps the largest s_b(v) and |h_b|^2 of its bonds (and the smallest
+//! critical-stretch scale), so a block whose bound stays below the cut is cleared at O(1), and
+//! only the blocks near the tip are read bond by bond.
 //!
 //! Small condensations go without it ([`SCREEN_MIN_UNKNOWNS`]): x in full.
 
@@ -25,8 +28,7 @@ use crate::pd::bonds::Bond;
 const PARALLEL_BONDS: usize = 1 << 15;
 /// Bonds a thread takes at once in those passes (fixed: the result does not depend on threads).
 const BOND_CHUNK: usize = 4096;
-/// Bonds of a block of the step's pass (a divisor of [`BOND_CHUNK`]): the bonds are numbered
-/// node by node, so a block is the families of about 18 neighbouring nodes.
+/// Bonds of a block of the step's pass (a divisor of [`BOND_CHUNK`]).
 const SCREEN_BLOCK: usize = 256;
 const BLOCKS_PER_CHUNK: usize = BOND_CHUNK / SCREEN_BLOCK;
 /// Relative margin of a block's test over its bonds' own tests (which it must never clear a
@@ -65,9 +67,9 @@ pub fn force_screening(on: bool) {
 pub(super) struct Screening {
     /// on for the current condensation (else x in full)
     pub(super) on: bool,
-    /// end nodes and stretch coefficients xi / |xi|^2 (single precision, their rounding bounded
-    /// in [`stretch_bound`]) of each bond: the bounds' copy, 16 bytes a bond read per column
-    bonds: Vec<ScreenBond>,
+    /// the screening's order of the bonds and its runs ([`Lattice`]); the per-bond arrays below
+    /// are in that order
+    lat: Lattice,
     /// stretch of each bond in the field of v (with the constant parts: y0 at the ring,
     /// prescribed values); -inf once broken
     sv: Vec<f64>,
@@ -80,8 +82,11 @@ pub(super) struct Screening {
     blk_v: Vec<f64>,
     blk_h2: Vec<f64>,
     blk_scale: Vec<f64>,
-    /// scratch: a column's field at every dof (zero except at P and ring dofs)
+    /// scratch: a column's field at every dof (zero except at P and ring dofs), and its two
+    /// components by node
     uw: Vec<f64>,
+    ux: Vec<f64>,
+    uy: Vec<f64>,
     /// the coefficients y of the last state and |y|
     pub(super) y: Vec<f64>,
     pub(super) ynorm: f64,
@@ -95,11 +100,101 @@ pub(super) struct Screening {
     pub(super) evaluated: usize,
 }
 
-/// A bond as the bounds read it.
+/// The screening's order of the bonds: by kind (the lattice vector, with the offset of the
+/// second node from the first in the grid's numbering), then first node, cut into runs of one
+/// kind over consecutive first nodes (and at every [`BOND_CHUNK`]). A grid has a few dozen
+/// kinds, so a run is a row of parallel bonds, whose first and second ends are two contiguous
+/// ranges of nodes.
+#[derive(Default)]
+struct Lattice {
+    /// position -> bond, bond -> position
+    perm: Vec<u32>,
+    pos: Vec<u32>,
+    runs: Vec<Run>,
+    /// the runs of chunk c (positions c BOND_CHUNK..): `chunk_runs[c]..chunk_runs[c + 1]`
+    chunk_runs: Vec<usize>,
+    kinds: Vec<Kind>,
+}
+
+/// Bonds of one kind at positions `start..start + len` from the consecutive nodes
+/// `first..first + len` to `first + offset..`.
 #[derive(Clone, Copy)]
-struct ScreenBond {
-    ends: [u32; 2],
-    coef: [f32; 2],
+struct Run {
+    start: usize,
+    first: usize,
+    len: usize,
+    kind: usize,
+}
+
+/// A lattice vector of bonds: the offset of the second node and the stretch coefficients
+/// xi / |xi|^2.
+#[derive(Clone, Copy)]
+struct Kind {
+    offset: i64,
+    coef: [f64; 2],
+}
+
+impl Lattice {
+    /// The order and runs of `bonds`; None beyond 65 536 kinds (not a grid's bonds).
+    fn new(bonds: &[Bond]) -> Option<Self> {
+        let mut index = std::collections::HashMap::new();
+        let mut kinds = Vec::new();
+        let mut kind_of = Vec::with_capacity(bonds.len());
+        for b in bonds {
+            let offset = i64::from(b.j) - i64::from(b.i);
+            let key = (offset, b.xi[0].to_bits(), b.xi[1].to_bits());
+            let k = *index.entry(key).or_insert_with(|| {
+                let l2 = b.xi[0] * b.xi[0] + b.xi[1] * b.xi[1];
+                kinds.push(Kind {
+                    offset,
+                    coef: [b.xi[0] / l2, b.xi[1] / l2],
+                });
+                kinds.len() - 1
+            });
+            kind_of.push(u16::try_from(k).ok()?);
+        }
+        let mut perm: Vec<u32> = (0..bonds.len() as u32).collect();
+        perm.sort_unstable_by_key(|&b| (kind_of[b as usize], bonds[b as usize].i));
+        let mut pos = vec![0u32; bonds.len()];
+        for (p, &b) in perm.iter().enumerate() {
+            pos[b as usize] = p as u32;
+        }
+        let mut runs: Vec<Run> = Vec::new();
+        let mut chunk_runs = vec![0];
+        for (p, &b) in perm.iter().enumerate() {
+            let (first, kind) = (
+                bonds[b as usize].i as usize,
+                usize::from(kind_of[b as usize]),
+            );
+            if p > 0 && p % BOND_CHUNK == 0 {
+                chunk_runs.push(runs.len());
+            }
+            match runs.last_mut() {
+                Some(r)
+                    if r.kind == kind
+                        && r.first + r.len == first
+                        && r.start + r.len == p
+                        && p % BOND_CHUNK != 0 =>
+                {
+                    r.len += 1
+                }
+                _ => runs.push(Run {
+                    start: p,
+                    first,
+                    len: 1,
+                    kind,
+                }),
+            }
+        }
+        chunk_runs.push(runs.len());
+        Some(Self {
+            perm,
+            pos,
+            runs,
+            chunk_runs,
+            kinds,
+        })
+    }
 }
 
 /// f(chunk offset, chunk) over fixed chunks of `n` items, on all threads for many items.
@@ -117,18 +212,22 @@ fn chunked<T: Send, F: Fn(usize, T) + Sync>(items: Vec<T>, n: usize, f: F) {
     }
 }
 
-/// Relative rounding of the single-precision stretch coefficients (2^-24).
-const COEF_ROUNDING: f64 = 5.960_464_477_539_063e-8;
+/// Bound of the difference between the stretch from a kind's coefficients, c . du, and the
+/// bond's own (xi . du) / |xi|^2 ([`Bond::stretch`]), relative to |c0 du0| + |c1 du1|: each form
+/// rounds within 3 units of 2^-53 of it (2^-50).
+const COEF_ROUNDING: f64 = 8.881_784_197_001_252e-16;
 
-/// An upper bound of |h|, h the stretch of a bond in the field `u`: its value with the
-/// single-precision coefficients plus their rounding, |c - c32| <= 2^-24 |c32| each (the
-/// bound holds even when the two terms cancel).
+/// |h|^2 += (a bound of |h|)^2 for the bonds of a run, h = c0 (x_j - x_i) + c1 (y_j - y_i) their
+/// stretches in a column's field from the kind's coefficients `c`, with their rounding (the
+/// bound holds even when the two terms cancel): contiguous slices, vectorised.
 #[inline(always)]
-fn stretch_bound(b: ScreenBond, u: &[f64]) -> f64 {
-    let (i, j) = (b.ends[0] as usize, b.ends[1] as usize);
-    let t0 = f64::from(b.coef[0]) * (u[2 * j] - u[2 * i]);
-    let t1 = f64::from(b.coef[1]) * (u[2 * j + 1] - u[2 * i + 1]);
-    (t0 + t1).abs() + COEF_ROUNDING * (t0.abs() + t1.abs())
+fn add_run(c: [f64; 2], (xi, xj): (&[f64], &[f64]), (yi, yj): (&[f64], &[f64]), hn2: &mut [f64]) {
+    for ((((h2, &a), &b), &p), &q) in hn2.iter_mut().zip(xi).zip(xj).zip(yi).zip(yj) {
+        let t0 = c[0] * (b - a);
+        let t1 = c[1] * (q - p);
+        let h = (t0 + t1).abs() + COEF_ROUNDING * (t0.abs() + t1.abs());
+        *h2 += h * h;
+    }
 }
 
 /// s_b(v) with its slack (the bound's first term, [`Fast::candidates`]); -inf for a broken
@@ -178,31 +277,25 @@ impl Fast<'_> {
         }
         let model = self.model;
         let nb = model.bonds.len();
-        if self.scr.bonds.len() != nb {
-            self.scr.bonds = model
-                .bonds
-                .iter()
-                .map(|b| {
-                    let l2 = b.xi[0] * b.xi[0] + b.xi[1] * b.xi[1];
-                    ScreenBond {
-                        ends: [b.i, b.j],
-                        coef: [(b.xi[0] / l2) as f32, (b.xi[1] / l2) as f32],
-                    }
-                })
-                .collect();
+        if self.scr.lat.perm.len() != nb {
+            match Lattice::new(&model.bonds) {
+                Some(l) => self.scr.lat = l,
+                None => {
+                    self.scr.on = false;
+                    return;
+                }
+            }
         }
         let mut u = self.model.prescribed.clone();
         self.spread(&self.v, true, &mut u);
         self.scr.sv.clear();
-        self.scr
-            .sv
-            .extend(model.bonds.iter().zip(&self.broken).map(|(b, &br)| {
-                if br {
-                    f64::NEG_INFINITY
-                } else {
-                    b.stretch(&u)
-                }
-            }));
+        self.scr.sv.extend(self.scr.lat.perm.iter().map(|&b| {
+            if self.broken[b as usize] {
+                f64::NEG_INFINITY
+            } else {
+                model.bonds[b as usize].stretch(&u)
+            }
+        }));
         self.scr.hn2.clear();
         self.scr.hn2.resize(nb, 0.0);
         let nblk = nb.div_ceil(SCREEN_BLOCK);
@@ -211,15 +304,18 @@ impl Fast<'_> {
         self.scr.blk_h2.clear();
         self.scr.blk_h2.resize(nblk, 0.0);
         self.scr.blk_scale = match &model.surface {
-            Some(sf) => sf
-                .s0_scale
-                .chunks(SCREEN_BLOCK)
-                .map(|c| c.iter().fold(f64::INFINITY, |m, &v| m.min(v)))
+            Some(sf) => (self.scr.lat.perm.chunks(SCREEN_BLOCK))
+                .map(|c| {
+                    c.iter()
+                        .fold(f64::INFINITY, |m, &b| m.min(sf.s0_scale[b as usize]))
+                })
                 .collect(),
             None => vec![1.0; nblk],
         };
         if self.scr.uw.len() != u.len() {
             self.scr.uw = vec![0.0; u.len()];
+            self.scr.ux = vec![0.0; u.len() / 2];
+            self.scr.uy = vec![0.0; u.len() / 2];
         }
     }
 
@@ -229,35 +325,47 @@ impl Fast<'_> {
         let mut uw = std::mem::take(&mut self.scr.uw);
         self.spread(w, false, &mut uw);
         let s = &mut self.scr;
-        let nb = s.bonds.len();
+        let nb = s.lat.perm.len();
         if beta0 == 0.0 {
+            for ((x, y), u) in s.ux.iter_mut().zip(s.uy.iter_mut()).zip(uw.chunks_exact(2)) {
+                (*x, *y) = (u[0], u[1]);
+            }
+            let (lat, ux, uy) = (&s.lat, &s.ux, &s.uy);
             let items: Vec<_> = s
-                .bonds
-                .chunks(BOND_CHUNK)
-                .zip(s.hn2.chunks_mut(BOND_CHUNK))
+                .hn2
+                .chunks_mut(BOND_CHUNK)
                 .zip(s.blk_h2.chunks_mut(BLOCKS_PER_CHUNK))
                 .collect();
-            chunked(items, nb, |_, ((bc, hn2), bh2)| {
-                for (&b, h2) in bc.iter().zip(hn2.iter_mut()) {
-                    let h = stretch_bound(b, &uw);
-                    *h2 += h * h;
+            chunked(items, nb, |off, (hn2, bh2)| {
+                let c = off / BOND_CHUNK;
+                for r in &lat.runs[lat.chunk_runs[c]..lat.chunk_runs[c + 1]] {
+                    let k = lat.kinds[r.kind];
+                    let (i, j) = (r.first, (r.first as i64 + k.offset) as usize);
+                    let h = &mut hn2[r.start - off..r.start - off + r.len];
+                    let n = r.len;
+                    add_run(
+                        k.coef,
+                        (&ux[i..i + n], &ux[j..j + n]),
+                        (&uy[i..i + n], &uy[j..j + n]),
+                        h,
+                    );
                 }
                 block_max(hn2, bh2, |v| v);
             });
         } else {
-            // v moved: s_b(v) with the exact coefficients (its bound has no slack for them)
-            let items: Vec<_> = self
-                .model
-                .bonds
+            // v moved: s_b(v) with the bonds' own stretches (its bound has no slack for the
+            // kinds' coefficients)
+            let (bonds, perm) = (&self.model.bonds, &s.lat.perm);
+            let items: Vec<_> = perm
                 .chunks(BOND_CHUNK)
                 .zip(s.sv.chunks_mut(BOND_CHUNK))
                 .zip(s.hn2.chunks_mut(BOND_CHUNK))
                 .zip(s.blk_v.chunks_mut(BLOCKS_PER_CHUNK))
                 .zip(s.blk_h2.chunks_mut(BLOCKS_PER_CHUNK))
                 .collect();
-            chunked(items, nb, |_, ((((bc, sv), hn2), bv), bh2)| {
-                for ((b, sv), h2) in bc.iter().zip(sv.iter_mut()).zip(hn2.iter_mut()) {
-                    let h = b.stretch(&uw);
+            chunked(items, nb, |_, ((((pc, sv), hn2), bv), bh2)| {
+                for ((&b, sv), h2) in pc.iter().zip(sv.iter_mut()).zip(hn2.iter_mut()) {
+                    let h = bonds[b as usize].stretch(&uw);
                     *h2 += h * h;
                     *sv += beta0 * h;
                 }
@@ -272,7 +380,8 @@ impl Fast<'_> {
     /// stays an upper bound).
     pub(super) fn screen_broken(&mut self, b: usize) {
         if self.scr.on {
-            self.scr.sv[b] = f64::NEG_INFINITY;
+            let p = self.scr.lat.pos[b] as usize;
+            self.scr.sv[p] = f64::NEG_INFINITY;
         }
     }
 
@@ -321,7 +430,7 @@ impl Fast<'_> {
                 let lo = k * SCREEN_BLOCK;
                 let hi = (lo + SCREEN_BLOCK).min(sv.len());
                 for (i, (&v, &h2)) in sv[lo..hi].iter().zip(&hn2[lo..hi]).enumerate() {
-                    let b = c * BOND_CHUNK + lo + i;
+                    let b = s.lat.perm[c * BOND_CHUNK + lo + i] as usize;
                     let t = scale.map_or(cut, |sc| cut * sc[b]);
                     if v > f64::NEG_INFINITY && !clear(t - v_slack(v), h2) {
                         out.push(b);
@@ -343,7 +452,9 @@ impl Fast<'_> {
                 .map(scan)
                 .collect()
         };
-        parts.concat()
+        let mut out = parts.concat();
+        out.sort_unstable();
+        out
     }
 
     /// The bonds to evaluate at this state and their exact stretches in `out` (in index order;
@@ -363,15 +474,19 @@ impl Fast<'_> {
         let mut lmax = f64::NEG_INFINITY;
         let seeds = std::mem::take(&mut self.scr.seeds);
         for &b in &seeds {
-            if self.scr.sv[b] > f64::NEG_INFINITY {
+            if self.scr.sv[self.scr.lat.pos[b] as usize] > f64::NEG_INFINITY {
                 lmax = lmax.max(ratio(b, self.exact_stretch(&bonds[b])));
             }
         }
         if lmax <= 0.0 {
             // no seed in tension: the largest bound's bond
             let yn = self.scr.ynorm;
+            let s = &self.scr;
             let top = (0..bonds.len())
-                .map(|b| (ratio(b, self.scr.sv[b] + self.scr.hn2[b].sqrt() * yn), b))
+                .map(|p| {
+                    let b = s.lat.perm[p] as usize;
+                    (ratio(b, s.sv[p] + s.hn2[p].sqrt() * yn), b)
+                })
                 .max_by(|a, b| a.0.total_cmp(&b.0).then(b.1.cmp(&a.1)));
             if let Some((r, b)) = top {
                 if r > f64::NEG_INFINITY {
