@@ -230,6 +230,45 @@ fn add_run(c: [f64; 2], (xi, xj): (&[f64], &[f64]), (yi, yj): (&[f64], &[f64]), 
     }
 }
 
+/// [`add_run`] over the runs of chunk `c` (positions `off..`, |h_b|^2 in `hn2`) in the column
+/// field (`ux`, `uy`).
+#[inline(always)]
+fn chunk_pass(
+    lat: &Lattice,
+    (c, off): (usize, usize),
+    (ux, uy): (&[f64], &[f64]),
+    hn2: &mut [f64],
+) {
+    for r in &lat.runs[lat.chunk_runs[c]..lat.chunk_runs[c + 1]] {
+        let k = lat.kinds[r.kind];
+        let (i, j, n) = (r.first, (r.first as i64 + k.offset) as usize, r.len);
+        let h = &mut hn2[r.start - off..r.start - off + n];
+        add_run(
+            k.coef,
+            (&ux[i..i + n], &ux[j..j + n]),
+            (&uy[i..i + n], &uy[j..j + n]),
+            h,
+        );
+    }
+}
+
+/// [`chunk_pass`] compiled for AVX2 (4 lanes; the same operations, so the same results).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn chunk_pass_avx2(lat: &Lattice, co: (usize, usize), u: (&[f64], &[f64]), hn2: &mut [f64]) {
+    chunk_pass(lat, co, u, hn2)
+}
+
+/// [`chunk_pass`] with AVX2 where the processor has it.
+fn chunk_pass_best(lat: &Lattice, co: (usize, usize), u: (&[f64], &[f64]), hn2: &mut [f64]) {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the processor supports AVX2 (checked just above)
+        return unsafe { chunk_pass_avx2(lat, co, u, hn2) };
+    }
+    chunk_pass(lat, co, u, hn2)
+}
+
 /// s_b(v) with its slack (the bound's first term, [`Fast::candidates`]); -inf for a broken
 /// bond.
 #[inline(always)]
@@ -337,19 +376,7 @@ impl Fast<'_> {
                 .zip(s.blk_h2.chunks_mut(BLOCKS_PER_CHUNK))
                 .collect();
             chunked(items, nb, |off, (hn2, bh2)| {
-                let c = off / BOND_CHUNK;
-                for r in &lat.runs[lat.chunk_runs[c]..lat.chunk_runs[c + 1]] {
-                    let k = lat.kinds[r.kind];
-                    let (i, j) = (r.first, (r.first as i64 + k.offset) as usize);
-                    let h = &mut hn2[r.start - off..r.start - off + r.len];
-                    let n = r.len;
-                    add_run(
-                        k.coef,
-                        (&ux[i..i + n], &ux[j..j + n]),
-                        (&uy[i..i + n], &uy[j..j + n]),
-                        h,
-                    );
-                }
+                chunk_pass_best(lat, (off / BOND_CHUNK, off), (ux, uy), hn2);
                 block_max(hn2, bh2, |v| v);
             });
         } else {
@@ -515,5 +542,75 @@ impl Fast<'_> {
         self.scr.seeds = seeds;
         self.scr.steps += 1;
         self.scr.evaluated += only.len();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The lattice order's column pass, with and without AVX2, bounds every bond's own stretch
+    /// (Bond::stretch) from above, both passes to the same bits; runs never cross a chunk.
+    #[test]
+    fn lattice_pass_bounds_each_bond() {
+        // the bonds of a 70 x 130 grid within distance 2 (forward half), some left out
+        let (nx, ny) = (70usize, 130usize);
+        let node = |i: usize, j: usize| (j * (nx + 1) + i) as u32;
+        let mut bonds = Vec::new();
+        for j in 0..=ny {
+            for i in 0..=nx {
+                for (di, dj) in [
+                    (1i64, 0i64),
+                    (2, 0),
+                    (-1, 1),
+                    (0, 1),
+                    (1, 1),
+                    (0, 2),
+                    (-2, 1),
+                ] {
+                    let (a, b) = (i as i64 + di, j as i64 + dj);
+                    if a < 0 || a > nx as i64 || b > ny as i64 || (i * 7 + j * 3) % 11 == 0 {
+                        continue;
+                    }
+                    bonds.push(Bond {
+                        i: node(i, j),
+                        j: node(a as usize, b as usize),
+                        xi: [di as f64 * 0.1, dj as f64 * 0.1],
+                        beta: 1.0,
+                    });
+                }
+            }
+        }
+        assert!(bonds.len() > 2 * BOND_CHUNK);
+        let lat = Lattice::new(&bonds).unwrap();
+        let nn = (nx + 1) * (ny + 1);
+        let u: Vec<f64> = (0..2 * nn)
+            .map(|k| ((k * 37) % 101) as f64 * 1e-3 - 0.05)
+            .collect();
+        let (ux, uy): (Vec<f64>, Vec<f64>) = u.chunks(2).map(|c| (c[0], c[1])).unzip();
+        let mut plain = vec![0.0; bonds.len()];
+        let mut best = vec![0.0; bonds.len()];
+        for (c, (hp, hb)) in plain
+            .chunks_mut(BOND_CHUNK)
+            .zip(best.chunks_mut(BOND_CHUNK))
+            .enumerate()
+        {
+            chunk_pass(&lat, (c, c * BOND_CHUNK), (&ux, &uy), hp);
+            chunk_pass_best(&lat, (c, c * BOND_CHUNK), (&ux, &uy), hb);
+        }
+        assert!(plain
+            .iter()
+            .zip(&best)
+            .all(|(a, b)| a.to_bits() == b.to_bits()));
+        for (p, &b) in lat.perm.iter().enumerate() {
+            let s = bonds[b as usize].stretch(&u);
+            assert!(
+                plain[p].sqrt() >= s.abs() && plain[p].sqrt() <= s.abs() * (1.0 + 1e-12) + 1e-15
+            );
+            assert_eq!(lat.pos[b as usize] as usize, p);
+        }
+        for r in &lat.runs {
+            assert_eq!(r.start / BOND_CHUNK, (r.start + r.len - 1) / BOND_CHUNK);
+        }
     }
 }
