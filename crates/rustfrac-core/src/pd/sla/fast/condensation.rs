@@ -219,6 +219,7 @@ impl<'a> Fast<'a> {
         self.w.clear();
         self.bt.clear();
         self.screen_start();
+        timing("fast: solved, screening started", t0);
         self.n_fact += 1;
         Ok(())
     }

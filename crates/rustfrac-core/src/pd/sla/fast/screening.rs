@@ -153,8 +153,30 @@ impl Lattice {
             });
             kind_of.push(u16::try_from(k).ok()?);
         }
-        let mut perm: Vec<u32> = (0..bonds.len() as u32).collect();
-        perm.sort_unstable_by_key(|&b| (kind_of[b as usize], bonds[b as usize].i));
+        // by kind (counting sort, stable), then first node (bonds come node by node: sorted
+        // already, else sorted here)
+        let mut start = vec![0usize; kinds.len() + 1];
+        for &k in &kind_of {
+            start[usize::from(k) + 1] += 1;
+        }
+        for k in 0..kinds.len() {
+            start[k + 1] += start[k];
+        }
+        let bounds = start.clone();
+        let mut perm = vec![0u32; bonds.len()];
+        for (b, &k) in kind_of.iter().enumerate() {
+            perm[start[usize::from(k)]] = b as u32;
+            start[usize::from(k)] += 1;
+        }
+        for w in bounds.windows(2) {
+            let part = &mut perm[w[0]..w[1]];
+            if !part
+                .windows(2)
+                .all(|p| bonds[p[0] as usize].i <= bonds[p[1] as usize].i)
+            {
+                part.sort_unstable_by_key(|&b| (bonds[b as usize].i, b));
+            }
+        }
         let mut pos = vec![0u32; bonds.len()];
         for (p, &b) in perm.iter().enumerate() {
             pos[b as usize] = p as u32;
