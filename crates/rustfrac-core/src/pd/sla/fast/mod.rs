@@ -120,9 +120,7 @@ pub(super) struct Fast<'a> {
 impl Engine for Fast<'_> {
     fn state(&mut self) -> Result<State> {
         let y = self.smw_coefficients();
-        if y.iter().any(|v| !v.is_finite()) {
-            return Err(separated("non-finite PD displacements".into()));
-        }
+        all_finite(&y)?;
         if self.scr.on {
             // x only where the state needs it; the bonds' ends as `stretches` evaluates them
             self.scr.epoch = self.scr.epoch.wrapping_add(1);
@@ -136,20 +134,12 @@ impl Engine for Fast<'_> {
             }
         } else {
             let x = self.x_full(&y);
-            if x.iter().any(|v| !v.is_finite()) {
-                return Err(separated("non-finite PD displacements".into()));
-            }
+            all_finite(&x)?;
             for (&d, &xv) in self.p_dofs.iter().zip(&x) {
                 self.u_full[d] = xv;
             }
         }
-        if self
-            .needed
-            .iter()
-            .any(|&p| !self.u_full[self.p_dofs[p]].is_finite())
-        {
-            return Err(separated("non-finite PD displacements".into()));
-        }
+        all_finite(self.needed.iter().map(|&p| &self.u_full[self.p_dofs[p]]))?;
         let xpc: Vec<f64> = self
             .pc
             .iter()
@@ -234,9 +224,7 @@ impl Engine for Fast<'_> {
         let y = std::mem::take(&mut self.scr.y);
         let x = self.x_full(&y);
         self.scr.y = y;
-        if x.iter().any(|v| !v.is_finite()) {
-            return Err(separated("non-finite PD displacements".into()));
-        }
+        all_finite(&x)?;
         for (&d, &xv) in self.p_dofs.iter().zip(&x) {
             self.u_full[d] = xv;
         }
@@ -298,4 +286,14 @@ fn nonzeros(v: &[f64]) -> Vec<(usize, f64)> {
         .filter(|(_, c)| **c != 0.0)
         .map(|(p, &c)| (p, c))
         .collect()
+}
+
+/// A separation when any of `x` is not finite (the SMW coefficients or the PD displacements of a
+/// state: a vanishing pivot gone unnoticed makes them so).
+fn all_finite<'v>(x: impl IntoIterator<Item = &'v f64>) -> Result<()> {
+    if x.into_iter().all(|v| v.is_finite()) {
+        Ok(())
+    } else {
+        Err(separated("non-finite PD displacements".into()))
+    }
 }
