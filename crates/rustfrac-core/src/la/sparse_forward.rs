@@ -394,6 +394,16 @@ impl SparseForward {
     }
 }
 
+/// The unit vectors e_c of R^n for c in `cols`, column-major (n x k): the right-hand sides of
+/// columns of an inverse.
+pub fn unit_vectors(n: usize, cols: &[usize]) -> Vec<f64> {
+    let mut x = vec![0.0; n * cols.len()];
+    for (j, &c) in cols.iter().enumerate() {
+        x[j * n + c] = 1.0;
+    }
+    x
+}
+
 impl SparseForward {
     /// Columns `cols` of A^-1 (column-major, n x k): the forward halves along the tree paths of
     /// the unit right-hand sides ([`SparseForward::solve_many`]: only the supernodes on the union
@@ -415,10 +425,7 @@ impl SparseForward {
             });
         }
         let SymbolicCholeskyRaw::Supernodal(sn) = chol.symbolic.raw() else {
-            let mut x = vec![0.0; n * k];
-            for (j, &c) in cols.iter().enumerate() {
-                x[j * n + c] = 1.0;
-            }
+            let mut x = unit_vectors(n, cols);
             chol.solve_in_place(&mut x)?;
             return Ok(x);
         };

@@ -19,7 +19,7 @@
 //! vanishing Schur pivot of the bordering, as before.
 
 use crate::error::{Error, Result};
-use crate::la::{Cholesky, CscMatrix, DenseLu, Lu, SparseForward};
+use crate::la::{unit_vectors, Cholesky, CscMatrix, DenseLu, Lu, SparseForward};
 use crate::pd::sla::engine::separated;
 
 /// The sparse factorisation of S_0.
@@ -104,7 +104,7 @@ impl Base {
             Self::Dense(lu) => lu.solve_in_place(x),
             Self::Sparse(f) => f.solve_in_place(x),
         };
-        r.map_err(|e| separated(format!("solve with the condensed PD matrix: {e}")))
+        r.map_err(solve_failed)
     }
 
     /// Columns `cols` of S_0^{-1} (column-major, n_P x k): by sparse forward solves for the
@@ -114,13 +114,10 @@ impl Base {
             if let SparseFactor::Cholesky(c, Some(tree)) = f.as_ref() {
                 return tree
                     .solve_unit_columns(c, cols, &mut tree.work())
-                    .map_err(|e| separated(format!("solve with the condensed PD matrix: {e}")));
+                    .map_err(solve_failed);
             }
         }
-        let mut x = vec![0.0; n * cols.len()];
-        for (j, &q) in cols.iter().enumerate() {
-            x[j * n + q] = 1.0;
-        }
+        let mut x = unit_vectors(n, cols);
         self.solve_in_place(&mut x)?;
         Ok(x)
     }
@@ -131,4 +128,9 @@ impl Base {
         self.solve_in_place(&mut x)?;
         Ok(x)
     }
+}
+
+/// A failed solve with S_0 is a separation.
+fn solve_failed(e: Error) -> Error {
+    separated(format!("solve with the condensed PD matrix: {e}"))
 }

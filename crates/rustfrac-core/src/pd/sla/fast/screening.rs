@@ -35,8 +35,8 @@ const BLOCKS_PER_CHUNK: usize = BOND_CHUNK / SCREEN_BLOCK;
 /// candidate of): covers the rounding of the two forms of the same inequality.
 const BLOCK_MARGIN: f64 = 1e-12;
 /// Relative slack of each bound's terms, above the round-off of the exact stretches and of the
-/// bounds' own accumulation (near 1e-14 of the terms; the single-precision coefficients of the
-/// column passes are bounded apart, [`stretch_bound`]).
+/// bounds' own accumulation (near 1e-14 of the terms; the kinds' coefficients of the column
+/// passes, whose two terms may cancel, are bounded apart: [`COEF_ROUNDING`]).
 const BOUND_SLACK: f64 = 1e-9;
 /// Relative margin of the cut below the tie window, for the round-off of the window's ends.
 const CUT_MARGIN: f64 = 1e-8;
@@ -74,7 +74,7 @@ pub(super) struct Screening {
     /// prescribed values); -inf once broken
     sv: Vec<f64>,
     /// a bound of |h_b|^2: the sum over the stored columns of the square of a bound of the
-    /// bond's |stretch| in each column's field ([`stretch_bound`])
+    /// bond's |stretch| in each column's field ([`add_run`])
     hn2: Vec<f64>,
     /// per block of [`SCREEN_BLOCK`] bonds: the largest s_b(v) (1 + slack) (an upper bound
     /// once a bond broke), the largest |h_b|^2 and the smallest critical-stretch scale (1
