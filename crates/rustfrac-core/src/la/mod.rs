@@ -36,4 +36,4 @@ pub use lu::Lu;
 pub use pattern::Pattern;
 pub use reduction::Reduction;
 pub use schur::InterfaceCholesky;
-pub use sparse_forward::{unit_vectors, ForwardWork, SparseColumn, SparseForward};
+pub use sparse_forward::{unit_vectors, written_zeros, ForwardWork, SparseColumn, SparseForward};

@@ -397,7 +397,7 @@ impl SparseForward {
 /// The unit vectors e_c of R^n for c in `cols`, column-major (n x k): the right-hand sides of
 /// columns of an inverse.
 pub fn unit_vectors(n: usize, cols: &[usize]) -> Vec<f64> {
-    let mut x = vec![0.0; n * cols.len()];
+    let mut x = written_zeros(n * cols.len());
     for (j, &c) in cols.iter().enumerate() {
         x[j * n + c] = 1.0;
     }
@@ -431,7 +431,8 @@ impl SparseForward {
         };
         let bs: Vec<Vec<(usize, f64)>> = cols.iter().map(|&c| vec![(c, 1.0)]).collect();
         let fw = self.solve_many(chol, &bs, work);
-        let mut v = vec![0.0; n * k];
+        // the backward solve's kernels read, then write every entry
+        let mut v = written_zeros(n * k);
         for (w, vj) in fw.iter().zip(v.chunks_mut(n.max(1))) {
             w.axpy_into(1.0, vj);
         }
@@ -448,16 +449,36 @@ impl SparseForward {
             );
             Ok(())
         })?;
-        let mut x = vec![0.0; n * k];
-        for (vj, xj) in v.chunks(n.max(1)).zip(x.chunks_mut(n.max(1))) {
+        // x = P^T D v column by column in place, through one column of scratch
+        let mut xj = vec![0.0; n];
+        for vj in v.chunks_mut(n.max(1)) {
             for ((xi, &kk), s) in xj.iter_mut().zip(&self.inv).zip(&chol.scale) {
                 *xi = vj[kk] * s;
             }
+            vj.copy_from_slice(&xj);
         }
-        super::checks::check_solution(&x)?;
-        Ok(x)
+        super::checks::check_solution(&v)?;
+        Ok(v)
     }
 }
+
+/// `len` zeros, each page written once, for a vector that is read before it is written (solved
+/// in place, accumulated into): a calloc'ed block's pages are mapped on first access, to the
+/// shared zero page when that access is a read, and the first write then faults again and
+/// flushes the other cores' TLBs.
+pub fn written_zeros(len: usize) -> Vec<f64> {
+    let mut v = vec![0.0; len];
+    for i in (0..len).step_by(PAGE_F64) {
+        v[i] = std::hint::black_box(0.0); // opaque: the store stays
+    }
+    if let Some(last) = v.last_mut() {
+        *last = std::hint::black_box(0.0); // the last page, if the stride stepped over it
+    }
+    v
+}
+
+/// f64 values in a 4 kB page.
+const PAGE_F64: usize = 512;
 
 #[cfg(test)]
 mod tests {
@@ -564,6 +585,15 @@ mod tests {
     /// vectors, on a supernodal factor (a PD-like family of radius 3 on 60 x 50, nested dissection) and a
     /// simplicial one; a
     /// column beyond the unknowns is refused.
+    #[test]
+    fn written_zeros_are_zeros_of_any_length() {
+        for len in [0, 1, PAGE_F64 - 1, PAGE_F64, PAGE_F64 + 1, 3 * PAGE_F64 + 7] {
+            let v = written_zeros(len);
+            assert_eq!(v.len(), len);
+            assert!(v.iter().all(|&x| x == 0.0));
+        }
+    }
+
     #[test]
     fn unit_columns_match_full_solves() {
         // every node coupled to its neighbours within distance 3, diagonally dominant

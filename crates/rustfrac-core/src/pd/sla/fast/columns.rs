@@ -24,8 +24,10 @@ const BUDGET_MAX_BYTES: f64 = 4.0e9;
 /// Kept columns of S_0^{-1}, invalidated at each factorisation.
 #[derive(Default)]
 pub(in crate::pd::sla) struct Columns {
-    /// column of each P unknown, if kept
-    col: Vec<Option<Box<[f64]>>>,
+    /// column of each P unknown, if kept: (batch, place in it)
+    col: Vec<Option<(usize, usize)>>,
+    /// the batches' columns as solved (column-major, n_P x batch size)
+    store: Vec<Vec<f64>>,
     kept: usize,
     /// most columns kept at once (from the memory budget; 0: not set yet)
     max_kept: usize,
@@ -38,6 +40,7 @@ impl Columns {
     /// Drops every kept column (the factor changed).
     pub(in crate::pd::sla) fn clear(&mut self) {
         self.col.clear();
+        self.store.clear();
         self.kept = 0;
     }
 
@@ -53,8 +56,8 @@ impl Columns {
     ) -> Result<Vec<f64>> {
         let n = xy.len();
         if self.col.len() != n {
+            self.clear();
             self.col = vec![None; n];
-            self.kept = 0;
         }
         if self.max_kept == 0 {
             let avail = crate::memory::available_bytes().unwrap_or(8.0e9);
@@ -69,11 +72,12 @@ impl Columns {
         if !missing.is_empty() {
             self.fetch(f, &missing, xy, radius)?;
         }
-        let mut w = vec![0.0; n];
+        let mut w = crate::la::written_zeros(n); // accumulated into
         for &(p, val) in a {
-            let c = self.col[p].as_deref().ok_or_else(|| Error::Internal {
+            let (b, j) = self.col[p].ok_or_else(|| Error::Internal {
                 detail: format!("column {p} of the condensed inverse not fetched"),
             })?;
+            let c = &self.store[b][j * n..(j + 1) * n];
             for (wi, &s) in w.iter_mut().zip(c) {
                 *wi += s * val;
             }
@@ -119,8 +123,9 @@ impl Columns {
         let k = batch.len();
         let rhs = f.unit_columns(&batch, n)?;
         for (j, &q) in batch.iter().enumerate() {
-            self.col[q] = Some(rhs[j * n..(j + 1) * n].to_vec().into_boxed_slice());
+            self.col[q] = Some((self.store.len(), j));
         }
+        self.store.push(rhs);
         self.kept += k;
         self.batches += 1;
         self.computed += k;
