@@ -7,8 +7,8 @@
 //! * The material part of a cut element is a list of convex polygons. Straight-edged holes
 //!   ([`Shape::Rect`], [`Shape::Polygon`]: notches are rectangles poking out of the plate) are
 //!   subtracted exactly: the hole is split into convex parts (a polygon by ear clipping,
-//!   [`crate::geometry::triangulate`]) and each part is subtracted edge by edge
-//!   ([`crate::geometry::subtract_convex`]).
+//!   `crate::geometry::triangulate`) and each part is subtracted edge by edge
+//!   (`crate::geometry::subtract_convex`).
 //! * Circles are refined: the element is split by a quadtree, a cell the circle misses is kept,
 //!   one inside it dropped, one it cuts split again down to leaves of size at most
 //!   r / [`CIRCLE_LEAVES_PER_RADIUS`] (depth at most [`MAX_CIRCLE_DEPTH`]); a cut leaf keeps its
@@ -106,7 +106,7 @@ pub struct FictitiousDomain {
     /// nodes removed (sorted): no material, or less than the threshold, in their support
     pub removed_nodes: Vec<usize>,
     removed: Vec<bool>,
-    /// holes and notches narrower than [`MIN_ELEMENTS_ACROSS`] elements ([`narrow_holes`]):
+    /// holes and notches narrower than [`MIN_ELEMENTS_ACROSS`] elements (`narrow_holes`):
     /// their faces are tied, so the result is stiffer than the scene's
     pub warnings: Vec<Warning>,
 }

@@ -38,8 +38,8 @@ impl Bond {
 /// Memory of one stored bond in bytes.
 pub const BYTES_PER_BOND: usize = std::mem::size_of::<Bond>();
 
-/// A tensor grid of (nx + 1) x (ny + 1) nodes, node (i, j) = j (nx + 1) + i, at (xs[i], ys[j]).
-/// Uniform ([`Grid::uniform`]): xs[i] = x0 + i dx. Graded ([`Grid::graded`], the FEM part of a
+/// A tensor grid of (nx + 1) x (ny + 1) nodes, node (i, j) = j (nx + 1) + i, at (`xs[i]`, `ys[j]`).
+/// Uniform ([`Grid::uniform`]): `xs[i]` = x0 + i dx. Graded ([`Grid::graded`], the FEM part of a
 /// CCM-PD model, `pd::splice`): the lines are spaced `dx` wherever PD nodes and their families
 /// lie and grow away from them; everything that is only about the PD part (bonds, volumes, the
 /// family stencil) keeps the uniform spacing `dx`.

@@ -25,7 +25,7 @@ use std::path::PathBuf;
 /// The checked values of one section, every key present (defaults filled in).
 pub type Section = BTreeMap<&'static str, Val>;
 
-/// The scene name of crack `k`: "crack" for the first, "crack[k]" for the others.
+/// The scene name of crack `k`: "crack" for the first, "crack\[k\]" for the others.
 pub fn crack_name(k: usize) -> String {
     if k == 0 {
         "crack".into()

@@ -21,7 +21,7 @@ pub fn williams_displacement(mat: &Elastic, k1: f64, k2: f64, x: [f64; 2]) -> [f
     ]
 }
 
-/// Gradient g[i][j] = d u_i / d x_j of the Williams displacement (tip frame).
+/// Gradient `g[i][j]` = d u_i / d x_j of the Williams displacement (tip frame).
 pub fn williams_gradient(mat: &Elastic, k1: f64, k2: f64, x: [f64; 2]) -> [[f64; 2]; 2] {
     let (r, t) = polar(x);
     let kap = mat.kappa();

@@ -6,8 +6,8 @@
 //!
 //! The level set phi(x) is the signed distance to the polyline; its sign is (x - x*) . n (eq. 1)
 //! with x* the closest point and n the unit normal obtained by turning the segment direction (from
-//! points[0] towards points[n]) by +90 degrees (the mean of the two normals at an interior vertex;
-//! beyond an end the end segment's line decides, i.e. the Heaviside function is that of the crack
+//! `points[0]` towards `points[n]`) by +90 degrees (the mean of the two normals at an interior
+//! vertex; beyond an end the end segment's line decides, i.e. the Heaviside function is that of the crack
 //! extended straight). H(x) = +1 if phi > snap, else -1 (eq. 1, with snap = [`SNAP_REL`] x the
 //! smallest element spacing): a point on the crack, in particular a node of a crack running along
 //! a mesh line or through nodes, takes -1 whatever the rounding of its coordinates, so every such
@@ -55,7 +55,7 @@ impl Crack {
         Self::named(points, mesh, "crack")
     }
 
-    /// [`Crack::new`] with errors naming the parameter `param` (e.g. "crack[1]").
+    /// [`Crack::new`] with errors naming the parameter `param` (e.g. "crack\[1\]").
     pub fn named(points: Vec<[f64; 2]>, mesh: &Mesh, param: &str) -> Result<Self> {
         Self::named_in(points, mesh, param, None)
     }

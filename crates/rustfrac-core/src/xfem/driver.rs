@@ -73,7 +73,7 @@ pub struct XfemResult {
     pub responses: SceneResponses,
     /// growth runs: the responses at every point of `history` (scaled by its load factor)
     pub response_history: Vec<SceneResponses>,
-    /// growth history: history[0] is the unloaded origin (lambda = 0, all loads zero, initial
+    /// growth history: `history[0]` is the unloaded origin (lambda = 0, all loads zero, initial
     /// crack), so the initial loading branch from (0, 0) is part of the curve; then one critical
     /// state per crack length. Empty without growth.
     pub history: Vec<GrowthStep>,
@@ -103,8 +103,8 @@ pub struct XfemResult {
     /// condition estimate of the initial crack's solve (see [`ConditionEstimate`]); None when
     /// not computed ([`XfemMethod::condition`] false)
     pub condition: Option<ConditionEstimate>,
-    /// numerical and accuracy warnings (a condition estimate above
-    /// [`crate::la::COND_WARN`], volumetric locking near nu = 0.5, [`Elastic::locking_warning`])
+    /// numerical and accuracy warnings (a condition estimate above [`crate::la::COND_WARN`],
+    /// volumetric locking near nu = 0.5, [`crate::fe::material::Elastic::locking_warning`])
     pub warnings: Vec<Warning>,
 }
 

@@ -273,7 +273,7 @@ impl XfemModel {
     }
 
     /// Builds the model of a plate with several cracks (one polyline each; module documentation,
-    /// "Several cracks"). Errors name a crack "cracks[k]" (or "crack" when there is only one);
+    /// "Several cracks"). Errors name a crack "cracks\[k\]" (or "crack" when there is only one);
     /// cracks that cross or touch, and tips of different cracks in one element, are refused
     /// with parameter "cracks".
     pub fn new_multi(

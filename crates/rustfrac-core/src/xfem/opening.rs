@@ -108,7 +108,7 @@ impl XfemModel {
         self.crack_opening(u, 0)
     }
 
-    /// The opening of crack `c` at the mouth of an edge crack (points[0]; with holes, where the
+    /// The opening of crack `c` at the mouth of an edge crack (`points[0]`; with holes, where the
     /// crack enters the material), or at the middle of an interior crack (arc-length midpoint).
     pub fn crack_opening(&self, u: &[f64], c: usize) -> Result<f64> {
         let Some(crack) = self.cracks.get(c) else {

@@ -122,9 +122,9 @@ impl CostEstimate {
     }
 
     /// Bytes the solver of form `kind` keeps: the dense form its LU (n x n), N update vectors and
-    /// the kept columns of S^{-1} (about [`COLUMNS_PER_STEP`] N, at most n), the sparse
+    /// the kept columns of S^{-1} (about `COLUMNS_PER_STEP` N, at most n), the sparse
     /// form its factor (values and indices, 12 bytes a value), N update vectors and the kept
-    /// columns of S^{-1} (about [`COLUMNS_PER_STEP`] N).
+    /// columns of S^{-1} (about `COLUMNS_PER_STEP` N).
     pub fn solver_bytes(&self, kind: EngineKind) -> f64 {
         let n = self.n_p as f64;
         match kind {
