@@ -280,7 +280,7 @@ fn engine_for<'a>(
         (broken, springs0),
         part?,
         c.interval,
-        (c.kind, c.analysed),
+        (c.kind, c.analysed, c.first_s),
         lead,
     )?;
     let solver = format!("{}; {}; {}", c.name, c.why, c.est.describe());
@@ -293,6 +293,8 @@ struct Choice {
     kind: SchurKind,
     /// the sparse S's symbolic analysis, to reuse (sparse form)
     analysed: Option<SparseFactor>,
+    /// pure PD's S itself (sparse form), for the first condensation
+    first_s: Option<CscMatrix>,
     /// the re-condensation interval
     interval: usize,
     /// the engine's name
@@ -339,6 +341,7 @@ fn cost_choice(
         EngineKind::Dense => Choice {
             kind: SchurKind::Dense,
             analysed: None,
+            first_s: None,
             interval: sla.refactor_every,
             name: "fast (FEM condensed by Cholesky, dense PD system + Sherman-Morrison-Woodbury)",
             why,
@@ -347,6 +350,7 @@ fn cost_choice(
         EngineKind::Sparse => Choice {
             kind: SchurKind::Sparse,
             analysed,
+            first_s: symmetric.then_some(pattern),
             interval: est.sparse_interval,
             name: if symmetric {
                 "fast, sparse (PD system by sparse Cholesky + Sherman-Morrison-Woodbury)"

@@ -115,7 +115,7 @@ impl<'a> Fast<'a> {
         (broken, springs): (&[bool], &[Spring]),
         part: FemPart,
         refactor_every: usize,
-        (kind, analysed): (SchurKind, Option<SparseFactor>),
+        (kind, analysed, first_s): (SchurKind, Option<SparseFactor>, Option<CscMatrix>),
         lead: Option<LeadingLu>,
     ) -> Result<Self> {
         let t0 = Instant::now();
@@ -175,6 +175,7 @@ impl<'a> Fast<'a> {
             wh: fun.wh,
             sig_bonds: Vec::new(),
             k0: Arc::clone(&k),
+            first_s,
         };
         me.p_xy = dof_xy(model, &me.p_dofs);
         let pc_dofs: Vec<usize> = me.pc.iter().map(|&p| me.p_dofs[p]).collect();
@@ -232,14 +233,18 @@ impl<'a> Fast<'a> {
             ring: &self.ring,
             ring_pos: &self.ring_pos,
         };
-        let s = schur_sparse(
-            k,
-            &self.cls,
-            &self.idx,
-            &self.p_dofs,
-            &cp,
-            Some(&self.z_ring),
-        );
+        // pure PD's S (= K_PP) of the first condensation comes built from the cost model
+        let first = self.first_s.take().filter(|_| self.n_fact == 0);
+        let s = first.unwrap_or_else(|| {
+            schur_sparse(
+                k,
+                &self.cls,
+                &self.idx,
+                &self.p_dofs,
+                &cp,
+                Some(&self.z_ring),
+            )
+        });
         timing("fast: sparse S = K_PP - K_PF Z built", t0);
         if !matches!(self.base, Base::Sparse(_)) {
             let symmetric = self.chol.is_none();
@@ -798,9 +803,10 @@ fn schur_sparse(
     }
 }
 
-/// The pattern of the sparse S (values 0; [`schur_sparse`]), whether it is symmetric (pure PD:
-/// no free FEM dofs) and the positions of its unknowns, for the engine's cost estimate and the
-/// symbolic analysis.
+/// The pattern of the sparse S ([`schur_sparse`]), whether it is symmetric (pure PD: no free FEM
+/// dofs) and the positions of its unknowns, for the engine's cost estimate and the symbolic
+/// analysis. Values 0, except for pure PD: there S = K_PP does not depend on the FEM part, so it is
+/// built whole here and the first condensation takes it ([`Fast::new`]).
 pub(in crate::pd::sla) fn schur_pattern(
     model: &SpliceModel,
     k: &CscMatrix,
@@ -813,7 +819,15 @@ pub(in crate::pd::sla) fn schur_pattern(
         ring: &cp.ring,
         ring_pos: &cp.ring_pos,
     };
-    let s = schur_sparse(k, &dc.cls, &dc.idx, &dc.p_dofs, &cr, None);
+    let pure_pd = dc.nf == 0;
+    let s = schur_sparse(
+        k,
+        &dc.cls,
+        &dc.idx,
+        &dc.p_dofs,
+        &cr,
+        pure_pd.then_some(&[][..]),
+    );
     let xy = dof_xy(model, &dc.p_dofs);
-    (s, dc.nf == 0, xy)
+    (s, pure_pd, xy)
 }

@@ -110,6 +110,8 @@ pub(super) struct Fast<'a> {
     u_full: Vec<f64>,
     /// the matrix at the start (its FEM rows never change)
     k0: Arc<CscMatrix>,
+    /// pure PD's S for the first condensation, built by the cost model (`schur_pattern`)
+    first_s: Option<CscMatrix>,
     /// the response's coefficient on each row of K u (sigma22: 1 on the top edge's x2 rows)
     resp_coef: Vec<f64>,
     wh: f64,
