@@ -581,10 +581,7 @@ mod tests {
         }
     }
 
-    /// Columns of A^-1 by sparse forward + blocked backward equal the whole solves of unit
-    /// vectors, on a supernodal factor (a PD-like family of radius 3 on 60 x 50, nested dissection) and a
-    /// simplicial one; a
-    /// column beyond the unknowns is refused.
+    /// `written_zeros` gives `len` zeros, whatever `len` is against the page's values.
     #[test]
     fn written_zeros_are_zeros_of_any_length() {
         for len in [0, 1, PAGE_F64 - 1, PAGE_F64, PAGE_F64 + 1, 3 * PAGE_F64 + 7] {
@@ -594,6 +591,9 @@ mod tests {
         }
     }
 
+    /// Columns of A^-1 by sparse forward + blocked backward equal the whole solves of unit
+    /// vectors, on a supernodal factor (a PD-like family of radius 3 on 60 x 50, nested
+    /// dissection) and a simplicial one; a column beyond the unknowns is refused.
     #[test]
     fn unit_columns_match_full_solves() {
         // every node coupled to its neighbours within distance 3, diagonally dominant
