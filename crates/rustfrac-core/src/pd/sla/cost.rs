@@ -12,9 +12,9 @@
 //!   per step [`COLUMNS_PER_STEP`] columns of S^{-1} (`fast/columns.rs`), 4 nnz(L) flops each in
 //!   multi-column solves at [`BATCH_SOLVE_FLOPS`] (the sparse Cholesky's columns now cost about
 //!   half of it, their forward halves running along the elimination-tree paths only: the
-//!   estimate is kept, conservative for pure PD, whose choice it does not change). nnz(L) comes from the
-//!   symbolic Cholesky analysis of the pattern of S (for the non-symmetric CCM-PD S, of its
-//!   symmetrised pattern: LU stores L and U, so twice that). The interval minimising
+//!   estimate is kept, conservative for pure PD, whose choice it does not change). nnz(L) comes
+//!   from the symbolic Cholesky analysis of the pattern of S (for the non-symmetric CCM-PD S, of
+//!   its symmetrised pattern: LU stores L and U, so twice that). The interval minimising
 //!   t_fact / N + t_solve + N n / [`UPDATE_FLOPS`] is N = sqrt(t_fact [`UPDATE_FLOPS`] / n).
 //!
 //! The estimates are for [`HORIZON_STEPS`] steps whatever the run's `sla_steps`, so a resumed run

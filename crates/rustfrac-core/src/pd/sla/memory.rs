@@ -22,7 +22,7 @@ pub fn peak_memory_bytes() -> Option<u64> {
 /// of the heap above that gave the pages back, and the next step's vectors of the unknowns (about
 /// 0.8 MB each on the paper's grid) took them again, page fault by page fault. The trim threshold
 /// is set to [`TRIM_THRESHOLD`]: at most that much free heap is kept, so the memory still stays
-/// flat (benches/RESULTS.md, "The allocator's trim threshold").
+/// flat (benches/RESULTS.md, "Page faults").
 pub(super) fn keep_large_blocks_mmapped() {
     #[cfg(all(target_os = "linux", target_env = "gnu"))]
     {
@@ -42,5 +42,6 @@ pub(super) fn keep_large_blocks_mmapped() {
 
 /// Blocks at least this large (bytes) are mmapped ([`keep_large_blocks_mmapped`]).
 const MMAP_THRESHOLD: i32 = 4 << 20;
-/// Free heap (bytes) kept at the top of a heap before it is given back ([`keep_large_blocks_mmapped`]).
+/// Free heap (bytes) kept at the top of a heap before it is given back
+/// ([`keep_large_blocks_mmapped`]).
 const TRIM_THRESHOLD: i32 = 64 << 20;

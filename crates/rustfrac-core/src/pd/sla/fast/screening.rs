@@ -453,6 +453,9 @@ impl Fast<'_> {
     /// in index order. A block is read bond by bond only when its own bound (largest s_b(v),
     /// largest |h_b|, smallest scale) reaches the cut: otherwise none of its bonds can.
     fn candidates(&self, cut: f64, scale: Option<&[f64]>) -> Vec<usize> {
+        // the block test takes the block's smallest scale: the smallest threshold cut * scale
+        // only while the cut is not negative (it is lmax / (1 + tol) or 0)
+        debug_assert!(cut >= 0.0, "a negative cut {cut}");
         let s = &self.scr;
         let yn = s.ynorm * (1.0 + BOUND_SLACK);
         let yn2 = yn * yn;
