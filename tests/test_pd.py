@@ -265,9 +265,29 @@ def test_traction_grips() -> None:
 
 
 def test_stop_at_crack_length() -> None:
-    r = rf.run(coarse(400, stop_crack_length=1.5))
+    calls: list[tuple[int, int, str]] = []
+
+    def progress(done: int, total: int, message: str) -> None:
+        calls.append((done, total, message))
+        if len(calls) <= 6:
+            time.sleep(0.11)  # past the 0.1 s throttle: the next step is reported too
+
+    r = rf.run(coarse(400, stop_crack_length=1.5), progress=progress)
+    h = r.history
     assert r.meta["status"] == "crack_length_reached"
-    assert r.history["crack_length"][-1] >= 1.5 and r.history["crack_length"][-2] < 1.5
+    assert h["crack_length"][-1] >= 1.5 and h["crack_length"][-2] < 1.5
+    # the reports count the crack's advance to the stop (thousandths), not the 400 steps it
+    # does not reach: each step's report is the larger of its crack and step fractions
+    assert all(c[1] == 1000 for c in calls) and calls[-1][0] == 1000
+    steps = [(d, m) for d, _, m in calls if m.startswith("sla: step ")]
+    assert len(steps) >= 5 and len(h["step"]) - 1 < 400
+    a0 = h["crack_length"][0]
+    for done, msg in steps:
+        k = int(msg.split()[2].rstrip(","))
+        assert f"crack length {h['crack_length'][k]:.3f} of 1.500" in msg
+        frac = max(k / 400, (h["crack_length"][k] - a0) / (1.5 - a0))
+        assert done == math.floor(1000 * frac + 0.5)  # rounded half away from zero
+    assert [d for d, _ in steps] == sorted(d for d, _ in steps)
 
 
 def test_separated_strip_is_a_status_without_nan(tmp_path: Path) -> None:

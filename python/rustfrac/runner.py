@@ -36,7 +36,10 @@ def run(
     Args:
         scene: a :class:`Scene`, a scene dict, or the path of a scene TOML file.
         progress: optional callable ``progress(done, total, message)``; the native solver calls it
-            (holding the GIL only then) at most every ~0.1 s and once at the end. Raising from it
+            (holding the GIL only then) at most every ~0.1 s and once at the end. The SLA counts
+            steps of ``pd.sla_steps``; with ``pd.stop_crack_length`` (e.g. the adaptive run to
+            0.7 W) thousandths of the crack's advance to it (or of the steps, if further), so the
+            fraction and the time left follow the crack. Raising from it
             (e.g. KeyboardInterrupt) stops the run and re-raises. Ctrl-C stops a long run with
             or without a callback: the ``KeyboardInterrupt`` carries the finished part as
             ``.result`` (XFEM growth and the SLA: the steps so far, status "cancelled"). ``True``: a ``tqdm.auto`` bar

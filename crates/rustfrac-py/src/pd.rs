@@ -16,17 +16,28 @@ use numpy::PyArray1;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use rustfrac_core::error::Error as CoreError;
-use rustfrac_core::pd::sla::{self, CcmPdResult, SlaStep};
+use rustfrac_core::pd::sla::{self, CcmPdResult, SlaProgress, SlaStep};
 use rustfrac_core::problem::{Method, Problem};
 use std::time::Instant;
+
+/// Progress units of a run with a crack-length stop (`pd.stop_crack_length`): the total its
+/// reports count the crack's advance in.
+const CRACK_UNITS: usize = 1000;
 
 /// Runs the PD or CCM-PD model of `p` with its SLA and shapes the result.
 pub fn run<'py>(py: Python<'py>, p: &Problem, prog: &Progress) -> PyResult<Bound<'py, PyDict>> {
     let name = p.method.name();
-    let max_steps = p.pd().expect("a PD problem").sla.max_steps;
+    let sla_params = &p.pd().expect("a PD problem").sla;
+    let (max_steps, stop) = (sla_params.max_steps, sla_params.stop_crack_length);
     let t0 = Instant::now();
     let r = detached(py, name, || {
-        let total = max_steps.max(1);
+        // with a crack-length stop the run ends at that length, usually long before max_steps:
+        // the bar counts the crack's advance then (SlaProgress::fraction), in CRACK_UNITS
+        let total = if stop.is_some() {
+            CRACK_UNITS
+        } else {
+            max_steps.max(1)
+        };
         if !prog.report(0, total, &format!("{name}: building the model"), true) {
             return Err(CoreError::Internal {
                 detail: "cancelled".into(),
@@ -34,10 +45,24 @@ pub fn run<'py>(py: Python<'py>, p: &Problem, prog: &Progress) -> PyResult<Bound
         }
         // a raising callback stops the run (status "cancelled", a checkpoint is written when
         // configured); its exception is re-raised below
-        let report = |step: usize, steps: usize| {
-            prog.report(step, steps, &format!("sla: step {step}/{steps}"), false)
+        let report = |s: &SlaProgress| match s.stop_crack_length {
+            None => prog.report(
+                s.step,
+                total,
+                &format!("sla: step {}/{total}", s.step),
+                false,
+            ),
+            Some(stop) => prog.report(
+                (s.fraction() * CRACK_UNITS as f64).round() as usize,
+                total,
+                &format!(
+                    "sla: step {}, crack length {:.3} of {stop:.3}",
+                    s.step, s.crack_length
+                ),
+                false,
+            ),
         };
-        let r = sla::run(p, &report)?;
+        let r = sla::run_reporting(p, &report)?;
         let msg = format!("sla: {} after {} steps", r.status, r.history.len());
         prog.report(total, total, &msg, true);
         Ok(r)

@@ -20,6 +20,7 @@ use super::fast::{dense_lead, schur_pattern, Fast, FemPart, SchurKind, SparseFac
 use super::grounding::{Grounding, DEBRIS_LIMIT};
 use super::memory::{keep_large_blocks_mmapped, peak_memory_bytes};
 use super::oracle::Oracle;
+use super::progress::SlaProgress;
 use super::result::{CcmPdResult, RegionSwitch, SlaStatus, SlaStep};
 use crate::error::{Error, Result};
 use crate::la::{Cholesky, CscMatrix};
@@ -35,6 +36,15 @@ use std::time::Instant;
 /// `progress(step, max_steps)` is called after every step; returning `false` stops the run
 /// (status [`SlaStatus::Cancelled`], a checkpoint is written first when `checkpoint_path` is set).
 pub fn run(p: &Problem, progress: &(dyn Fn(usize, usize) -> bool + Sync)) -> Result<CcmPdResult> {
+    run_reporting(p, &|s: &SlaProgress| progress(s.step, s.max_steps))
+}
+
+/// [`run`] with a callback that reads the whole [`SlaProgress`] after every step (the crack's
+/// advance towards `pd.stop_crack_length` besides the step).
+pub fn run_reporting(
+    p: &Problem,
+    progress: &(dyn Fn(&SlaProgress) -> bool + Sync),
+) -> Result<CcmPdResult> {
     validate::problem(p)?;
     validate::reference_load(p)?;
     keep_large_blocks_mmapped();
@@ -51,13 +61,15 @@ pub fn run_model(
 ) -> Result<CcmPdResult> {
     validate::reference_load(&model.problem)?;
     keep_large_blocks_mmapped();
-    run_from(model, Instant::now(), progress)
+    run_from(model, Instant::now(), &|s: &SlaProgress| {
+        progress(s.step, s.max_steps)
+    })
 }
 
 fn run_from(
     model0: &SpliceModel,
     t0: Instant,
-    progress: &(dyn Fn(usize, usize) -> bool + Sync),
+    progress: &(dyn Fn(&SlaProgress) -> bool + Sync),
 ) -> Result<CcmPdResult> {
     let sla = &model0.pd_method().sla;
     let adaptive = model0.pd_method().adaptive;
@@ -610,7 +622,7 @@ impl RunState {
         engine: &mut dyn Engine,
         fp: u64,
         sigma0: f64,
-        progress: &(dyn Fn(usize, usize) -> bool + Sync),
+        progress: &(dyn Fn(&SlaProgress) -> bool + Sync),
     ) -> Result<Option<Vec<[f64; 2]>>> {
         let s0 = model.pd.s0;
         let load = model.problem.boundary.plate_load();
@@ -618,7 +630,8 @@ impl RunState {
         let mut lam = vec![f64::INFINITY; model.bonds.len()];
         let first_step = self.history.len() + 1;
         let mut crack_len = crack_length(model, &self.broken);
-        let (_, extent) = crack_extent(model);
+        // a0: the pre-crack's length, where the crack length starts
+        let (a0, extent) = crack_extent(model);
         for step in first_step..=max_steps {
             if self.status != SlaStatus::Completed {
                 break;
@@ -680,7 +693,13 @@ impl RunState {
             if every > 0 && step % every == 0 {
                 self.checkpoint(sla, fp)?;
             }
-            let go_on = progress(step, max_steps);
+            let go_on = progress(&SlaProgress {
+                step,
+                max_steps,
+                crack_length: cl,
+                initial_crack_length: a0,
+                stop_crack_length: sla.stop_crack_length,
+            });
             if sep {
                 self.status = SlaStatus::Separated;
                 break;

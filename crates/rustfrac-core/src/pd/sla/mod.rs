@@ -27,8 +27,9 @@
 //! broken-bond sequence and the history are written; `resume_from` replays them and continues, bit
 //! for bit the same as an uninterrupted run.
 //!
-//! Entry point: [`run`]`(&problem, &|step, max_steps| true)` for a [`crate::problem::Problem`]
-//! of method "pd" or "ccm_pd" (start from `Problem::paper("ccm_pd")` and change what you need:
+//! Entry point: [`run`]`(&problem, &|step, max_steps| true)` (or [`run_reporting`], whose
+//! callback reads an [`SlaProgress`]: the crack's advance towards a crack-length stop) for a
+//! [`crate::problem::Problem`] of method "pd" or "ccm_pd" (start from `Problem::paper("ccm_pd")` and change what you need:
 //! `p.pd_mut().sla.max_steps = 100`; return `false` from the callback to stop: status
 //! [`SlaStatus::Cancelled`]), then read [`CcmPdResult`]. Every rule of the problem is checked
 //! first ([`crate::problem::validate`]; [`crate::Error::InvalidInput`] names the scene key and
@@ -49,14 +50,16 @@ mod grounding;
 mod memory;
 mod oracle;
 mod params;
+mod progress;
 mod result;
 
 pub use cost::{factor_nnz_guess, CostEstimate, EngineKind, HORIZON_STEPS};
-pub use driver::{run, run_model};
+pub use driver::{run, run_model, run_reporting};
 #[doc(hidden)]
 pub use fast::force_screening;
 use fast::SCREEN_MIN_UNKNOWNS;
 pub use grounding::DEBRIS_LIMIT;
 pub use memory::peak_memory_bytes;
 pub use params::auto_refactor_every;
+pub use progress::SlaProgress;
 pub use result::{CcmPdResult, RegionSwitch, SlaStatus, SlaStep};
