@@ -868,7 +868,12 @@ class _Job:
                 a.set_xlim(-0.03 * w, 1.03 * w)
                 a.set_ylim(-0.03 * hgt, 1.03 * hgt)
         ax.set_title(p.source.name or "scene", fontsize=10)
-        zx.set_title("PD rectangle", fontsize=10)
+        zx.set_title(
+            f"adaptive PD region ({len(boxes)} rectangle{'s' if len(boxes) != 1 else ''})"
+            if p.adaptive
+            else "PD rectangle",
+            fontsize=10,
+        )
         fig.legend(*zx.get_legend_handles_labels(), loc="outside lower center", ncol=4, fontsize=7)
         st = s.get("path", {})
         if ridge is not None and ridge.covered.any():
