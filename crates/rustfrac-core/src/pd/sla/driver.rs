@@ -361,7 +361,13 @@ fn cost_choice(
         },
         EngineKind::Sparse => Choice {
             kind: SchurKind::Sparse,
-            analysed,
+            // the LU's symbolic analysis of the CCM-PD S (its pattern is the one the engine
+            // builds): made here, on the cost model's thread beside the FEM part, instead of after
+            // it on the main thread
+            analysed: match analysed {
+                Some(a) => Some(a),
+                None => Some(SparseFactor::analyze(&pattern, false, &xy)?),
+            },
             first_s: symmetric.then_some(pattern),
             interval: est.sparse_interval,
             name: if symmetric {
