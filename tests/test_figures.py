@@ -67,3 +67,19 @@ def test_ink_outside_the_canvas_is_kept(tmp_path: Path) -> None:
     out = figures.save_figure(fig, tmp_path / "f.png", dpi=100)
     # savefig's own tight box: wider than the 300-pixel canvas, with the text in it
     assert Image.open(out).size[0] > 300 + 100
+
+
+def test_fig7_axis_ends_at_x_max_and_readings_are_points() -> None:
+    c = np.linspace(0.0, 0.05, 50)
+    back_and_forth = (np.array([0.02, 0.018, 0.021, 0.019]), np.array([0.1, 0.0, 0.12, 0.05]))
+    curves = [("computed", c, 600 * c, {}), ("reference", 2 * c, 300 * c, {"ls": "--"})]
+    # the readings of rustfrac.agreement.compare, in its order
+    panel = {k: back_and_forth for k in ("peaks", "lower_envelope", "running_mean")}
+    whole = figures.plot_fig7(curves, agreement=panel)
+    assert whole.axes[0].get_xlim()[1] >= 0.1  # every curve whole by default
+    cut = figures.plot_fig7(curves, agreement=panel, x_max=0.054)
+    assert cut.axes[0].get_xlim() == pytest.approx((0.0, 0.054))
+    # a reading along the SLA steps goes back and forth in CMOD: points, no zigzag line
+    lines = cut.axes[1].get_lines()[:3]
+    assert [ln.get_linestyle() for ln in lines] == ["None"] * 3
+    assert [ln.get_marker() for ln in lines] == ["^", "v", "."]

@@ -429,6 +429,10 @@ class _Job:
                     {"lw": 0.4, "alpha": 0.7, "marker": ".", "ms": 2.5, "color": "C1"},
                 )
             )
+        # the CMOD axis ends a little past the computed curves: the handbook's traction curve
+        # reaches about twice their CMOD at a = 0.7 W and would squeeze them into half the plot
+        computed = [np.max(c[1]) for c in curves if len(c[1])]
+        x_max = 1.08 * float(max(computed)) if computed else None
         curves.append(
             ("LEFM handbook (long strip, traction)", hb[0], hb[1], {"ls": "--", "color": "0.4"})
         )
@@ -446,6 +450,7 @@ class _Job:
                             ("paper, initial (XFEM)", PAPER["cmod_xfem"], PAPER["sigma22_xfem"])
                         ],
                         agreement=panel,
+                        x_max=x_max,
                     ),
                     f,
                 ),

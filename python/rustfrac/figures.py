@@ -96,19 +96,23 @@ def plot_fig7(
     title: str = "",
     published: Sequence[tuple[str, float, float]] = (),
     agreement: Mapping[str, tuple[np.ndarray, np.ndarray]] | None = None,
+    x_max: float | None = None,
 ) -> Figure:
     """CMOD (x) against sigma22 (y) for each curve; ``published`` marks single (label, cmod,
     sigma22) points such as the paper's initial values. ``agreement`` (reading -> (cmod,
     relative difference), :func:`rustfrac.agreement.compare`'s ``curves``) adds a panel below:
-    the PD readings against the XFEM curve at the same CMOD, in percent."""
+    the PD readings against the XFEM curve at the same CMOD, in percent; each reading is drawn
+    as points (a reading along the SLA steps goes back and forth in CMOD, so a line through them
+    would zigzag). ``x_max``: the right end of the CMOD axis (None: every curve whole), e.g. to
+    let a reference curve run beyond the computed ones."""
     fig = Figure(figsize=(7.0, 7.0 if agreement else 5.0))
     if agreement:
         ax, bx = fig.subplots(2, 1, sharex=True, gridspec_kw={"height_ratios": [3, 1.3]})
         for (name, (c, rel)), style in zip(
-            agreement.items(), ({"marker": "^"}, {"marker": "v"}, {"lw": 1.2})
+            agreement.items(),
+            ({"marker": "^", "ms": 3}, {"marker": "v", "ms": 3}, {"marker": ".", "ms": 2}),
         ):
-            ls = {"ls": "none", "ms": 3} if "marker" in style else {}
-            bx.plot(c, 100 * np.asarray(rel), label=name.replace("_", " "), **style, **ls)
+            bx.plot(c, 100 * np.asarray(rel), label=name.replace("_", " "), ls="none", **style)
         bx.axhline(0.0, color="0.4", lw=0.6)
         bx.set_xlabel("CMOD [mm]")
         bx.set_ylabel("CCM-PD / XFEM - 1 [%]", fontsize=8)
@@ -124,7 +128,7 @@ def plot_fig7(
         ax.set_xlabel("CMOD [mm]")
     # plain text, not mathtext: the mathtext parser costs 0.13 s at its first use
     ax.set_ylabel("σ₂₂ [MPa]")
-    ax.set_xlim(left=0)
+    ax.set_xlim(left=0, right=x_max)
     ax.set_ylim(bottom=0)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
