@@ -44,8 +44,10 @@ pub(super) fn faer_ref_values<'a>(
     SparseColMatRef::new(sym, val)
 }
 
-/// The matrix of a numeric factorisation: square, of the analysed size `n`, finite values.
-pub(super) fn check_factor_input(a: &CscMatrix, n: usize) -> Result<()> {
+/// The matrix of a numeric factorisation: square, of the analysed size `n` and pattern
+/// (`pattern`: its [`pattern_fingerprint`] at the analysis), finite values. A factor of another
+/// pattern than the analysed one would be wrong without any error of faer's.
+pub(super) fn check_factor_input(a: &CscMatrix, n: usize, pattern: u64) -> Result<()> {
     check_square(a)?;
     if a.nrows != n {
         return Err(Error::SizeMismatch {
@@ -54,7 +56,26 @@ pub(super) fn check_factor_input(a: &CscMatrix, n: usize) -> Result<()> {
             got: a.nrows,
         });
     }
+    if pattern_fingerprint(a) != pattern {
+        return Err(Error::Internal {
+            detail: "numeric factorisation of a pattern other than the analysed one".into(),
+        });
+    }
     check_values(a)
+}
+
+/// A hash of the pattern of `a` (its size, column pointers and row indices), kept by a symbolic
+/// analysis so that each numeric factorisation can check that it gets the analysed pattern:
+/// O(nnz), a small part of any factorisation.
+pub(super) fn pattern_fingerprint(a: &CscMatrix) -> u64 {
+    let mix = |h: u64, v: usize| {
+        (h ^ v as u64)
+            .wrapping_mul(0x9E37_79B9_7F4A_7C15)
+            .rotate_left(29)
+    };
+    let h = mix(mix(0x243F_6A88_85A3_08D3, a.nrows), a.ncols);
+    let h = a.col_ptr.iter().fold(h, |h, &v| mix(h, v));
+    a.row_idx.iter().fold(h, |h, &v| mix(h, v))
 }
 
 pub(super) fn check_values(a: &CscMatrix) -> Result<()> {

@@ -15,7 +15,8 @@
 //! models, by the rigid-mode check [`crate::fe::Dirichlet::check_rigid_modes`].
 
 use super::checks::{
-    check_factor_input, check_rhs, check_solution, check_square, faer_ref_values, workspace,
+    check_factor_input, check_rhs, check_solution, check_square, faer_ref_values,
+    pattern_fingerprint, workspace,
 };
 use super::csc::CscMatrix;
 use super::ordering::{inverse, nested_dissection};
@@ -54,6 +55,8 @@ fn pow2_inv_sqrt(d: f64) -> f64 {
 /// Sparse Cholesky L L^T of a symmetric positive definite matrix (lower triangle is read).
 pub struct Cholesky {
     pub(super) n: usize,
+    /// the analysed pattern's [`super::checks::pattern_fingerprint`]
+    pub(super) pattern: u64,
     pub(super) symbolic: SymbolicCholesky<usize>,
     /// factor of the scaled matrix S A S (see the module doc)
     pub(super) values: Vec<f64>,
@@ -120,6 +123,7 @@ impl Cholesky {
             let len = symbolic.len_val();
             Ok(Self {
                 n: a.nrows,
+                pattern: pattern_fingerprint(a),
                 symbolic,
                 values: vec![0.0; len],
                 scale: vec![1.0; a.nrows],
@@ -158,7 +162,7 @@ impl Cholesky {
     /// [`Cholesky::factorize`] on the threads `par` (`Par::Seq` when another thread works beside
     /// it: the supernodal factorisation's rayon workers then only compete for the cores).
     pub fn factorize_with(&mut self, a: &CscMatrix, par: Par) -> Result<()> {
-        check_factor_input(a, self.n)?;
+        check_factor_input(a, self.n, self.pattern)?;
         self.factorised = false;
         let scaled = self.jacobi_scale(a)?;
         self.factor_scaled(a, &scaled, par)?;

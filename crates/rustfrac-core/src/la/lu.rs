@@ -10,6 +10,7 @@
 //! over every PD row coupled to the FEM ring. Ordered among the sparse columns, that block fills
 //! the factor; ordered last, it becomes a dense trailing block, as in a bordered (two-stage) LU.
 
+use super::checks::pattern_fingerprint;
 use super::checks::{check_factor_input, check_rhs, check_solution, check_square, faer_ref};
 use super::checks::{faer_error, workspace};
 use super::csc::CscMatrix;
@@ -30,6 +31,8 @@ pub const DENSE_COLUMN_FACTOR: usize = 4;
 /// Sparse LU with partial pivoting of a general square matrix.
 pub struct Lu {
     n: usize,
+    /// the analysed pattern's [`pattern_fingerprint`]
+    pattern: u64,
     symbolic: SymbolicLu<usize>,
     numeric: Option<NumericLu<usize, f64>>,
 }
@@ -75,6 +78,7 @@ impl Lu {
                 factorize_symbolic_lu(sym, params).map_err(|e| faer_error("symbolic LU", e))?;
             Ok(Self {
                 n: a.nrows,
+                pattern: pattern_fingerprint(a),
                 symbolic,
                 numeric: None,
             })
@@ -95,7 +99,7 @@ impl Lu {
 
     /// Numeric factorisation reusing the symbolic analysis.
     pub fn factorize(&mut self, a: &CscMatrix) -> Result<()> {
-        check_factor_input(a, self.n)?;
+        check_factor_input(a, self.n, self.pattern)?;
         let mut numeric = self.numeric.take().unwrap_or_default();
         let par = faer::get_global_parallelism();
         let req = self
@@ -235,5 +239,41 @@ mod tests {
             p.symbolic.col_perm().arrays().0,
             q.symbolic.col_perm().arrays().0
         );
+    }
+    /// A symmetric, diagonally dominant path of `n` unknowns coupled to the next one, or (`moved`)
+    /// with unknown 0 coupled to unknown 2 instead of 1: the same size and entry count, another
+    /// pattern.
+    fn path(n: usize, moved: bool) -> CscMatrix {
+        let mut t = Vec::new();
+        for i in 0..n {
+            t.push((i, i, 4.0));
+        }
+        for i in 0..n - 1 {
+            let j = if moved && i == 0 { 2 } else { i + 1 };
+            t.push((i, j, -1.0));
+            t.push((j, i, -1.0));
+        }
+        CscMatrix::from_triplets(n, n, &t).unwrap()
+    }
+
+    /// A numeric factorisation of another pattern than the analysed one (same size, same number
+    /// of entries) is refused, by the LU and the Cholesky factorisation alike; the analysed
+    /// pattern with new values is factorised.
+    #[test]
+    fn a_factorisation_of_another_pattern_is_refused() {
+        let (a, other) = (path(30, false), path(30, true));
+        assert_eq!(a.row_idx.len(), other.row_idx.len());
+        let mut lu = Lu::analyze(&a).unwrap();
+        let mut ch = super::super::Cholesky::analyze(&a).unwrap();
+        for e in [lu.factorize(&other), ch.factorize(&other)] {
+            assert!(
+                matches!(&e, Err(Error::Internal { detail }) if detail.contains("analysed")),
+                "{e:?}"
+            );
+        }
+        let mut b = a.clone();
+        b.val.iter_mut().for_each(|v| *v *= 2.0);
+        lu.factorize(&b).unwrap();
+        ch.factorize(&b).unwrap();
     }
 }
