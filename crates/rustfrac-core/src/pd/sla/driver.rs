@@ -234,10 +234,10 @@ struct Replay {
 /// condensation with the form of the condensed system (dense LU or sparse factor) the scene
 /// asks for or, for `"auto"`, the cheaper by the cost model ([`CostEstimate`]). Returns it, its
 /// description (the choice and the estimates) and the re-condensation interval (0 for the oracle).
-/// The cost model's symbolic analysis (then, for the dense form, the LU of S's PD block) and the
-/// condensation's FEM part ([`FemPart`]) do not depend on each other: they run at once, the
-/// analysis on its own thread while the FEM part's ordering and symbolic phases leave a core
-/// idle.
+/// The cost model's symbolic analysis (then, for the dense form, the LU of S's PD block; for the
+/// sparse CCM-PD form, the symbolic analysis of S's LU) and the condensation's FEM part
+/// ([`FemPart`]) do not depend on each other: they run at once, the analysis on its own thread
+/// while the FEM part's ordering and symbolic phases leave a core idle.
 fn engine_for<'a>(
     model: &'a SpliceModel,
     sla: &SlaParams,

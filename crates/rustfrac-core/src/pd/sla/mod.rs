@@ -11,9 +11,9 @@
 //!   Woodbury (`fast/smw.rs`) on a base condensed system S_0 kept in one of two forms
 //!   (`fast/base.rs`): its dense LU (`pd.engine = "dense"`) or a sparse factor of it
 //!   (`"sparse"`: K_PP plus a dense block on the FEM interface; sparse Cholesky for pure PD,
-//!   sparse LU for CCM-PD); the columns of S_0^{-1} the breaks need are kept (`fast/columns.rs`). `"auto"` takes the form the cost model
-//!   (`cost.rs`: dense O(n_P^3) per condensation vs sparse factorisation + solves, for 500 steps)
-//!   estimates cheaper; the choice and both estimates are in the result's `solver`. Periodic
+//!   sparse LU for CCM-PD); the columns of S_0^{-1} the breaks need are kept
+//!   (`fast/columns.rs`). `"auto"` takes the form the cost model (`cost.rs`: dense O(n_P^3) per
+//!   condensation vs sparse factorisation + solves, for 500 steps) estimates cheaper; the choice and both estimates are in the result's `solver`. Periodic
 //!   re-condensation ([`auto_refactor_every`] dense, the cost model's interval sparse) bounds the
 //!   stored update vectors, so a run of any length keeps its memory bounded: per step only the
 //!   history row (about 100 bytes) is kept (`memory.rs`).
@@ -27,13 +27,13 @@
 //! broken-bond sequence and the history are written; `resume_from` replays them and continues, bit
 //! for bit the same as an uninterrupted run.
 //!
-//! Entry point: [`run`]`(&problem, &|step, max_steps| true)` (or [`run_reporting`], whose
-//! callback reads an [`SlaProgress`]: the crack's advance towards a crack-length stop) for a
-//! [`crate::problem::Problem`] of method "pd" or "ccm_pd" (start from `Problem::paper("ccm_pd")` and change what you need:
-//! `p.pd_mut().sla.max_steps = 100`; return `false` from the callback to stop: status
-//! [`SlaStatus::Cancelled`]), then read [`CcmPdResult`]. Every rule of the problem is checked
-//! first ([`crate::problem::validate`]; [`crate::Error::InvalidInput`] names the scene key and
-//! its range); a separated body ends the run with [`SlaStatus::Separated`] (never NaN); faer
+//! Entry point: [`run`]`(&problem, &|step, max_steps| true)` (or [`run_reporting`], whose callback
+//! reads an [`SlaProgress`]: the crack's advance towards a crack-length stop) for a
+//! [`crate::problem::Problem`] of method "pd" or "ccm_pd" (start from `Problem::paper("ccm_pd")`
+//! and change what you need: `p.pd_mut().sla.max_steps = 100`; return `false` from the callback to
+//! stop: status [`SlaStatus::Cancelled`]), then read [`CcmPdResult`]. Every rule of the problem is
+//! checked first ([`crate::problem::validate`]; [`crate::Error::InvalidInput`] names the scene key
+//! and its range); a separated body ends the run with [`SlaStatus::Separated`] (never NaN); faer
 //! panics are caught inside the solver wrappers. [`run_model`] runs a model built by hand
 //! ([`crate::pd::splice::SpliceModel::with_precrack`]).
 //!

@@ -61,7 +61,7 @@ mod tests {
         // the stop reached or passed, and a stop at or below the pre-crack: done
         assert_eq!(at(6_835, 7.62, Some(7.6)).fraction(), 1.0);
         assert_eq!(at(1, 1.1, Some(1.0)).fraction(), 1.0);
-        // before any growth (a crack length read below a0 in a mixed-mode path): 0, not negative
+        // a crack length below a0 (a run's starts at the pre-crack's and only grows): 0, not < 0
         assert_eq!(at(0, 1.0, Some(7.6)).fraction(), 0.0);
     }
 }
