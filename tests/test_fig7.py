@@ -106,14 +106,92 @@ def test_interruption_keeps_what_finished(tmp_path: Path) -> None:
     assert (tmp_path / "fig7.png").is_file()
 
 
+# -- CCM-PD beside the XFEM runs, Fig. 8b drawn meanwhile (issue 15 item 3) -----------------
+
+
+def test_ctrl_c_in_an_xfem_run_cancels_the_ccm_pd_run_beside_it(tmp_path: Path) -> None:
+    """CCM-PD runs in a worker thread beside the XFEM runs. A Ctrl-C meets the XFEM run of the
+    calling thread; the CCM-PD run is then cancelled at its next progress report (not left to
+    finish, and not called on after). Its first report waits here until the interrupt, so the
+    race is decided."""
+    import threading
+
+    interrupt = threading.Event()
+    after: list[int] = []
+
+    def progress(name: str):
+        if name == "xfem_growth":
+
+            def stop(done: int, total: int, message: str) -> None:
+                interrupt.set()
+                raise KeyboardInterrupt
+
+            return stop
+        if name == "ccm_pd":
+
+            def wait(done: int, total: int, message: str) -> None:
+                if interrupt.is_set():
+                    after.append(done)
+                assert interrupt.wait(60.0)
+
+            return wait
+        return None
+
+    with pytest.raises(KeyboardInterrupt) as e:
+        fig7(tmp_path, preset="fast", log=None, progress=progress)
+    s = e.value.summary
+    assert s["interrupted"] is True and "run ccm_pd" in s["missing"]
+    assert "run xfem" not in s["missing"] and "run xfem_growth" in s["missing"]
+    assert after == []  # the cancel stops the run before the job's own callback
+    assert not (tmp_path / "ccm_pd").exists()
+
+
+def test_an_error_of_the_ccm_pd_run_beside_reaches_the_caller(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from rustfrac import fig7 as fig7_mod
+
+    real = fig7_mod.run
+
+    def failing(scene, **k):  # type: ignore[no-untyped-def]
+        if scene.method == "ccm_pd":
+            raise rf.InvalidParameterError("invalid pd.dx: injected", "pd.dx")
+        return real(scene, **k)
+
+    monkeypatch.setattr(fig7_mod, "run", failing)
+    with pytest.raises(rf.InvalidParameterError, match="injected"):
+        fig7(tmp_path, preset="fast", log=None)
+    assert not (tmp_path / "summary.json").exists()
+
+
+def test_fig8b_drawn_beside_the_runs_is_the_figure_drawn_after(
+    fast_run: tuple[Path, dict], tmp_path: Path
+) -> None:
+    """Fig. 8b is drawn while CCM-PD computes (``figures_beside_runs``); the file is the one the
+    same figure gives when drawn and saved afterwards, pixel for pixel."""
+    from matplotlib.image import imread
+
+    from rustfrac import figures
+    from rustfrac.fig7 import PRESETS, _fig8b
+
+    out, summary = fast_run
+    assert summary["time_split_s"]["figures_beside_runs"] > 0.0
+    fig = _fig8b({"xfem_growth": rf.load(out / "xfem")}, PRESETS["fast"])
+    assert fig is not None
+    figures.save_figure(fig, tmp_path / "late.png")
+    ahead, late = imread(out / "fig8b.png"), imread(tmp_path / "late.png")
+    assert ahead.shape == late.shape and np.array_equal(ahead, late)
+
+
 # -- one unit, partial outputs marked (issue 17) --------------------------------------------
 
 
-def _stop_at(run: str):
-    """A progress factory that interrupts the run ``run`` (as Ctrl-C would)."""
+def _stop_at(*runs: str):
+    """A progress factory that interrupts the runs ``runs`` (as Ctrl-C would; CCM-PD runs beside
+    the XFEM runs, so a Ctrl-C during one of these may find it finished or not)."""
 
     def progress(name: str):
-        if name != run:
+        if name not in runs:
             return None
 
         def cb(done: int, total: int, message: str) -> None:
@@ -147,7 +225,7 @@ def test_a_second_run_replaces_the_whole_folder(tmp_path: Path) -> None:
     assert (tmp_path / "ccm_pd" / "result.json").is_file()
     (tmp_path / "notes.txt").write_text("mine")
     with pytest.raises(Fig7Interrupted) as e:
-        fig7(tmp_path, preset="fast", log=None, progress=_stop_at("xfem_growth"))
+        fig7(tmp_path, preset="fast", log=None, progress=_stop_at("xfem_growth", "ccm_pd"))
     s = load_summary(tmp_path)  # the interrupted run's folder, whole: no part of the first run
     assert s == e.value.summary
     assert s["complete"] is False and s["parts"] == {}
@@ -223,10 +301,14 @@ def test_summary_splits_the_job_time(fast_run: tuple[Path, dict]) -> None:
     summaries) in summary.json and summary.md; the parts add up to the total."""
     out, summary = fast_run
     t = summary["time_split_s"]
-    assert set(t) == {"compute", "figures", "files", "summaries", "other", "total"}
+    assert set(t) == {
+        "compute", "figures", "figures_beside_runs", "files", "summaries", "other", "total"
+    }  # fmt: skip
     assert all(v >= 0.0 for v in t.values())
     parts = t["compute"] + t["figures"] + t["files"] + t["summaries"] + t["other"]
     assert parts == pytest.approx(t["total"], rel=1e-9, abs=1e-9)
+    # Fig. 8b is drawn while CCM-PD computes: inside the computation's time, not beside it
+    assert 0.0 < t["figures_beside_runs"] < t["compute"]
     assert t["compute"] >= sum(summary["times_s"].values()) - 1e-9  # the runs are inside it
     assert "Job time: computation" in (out / "summary.md").read_text()
 

@@ -30,7 +30,7 @@ import secrets
 import threading
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -46,6 +46,8 @@ from .scene import Scene
 from .scenes import edge_crack_plate
 
 if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
     from . import figures
 
 __all__ = ["FILES", "PAPER", "PRESETS", "Fig7Interrupted", "Preset", "fig7", "load_summary"]
@@ -229,18 +231,14 @@ def fig7(
     _import_in_background(".figures")  # matplotlib, ~0.5 s, while the runs hold no GIL
     p = PRESETS[preset]
     scenes = _scenes(p, bc, s0_calibration, surface_correction)
-    results: dict[str, Result] = {}
-    times: dict[str, float] = {}
-    interrupted = False
     t_all = time.perf_counter()
-    try:
-        for name, scene in scenes.items():
-            results[name], times[name] = run_logged(name, scene, progress, say, _built)
-    except KeyboardInterrupt:
-        interrupted = True
+    runs = _Runs(scenes, progress, say)
+    runs.run(lambda res: runs.draw_ahead(res, p))
+    if runs.interrupted:
         say("interrupted: writing what finished")
     compute_s = time.perf_counter() - t_all
-    job = _Job(results, times, p, preset, bc, scenes, interrupted, t_all, compute_s)
+    job = _Job(runs.results, runs.times, p, preset, bc, scenes, runs.interrupted, t_all, compute_s)
+    job.ahead, job.ahead_s = runs.ahead, runs.ahead_s
     summary = with_fallback(outdir, job.write, "fig7")
     commit_s = time.perf_counter() - t_all - summary["total_s"]
     say(
@@ -287,6 +285,96 @@ def run_logged(
     return res, seconds
 
 
+class _Runs:
+    """The runs of a fig7 job. The CCM-PD run (the longest: its set-up and SLA) goes to a worker
+    thread and the XFEM runs follow here beside it: the core releases the GIL, so they share the
+    two cores. The figures that need only the XFEM runs are then drawn ahead (:meth:`draw_ahead`)
+    while CCM-PD still computes.
+
+    Ctrl-C (it reaches this thread) stops the XFEM run it meets, or the wait, and cancels the
+    CCM-PD run at its next progress report (the worker's callback raises KeyboardInterrupt, as a
+    Ctrl-C would); a run that finished is kept either way. Any other error of either thread is
+    raised here once the worker has stopped."""
+
+    #: the run that goes to the worker thread
+    BESIDE = "ccm_pd"
+
+    def __init__(
+        self,
+        scenes: dict[str, Scene],
+        progress: Callable[[str], Callable[[int, int, str], Any] | None] | None,
+        say: Log,
+    ) -> None:
+        self.scenes, self.progress, self.say = scenes, progress, say
+        self.results: dict[str, Result] = {}
+        self.times: dict[str, float] = {}
+        self.interrupted = False
+        #: figures drawn beside the CCM-PD run (file name -> pixels) and the time it took
+        self.ahead: dict[str, figures.Rendered] = {}
+        self.ahead_s = 0.0
+        self._cancel = threading.Event()
+        self._outcome: dict[str, Any] = {}
+
+    def run(self, beside: Callable[[dict[str, Result]], None]) -> None:
+        """Runs every scene; ``beside(results)`` runs here once the XFEM runs are done, while the
+        worker's run may still compute. The results come in the scenes' order."""
+        worker = None
+        if self.BESIDE in self.scenes:
+            worker = threading.Thread(target=self._worker, name="fig7 ccm_pd", daemon=True)
+            worker.start()
+        try:
+            for name, scene in self.scenes.items():
+                if name != self.BESIDE:
+                    self.results[name], self.times[name] = run_logged(
+                        name, scene, self.progress, self.say, _built
+                    )
+            beside(self.results)
+            if worker is not None:
+                worker.join()
+        except KeyboardInterrupt:
+            self.interrupted = True
+        finally:
+            if worker is not None:
+                self._cancel.set()  # nothing to cancel once it finished
+                worker.join()
+        error = self._outcome.get("error")
+        if isinstance(error, KeyboardInterrupt):
+            self.interrupted = True
+        elif error is not None:
+            raise error
+        if "result" in self._outcome:
+            self.results[self.BESIDE], self.times[self.BESIDE] = self._outcome["result"]
+        self.results = {n: self.results[n] for n in self.scenes if n in self.results}
+        self.times = {n: self.times[n] for n in self.results}
+
+    def _worker(self) -> None:
+        inner = self.progress(self.BESIDE) if self.progress else None
+
+        def report(done: int, total: int, message: str) -> None:
+            if self._cancel.is_set():
+                raise KeyboardInterrupt
+            if inner is not None:
+                inner(done, total, message)
+
+        try:
+            self._outcome["result"] = run_logged(
+                self.BESIDE, self.scenes[self.BESIDE], lambda name: report, self.say, _built
+            )
+        except BaseException as e:  # raised again by run(), in the calling thread
+            self._outcome["error"] = e
+
+    def draw_ahead(self, results: dict[str, Result], p: Preset) -> None:
+        """Draws Fig. 8b (the XFEM growth's deformed mesh: the costliest figure, and the only one
+        that needs no CCM-PD result) while the CCM-PD run computes."""
+        from . import figures
+
+        t = time.perf_counter()
+        fig = _fig8b(results, p)
+        if fig is not None:
+            self.ahead["fig8b.png"] = figures.render(fig)
+        self.ahead_s = time.perf_counter() - t
+
+
 class Fig7Interrupted(KeyboardInterrupt):
     """Ctrl-C during :func:`fig7`: what finished was written; ``summary`` is the summary written
     (``complete`` false, ``missing`` lists the runs, folders and files that are not there)."""
@@ -316,6 +404,10 @@ class _Job:
     t_all: float
     #: wall time of the runs (the job's computation)
     compute_s: float = 0.0
+    #: figures drawn beside the CCM-PD run (:meth:`_Runs.draw_ahead`), and their wall time
+    #: (inside ``compute_s``)
+    ahead: dict[str, figures.Rendered] = field(default_factory=dict)
+    ahead_s: float = 0.0
 
     def write(self, outdir: Path) -> dict[str, Any]:
         """Writes every output into ``outdir`` (summary.json last, naming the save id of each
@@ -371,6 +463,8 @@ class _Job:
             summary["time_split_s"] = split = {
                 "compute": self.compute_s,
                 "figures": figures_s,
+                # not a part of the sum: the figures drawn beside the CCM-PD run, inside compute
+                "figures_beside_runs": self.ahead_s,
                 "files": files_s,
                 "summaries": time.perf_counter() - t_sum,
                 "total": summary["total_s"],
@@ -474,28 +568,12 @@ class _Job:
                     ),
                 )
             )
-        snaps = []
         if "xfem_growth" in results:
-            g = results["xfem_growth"]
-            off = g.fields["snapshot_offsets"]
-            for k in p.snapshot_steps:
-                if k < len(off):  # snapshot k-1: the critical state of growth step k (row k)
-                    rows = slice(int(off[k - 1]), int(off[k]))
-                    snaps.append(
-                        (
-                            g.fields["snapshot_cells"][rows],
-                            g.fields["snapshot_disp"][rows],
-                            f"growth step {k}: a = {float(g.history['a'][k]):.3g} mm, sigma22 = "
-                            f"{float(g.history['sigma22'][k]):.3g} MPa",
-                        )
-                    )
-        if snaps:
+            ahead = self.ahead.get("fig8b.png")
             out.append(
                 (
                     "fig8b.png",
-                    lambda f: figures.save_figure(
-                        figures.plot_deformed_patches(snaps, scale=50.0), f
-                    ),
+                    lambda f: figures.save_figure(ahead or _fig8b(results, p), f),
                 )
             )
         if "xfem" in results and "ccm_pd" in results:
@@ -513,6 +591,30 @@ class _Job:
                 )
             )
         return out
+
+
+def _fig8b(results: dict[str, Result], p: Preset) -> Figure | None:
+    """Fig. 8b: the XFEM growth's deformed mesh near the tip at the preset's growth steps
+    (None: no growth run, or none of those steps reached)."""
+    from . import figures
+
+    g = results.get("xfem_growth")
+    if g is None:
+        return None
+    off = g.fields["snapshot_offsets"]
+    snaps = []
+    for k in p.snapshot_steps:
+        if k < len(off):  # snapshot k-1: the critical state of growth step k (row k)
+            rows = slice(int(off[k - 1]), int(off[k]))
+            snaps.append(
+                (
+                    g.fields["snapshot_cells"][rows],
+                    g.fields["snapshot_disp"][rows],
+                    f"growth step {k}: a = {float(g.history['a'][k]):.3g} mm, sigma22 = "
+                    f"{float(g.history['sigma22'][k]):.3g} MPa",
+                )
+            )
+    return figures.plot_deformed_patches(snaps, scale=50.0) if snaps else None
 
 
 class _StagedPart:
@@ -868,7 +970,8 @@ def _split_line(s: dict[str, Any]) -> str:
     if not t:
         return ""
     return (
-        f"Job time: computation {t['compute']:.2f} s, figures {t['figures']:.2f} s, result "
+        f"Job time: computation {t['compute']:.2f} s (of it, figures drawn beside the CCM-PD "
+        f"run {t.get('figures_beside_runs', 0.0):.2f} s), figures {t['figures']:.2f} s, result "
         f"folders {t.get('files', 0.0):.2f} s (beyond the figures, beside which they are "
         f"written), summaries {t['summaries']:.2f} s, other {t['other']:.2f} s (total "
         f"{t['total']:.2f} s; interpreter start-up, imports and the result folders' commit, "

@@ -12,6 +12,7 @@ Every ``save_*`` writes atomically (temporary file, then rename).
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -28,10 +29,12 @@ from .result import _atomic
 
 __all__ = [
     "Curve",
+    "Rendered",
     "plot_damage",
     "plot_deformed_patches",
     "plot_discretisations",
     "plot_fig7",
+    "render",
     "save_figure",
 ]
 
@@ -44,8 +47,25 @@ Curve = tuple[str, np.ndarray, np.ndarray, dict[str, Any]]
 PNG_LEVEL = 1
 
 
-def save_figure(fig: Figure, path: str | Path, dpi: int = 150) -> Path:
-    """Saves a figure as PNG atomically, cropped to its ink (``bbox_inches="tight"``).
+@dataclass(frozen=True)
+class Rendered:
+    """A figure drawn ahead of its file (:func:`render`): its pixels cropped to its ink, or None
+    when its ink leaves the canvas (then ``savefig(bbox_inches="tight")`` draws it again)."""
+
+    fig: Figure
+    dpi: int
+    rgba: np.ndarray | None
+
+
+def render(fig: Figure, dpi: int = 150) -> Rendered:
+    """Draws a figure (Agg) now, for :func:`save_figure` to write later: e.g. while a run still
+    computes (the core releases the GIL), so the drawing costs no wall time."""
+    return Rendered(fig, dpi, _drawn_tight(fig, dpi))
+
+
+def save_figure(fig: Figure | Rendered, path: str | Path, dpi: int = 150) -> Path:
+    """Saves a figure (or one :func:`render` drew, at its own dpi) as PNG atomically, cropped
+    to its ink (``bbox_inches="tight"``).
 
     Drawn once: ``savefig(bbox_inches="tight")`` lays the figure out twice (once to measure, once
     to draw), a third of a figure's time. Here the figure is drawn on its canvas, its tight box
@@ -53,14 +73,14 @@ def save_figure(fig: Figure, path: str | Path, dpi: int = 150) -> Path:
     ``savefig.pad_inches``, cut at the canvas's edge). A figure with ink outside its canvas
     (which only a larger canvas shows) goes through ``savefig(bbox_inches="tight")``."""
     p = Path(path)
+    r = fig if isinstance(fig, Rendered) else render(fig, dpi)
     with _atomic(p, "wb") as f:
-        rgba = _drawn_tight(fig, dpi)
-        if rgba is None:
-            fig.savefig(f, format="png", dpi=dpi, bbox_inches="tight")
+        if r.rgba is None:
+            r.fig.savefig(f, format="png", dpi=r.dpi, bbox_inches="tight")
         else:
             meta = {"Software": f"Matplotlib version{mpl.__version__}, https://matplotlib.org/"}
             imsave(
-                f, rgba, format="png", origin="upper", dpi=dpi, metadata=meta,
+                f, r.rgba, format="png", origin="upper", dpi=r.dpi, metadata=meta,
                 pil_kwargs={"compress_level": PNG_LEVEL},
             )  # fmt: skip
     return p
