@@ -517,3 +517,27 @@ def test_ccm_pd_graded_fem_grid_from_python() -> None:
     assert gr.n_dofs < uni.n_dofs / 2
     assert abs(gr.cmod / uni.cmod - 1.0) < 2e-3
     assert abs(gr.history["load_factor"][1] / uni.history["load_factor"][1] - 1.0) < 2e-3
+
+
+def test_progress_bar_eta_follows_the_recent_rate() -> None:
+    """The steps of an adaptive CCM-PD run grow dearer as its region grows: the time left comes
+    from the recent rate, not the rate since the start. 50 steps at 0.1 s, then 1 s a step:
+    at step 80 the ETA is the 20 steps left at 1 s (the rate since the start would give 8.9 s);
+    a new total (another phase) starts its own rate."""
+    import io
+
+    from rustfrac.progress import ProgressBar
+
+    t = [0.0]
+    buf = io.StringIO()
+    bar = ProgressBar(stream=buf, delay=0.0, clock=lambda: t[0])
+    for k in range(1, 81):
+        t[0] += 0.1 if k <= 50 else 1.0
+        bar(k, 100, f"step {k}")
+    eta = float(buf.getvalue().splitlines()[-1].split("ETA ")[1].split(" s")[0])
+    assert eta == pytest.approx(20.0, rel=0.02)
+    bar(1, 10, "phase 2")  # no rate yet for the new total
+    t[0] += 0.5
+    bar(2, 10, "phase 2")
+    lines = buf.getvalue().splitlines()
+    assert "ETA" not in lines[-2] and lines[-1].endswith("ETA 4.0 s")

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import sys
 import time
+from collections import deque
 from typing import Any, Callable, TextIO
 
 __all__ = ["ProgressBar", "ProgressCallback", "TqdmProgress", "callback"]
@@ -21,26 +22,39 @@ ProgressCallback = Callable[[int, int, str], Any]
 class ProgressBar:
     """A plain-text progress bar on a stream; draws only once a run has lasted ``delay`` seconds
     (short runs stay quiet), at most every 0.1 s (the native side throttles too). Once two reports
-    with different ``done`` counts arrived (e.g. SLA steps after the model setup), it also shows
-    the estimated time left, from the rate since the first of them."""
+    with different ``done`` counts of the same total arrived (e.g. SLA steps after the model
+    setup), it also shows the estimated time left, from the rate over the recent part of the run
+    (:attr:`RECENT`): the steps of an adaptive CCM-PD run grow dearer as its PD region grows, so
+    the rate since the start would promise too early an end. ``clock``: seconds (tests)."""
 
-    def __init__(self, stream: TextIO | None = None, width: int = 30, delay: float = 0.5) -> None:
+    #: the time left is extrapolated from the rate over the last RECENT of the time since the
+    #: first counted report, and over at least RECENT_MIN_S seconds
+    RECENT = 0.25
+    RECENT_MIN_S = 1.0
+
+    def __init__(
+        self,
+        stream: TextIO | None = None,
+        width: int = 30,
+        delay: float = 0.5,
+        clock: Callable[[], float] = time.perf_counter,
+    ) -> None:
         # default: the sys.stderr of the moment (not of import time: redirections apply)
         self.stream = sys.stderr if stream is None else stream
-        self.width, self.delay = width, delay
-        self.t0 = time.perf_counter()
+        self.width, self.delay, self.clock = width, delay, clock
+        self.t0 = clock()
         self.drawn = False
-        self._first: tuple[float, int] | None = None
+        #: (time, done) of the reports counted for the rate: those of the current total, from
+        #: the first with done > 0; older ones are dropped once a newer one is older than the
+        #: window
+        self._seen: deque[tuple[float, int]] = deque()
+        self._total: int | None = None
+        self._since = 0.0  # time of the first counted report of the current total
 
     def __call__(self, done: int, total: int, message: str) -> None:
-        now = time.perf_counter()
+        now = self.clock()
         elapsed = now - self.t0
-        if self._first is None and done > 0:
-            self._first = (now, done)
-        eta = ""
-        if self._first is not None and 0 < done < total and done > self._first[1]:
-            rate = (now - self._first[0]) / (done - self._first[1])
-            eta = f"  ETA {rate * (total - done):.1f} s"
+        eta = self._eta(now, done, total)
         if elapsed < self.delay and not self.drawn:
             return
         frac = done / total if total > 0 else 0.0
@@ -50,6 +64,25 @@ class ProgressBar:
         self.stream.write(f"[{bar}] {100 * frac:5.1f}% {elapsed:7.1f} s  {message}{eta}{end}")
         self.stream.flush()
         self.drawn = True
+
+    def _eta(self, now: float, done: int, total: int) -> str:
+        """Counts the report and returns "  ETA ... s", or "" while the rate is unknown."""
+        seen = self._seen
+        if total != self._total:  # a new phase: its own rate
+            seen.clear()
+            self._total = total
+        if done <= 0 or (seen and done <= seen[-1][1]):
+            return ""
+        if not seen:
+            self._since = now
+        seen.append((now, done))
+        window = max(self.RECENT_MIN_S, self.RECENT * (now - self._since))
+        while len(seen) > 1 and now - seen[1][0] >= window:
+            seen.popleft()
+        t_ref, d_ref = seen[0]
+        if d_ref == done or done >= total:
+            return ""
+        return f"  ETA {(now - t_ref) / (done - d_ref) * (total - done):.1f} s"
 
     def close(self) -> None:
         if self.drawn and self.stream.isatty():
