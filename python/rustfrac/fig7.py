@@ -320,7 +320,11 @@ class _Runs:
         worker's run may still compute. The results come in the scenes' order."""
         worker = None
         if self.BESIDE in self.scenes:
-            worker = threading.Thread(target=self._worker, name="fig7 ccm_pd", daemon=True)
+            # its progress callback made here, before the XFEM runs' (the factory's order)
+            inner = self.progress(self.BESIDE) if self.progress else None
+            worker = threading.Thread(
+                target=self._worker, args=(inner,), name="fig7 ccm_pd", daemon=True
+            )
             worker.start()
         try:
             for name, scene in self.scenes.items():
@@ -347,9 +351,7 @@ class _Runs:
         self.results = {n: self.results[n] for n in self.scenes if n in self.results}
         self.times = {n: self.times[n] for n in self.results}
 
-    def _worker(self) -> None:
-        inner = self.progress(self.BESIDE) if self.progress else None
-
+    def _worker(self, inner: Callable[[int, int, str], Any] | None) -> None:
         def report(done: int, total: int, message: str) -> None:
             if self._cancel.is_set():
                 raise KeyboardInterrupt
