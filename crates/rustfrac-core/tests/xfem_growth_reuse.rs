@@ -166,6 +166,18 @@ fn paper_edge_crack_growth_matches_the_reference() {
     compare("paper 44 x 83", &p, 20);
 }
 
+/// The paper plate at 2x the paper's mesh in each direction (30 k unknowns): a supernodal factor
+/// (44 x 83 is simplicial), so the condensed solves' backward half is faer's blocked L^T solve.
+#[test]
+fn paper_growth_on_a_supernodal_factor_matches_the_reference() {
+    let mut p = Problem::paper("xfem");
+    let x = p.xfem_mut();
+    x.extra_radii = vec![];
+    x.grid = rustfrac_core::problem::FeGrid::uniform(88, 166);
+    x.growth = Some(growth(6, 0.7 * 11.0));
+    compare("paper 88 x 166", &p, 6);
+}
+
 #[test]
 fn inclined_edge_crack_growth_matches_the_reference() {
     // a 30 degree edge crack in the tall strip under traction: mixed mode, the crack kinks

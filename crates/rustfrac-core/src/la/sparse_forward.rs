@@ -14,7 +14,7 @@ use crate::error::{Error, Result};
 use faer::dyn_stack::MemStack;
 use faer::linalg::matmul::matmul;
 use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
-use faer::sparse::linalg::cholesky::supernodal::SupernodalLltRef;
+use faer::sparse::linalg::cholesky::supernodal::{SupernodalLltRef, SymbolicSupernodalCholesky};
 use faer::sparse::linalg::cholesky::SymbolicCholeskyRaw;
 use faer::{Accum, Conj, Mat, MatMut, MatRef, Par};
 
@@ -280,8 +280,19 @@ impl SparseForward {
     }
 
     /// The backward half of a solve: x = S P^T L^-T v (v in the factor's column order, x in
-    /// the original unknowns), so that A^-1 b = backward(forward(b)).
-    pub fn backward(&self, chol: &Cholesky, mut v: Vec<f64>) -> Vec<f64> {
+    /// the original unknowns), so that A^-1 b = backward(forward(b)). A supernodal factor takes
+    /// faer's L^T solve (its kernels dispatched to the machine's SIMD width at run time); a
+    /// simplicial one the column-by-column sweep below.
+    pub fn backward(&self, chol: &Cholesky, mut v: Vec<f64>) -> Result<Vec<f64>> {
+        if let SymbolicCholeskyRaw::Supernodal(sn) = chol.symbolic.raw() {
+            l_transpose_solve(sn, chol, &mut v, 1)?;
+            return Ok(self
+                .inv
+                .iter()
+                .zip(&chol.scale)
+                .map(|(&k, s)| v[k] * s)
+                .collect());
+        }
         let mut below: Vec<f64> = Vec::new();
         for s in (0..self.parent.len()).rev() {
             let nd = node(chol, s);
@@ -295,11 +306,12 @@ impl SparseForward {
                 v[b0 + j] = (acc - dot(&col[nc..], &below)) / col[j];
             }
         }
-        self.inv
+        Ok(self
+            .inv
             .iter()
             .zip(&chol.scale)
             .map(|(&k, s)| v[k] * s)
-            .collect()
+            .collect())
     }
 
     /// [`SparseForward::solve`] for several right-hand sides at once, blocked: the union of
@@ -436,19 +448,7 @@ impl SparseForward {
         for (w, vj) in fw.iter().zip(v.chunks_mut(n.max(1))) {
             w.axpy_into(1.0, vj);
         }
-        crate::error::catch_panic("faer supernodal backward solve", || {
-            let par = faer::get_global_parallelism();
-            let req = sn.solve_in_place_scratch::<f64>(k, par);
-            let mut mem = super::checks::workspace(req, "the backward solve's workspace")?;
-            let llt = SupernodalLltRef::<usize, f64>::new(sn, &chol.values);
-            llt.l_transpose_solve_with_conj(
-                Conj::No,
-                MatMut::from_column_major_slice_mut(&mut v, n, k),
-                par,
-                MemStack::new(&mut mem),
-            );
-            Ok(())
-        })?;
+        l_transpose_solve(sn, chol, &mut v, k)?;
         // x = P^T D v column by column in place, through one column of scratch
         let mut xj = vec![0.0; n];
         for vj in v.chunks_mut(n.max(1)) {
@@ -460,6 +460,29 @@ impl SparseForward {
         super::checks::check_solution(&v)?;
         Ok(v)
     }
+}
+
+/// v <- L^-T v for the `k` columns of v (n x k, column-major, in the factor's column order):
+/// faer's supernodal solve, blocked over the whole factor.
+fn l_transpose_solve(
+    sn: &SymbolicSupernodalCholesky<usize>,
+    chol: &Cholesky,
+    v: &mut [f64],
+    k: usize,
+) -> Result<()> {
+    crate::error::catch_panic("faer supernodal backward solve", || {
+        let par = faer::get_global_parallelism();
+        let req = sn.solve_in_place_scratch::<f64>(k, par);
+        let mut mem = super::checks::workspace(req, "the backward solve's workspace")?;
+        let llt = SupernodalLltRef::<usize, f64>::new(sn, &chol.values);
+        llt.l_transpose_solve_with_conj(
+            Conj::No,
+            MatMut::from_column_major_slice_mut(v, chol.n, k),
+            par,
+            MemStack::new(&mut mem),
+        );
+        Ok(())
+    })
 }
 
 /// `len` zeros, each page written once, for a vector that is read before it is written (solved
@@ -546,7 +569,7 @@ mod tests {
             let b: Vec<f64> = (0..n).map(|i| ((i * 7) % 11) as f64 - 5.0).collect();
             let mut v = tree.forward_dense(&chol, &b);
             ws[0].axpy_into(-1.0, &mut v);
-            let x = tree.backward(&chol, v);
+            let x = tree.backward(&chol, v).unwrap();
             let mut b0 = b.clone();
             for &(k, val) in &bs[0] {
                 b0[k] -= val;

@@ -494,7 +494,7 @@ fn solve_condensed(
             w.axpy_into(-x, &mut v);
         }
     }
-    let us = fx.tree.backward(&fx.chol, v);
+    let us = fx.tree.backward(&fx.chol, v)?;
     if ue.iter().chain(&us).any(|v| !v.is_finite()) {
         return Err(singular("non-finite displacements".into()));
     }
