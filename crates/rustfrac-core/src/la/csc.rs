@@ -18,8 +18,10 @@ pub struct CscMatrix {
 impl CscMatrix {
     /// Builds a matrix from (row, col, value) triplets; duplicates are summed, indices sorted.
     pub fn from_triplets(nrows: usize, ncols: usize, trip: &[(usize, usize, f64)]) -> Result<Self> {
-        let mut cols: Vec<Vec<(usize, f64)>> = vec![Vec::new(); ncols];
-        for &(r, c, v) in trip {
+        // counting sort by column into one buffer (entries of a column in input order), then
+        // each column sorted by row (stably: duplicates are summed in input order)
+        let mut col_ptr = vec![0usize; ncols + 1];
+        for &(r, c, _) in trip {
             if r >= nrows || c >= ncols {
                 return Err(Error::invalid(
                     "triplet index",
@@ -27,13 +29,23 @@ impl CscMatrix {
                     format!("({r}, {c})"),
                 ));
             }
-            cols[c].push((r, v));
+            col_ptr[c + 1] += 1;
         }
-        let mut col_ptr = Vec::with_capacity(ncols + 1);
-        let mut row_idx = Vec::new();
-        let mut val = Vec::new();
-        col_ptr.push(0);
-        for col in cols.iter_mut() {
+        for c in 0..ncols {
+            col_ptr[c + 1] += col_ptr[c];
+        }
+        let mut next = col_ptr.clone();
+        let mut sorted = vec![(0usize, 0.0f64); trip.len()];
+        for &(r, c, v) in trip {
+            sorted[next[c]] = (r, v);
+            next[c] += 1;
+        }
+        let mut row_idx = Vec::with_capacity(trip.len());
+        let mut val = Vec::with_capacity(trip.len());
+        let mut out_ptr = Vec::with_capacity(ncols + 1);
+        out_ptr.push(0);
+        for c in 0..ncols {
+            let col = &mut sorted[col_ptr[c]..col_ptr[c + 1]];
             col.sort_by_key(|e| e.0);
             let mut last = usize::MAX;
             for &(r, v) in col.iter() {
@@ -45,12 +57,12 @@ impl CscMatrix {
                     last = r;
                 }
             }
-            col_ptr.push(row_idx.len());
+            out_ptr.push(row_idx.len());
         }
         Ok(Self {
             nrows,
             ncols,
-            col_ptr,
+            col_ptr: out_ptr,
             row_idx,
             val,
         })
@@ -176,5 +188,40 @@ mod tests {
         assert_eq!(a.get(1, 0), 2.0);
         assert_eq!(a.nnz(), 2);
         assert!(CscMatrix::from_triplets(2, 2, &[(2, 0, 1.0)]).is_err());
+    }
+
+    /// Many triplets with many duplicates in scrambled order: each entry is the sum of its
+    /// duplicates in input order (bit for bit: the assembly's sums do not depend on how the
+    /// triplets are bucketed), rows sorted, no explicit duplicates, empty columns kept.
+    #[test]
+    fn triplets_sum_duplicates_in_input_order() {
+        let (nr, nc) = (7, 9);
+        let mut seed = 12345u64;
+        let mut next = || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            seed >> 33
+        };
+        let trip: Vec<(usize, usize, f64)> = (0..500)
+            .map(|_| {
+                let (r, c) = ((next() % nr as u64) as usize, (next() % 8) as usize);
+                (r, c, (next() % 1000) as f64 / 7.0 - 60.0)
+            })
+            .collect();
+        let a = CscMatrix::from_triplets(nr, nc, &trip).unwrap();
+        let mut dense = vec![vec![None::<f64>; nc]; nr];
+        for &(r, c, v) in &trip {
+            dense[r][c] = Some(dense[r][c].map_or(v, |s| s + v));
+        }
+        assert_eq!(a.col_ptr[8], a.col_ptr[9], "column 8 has no triplet");
+        for c in 0..nc {
+            let rows = &a.row_idx[a.col_ptr[c]..a.col_ptr[c + 1]];
+            assert!(rows.windows(2).all(|w| w[0] < w[1]));
+            for (r, row) in dense.iter().enumerate() {
+                match row[c] {
+                    Some(v) => assert_eq!(a.get(r, c).to_bits(), v.to_bits(), "({r}, {c})"),
+                    None => assert!(!rows.contains(&r)),
+                }
+            }
+        }
     }
 }
