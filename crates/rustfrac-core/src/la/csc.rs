@@ -198,7 +198,9 @@ mod tests {
         let (nr, nc) = (7, 9);
         let mut seed = 12345u64;
         let mut next = || {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             seed >> 33
         };
         let trip: Vec<(usize, usize, f64)> = (0..500)
