@@ -12,6 +12,7 @@ import signal
 import subprocess
 import sys
 import time
+from collections import Counter
 from pathlib import Path
 
 import pytest
@@ -45,42 +46,57 @@ STATUSES = {
 BAD = ("PanicException", "panicked", "memory allocation of", "Fatal Python error", "core dumped")
 
 
+def _interrupted(args: list[str], after: float, k: int) -> tuple[int, str]:
+    """Runs ``python -m rustfrac.cli ARGS``, sends it SIGINT ``after`` seconds in and returns
+    its exit code and standard error, once checked: exit 0 or an interrupt (130, the signal
+    itself, or 1 for a KeyboardInterrupt during interpreter start-up), never a panic, an abort
+    or a fatal error."""
+    p = subprocess.Popen(
+        [sys.executable, "-m", "rustfrac.cli", *args],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        preexec_fn=_sigint_default,
+    )
+    time.sleep(after)
+    p.send_signal(signal.SIGINT)
+    _, err = p.communicate(timeout=120)
+    code = p.returncode
+    assert code in (0, 1, 130, -signal.SIGINT), (k, code, err[-2000:])
+    if code == 1:  # only a KeyboardInterrupt during interpreter start-up (before main())
+        assert "KeyboardInterrupt" in err, (k, err[-2000:])
+    assert not any(b in err for b in BAD), (k, err[-2000:])
+    return code, err
+
+
+def _some_interrupted(outcomes: Counter[str], n: int, seed: int, at_least: int) -> None:
+    """Prints the campaign's outcomes; with ``at_least`` attempts or more, one of them must have
+    been interrupted (else the campaign tested nothing)."""
+    print(f"{n} attempts (seed {seed}): {dict(outcomes)}")
+    interrupted = sum(v for k, v in outcomes.items() if not k.startswith("exit 0"))
+    assert n < at_least or interrupted > 0, f"no attempt was interrupted: {outcomes}"
+
+
 @pytest.mark.parametrize("seed", [int(os.environ.get("RUSTFRAC_CAMPAIGN_SEED", "17"))])
 def test_sigint_at_random_moments(tmp_path: Path, seed: int) -> None:
     rng = random.Random(seed)
     n = int(os.environ.get("RUSTFRAC_CAMPAIGN", "8"))
-    outcomes: dict[str, int] = {}
+    outcomes: Counter[str] = Counter()
     for k in range(n):
         scene = tmp_path / f"s{k}.toml"
         scene.write_text(SCENES[k % len(SCENES)])
         out = tmp_path / f"o{k}"
-        cmd = [sys.executable, "-m", "rustfrac.cli", "run", str(scene), "--out", str(out), "-q"]
-        p = subprocess.Popen(
-            cmd,
-            stdout=subprocess.PIPE,
-            stderr=subprocess.PIPE,
-            text=True,
-            preexec_fn=_sigint_default,
+        code, _ = _interrupted(
+            ["run", str(scene), "--out", str(out), "-q"], rng.uniform(0.0, 2.0), k
         )
-        time.sleep(rng.uniform(0.0, 2.0))
-        p.send_signal(signal.SIGINT)
-        _, err = p.communicate(timeout=120)
-        code = p.returncode
-        assert code in (0, 1, 130, -signal.SIGINT), (k, code, err[-2000:])
-        if code == 1:  # only a KeyboardInterrupt during interpreter start-up (before main())
-            assert "KeyboardInterrupt" in err, (k, err[-2000:])
-        assert not any(b in err for b in BAD), (k, err[-2000:])
         if (out / "result.json").exists():
             res = rf.load(out)  # one coherent result (rf.load checks the set)
             assert res.meta["status"] in STATUSES, res.meta["status"]
             state = f"saved {res.meta['status']}"
         else:
             state = "no result"
-        key = f"exit {code}, {state}"
-        outcomes[key] = outcomes.get(key, 0) + 1
-    print(f"{n} attempts (seed {seed}): {outcomes}")
-    interrupted = sum(v for k, v in outcomes.items() if not k.startswith("exit 0"))
-    assert n < 8 or interrupted > 0, f"no attempt was interrupted: {outcomes}"
+        outcomes[f"exit {code}, {state}"] += 1
+    _some_interrupted(outcomes, n, seed, at_least=8)
 
 
 def test_core_import_without_numpy_is_an_import_error_not_a_panic() -> None:
@@ -119,23 +135,12 @@ def test_sigint_at_random_moments_of_the_fig7_job(tmp_path: Path, seed: int) -> 
 
     rng = random.Random(seed)
     n = max(2, int(os.environ.get("RUSTFRAC_CAMPAIGN", "8")) * 3 // 4)
-    outcomes: dict[str, int] = {}
+    outcomes: Counter[str] = Counter()
     for k in range(n):
         out = tmp_path / f"o{k}"
-        cmd = [sys.executable, "-m", "rustfrac.cli", "fig7", "--preset", "fast", "--out", str(out)]
-        p = subprocess.Popen(
-            [*cmd, "-q"],
-            stdout=subprocess.PIPE,
-            stderr=subprocess.PIPE,
-            text=True,
-            preexec_fn=_sigint_default,
+        code, err = _interrupted(
+            ["fig7", "--preset", "fast", "--out", str(out), "-q"], rng.uniform(0.2, 1.4), k
         )
-        time.sleep(rng.uniform(0.2, 1.4))
-        p.send_signal(signal.SIGINT)
-        _, err = p.communicate(timeout=120)
-        code = p.returncode
-        assert code in (0, 1, 130, -signal.SIGINT), (k, code, err[-2000:])
-        assert not any(b in err for b in BAD), (k, err[-2000:])
         if (out / "summary.json").exists():
             s = load_summary(out)
             assert s["complete"] is (code == 0), (k, code, s["missing"])
@@ -143,8 +148,5 @@ def test_sigint_at_random_moments_of_the_fig7_job(tmp_path: Path, seed: int) -> 
         else:
             assert code != 0, (k, err[-2000:])
             state = "no summary"
-        key = f"exit {code}, {state}"
-        outcomes[key] = outcomes.get(key, 0) + 1
-    print(f"{n} attempts (seed {seed}): {outcomes}")
-    interrupted = sum(v for k, v in outcomes.items() if not k.startswith("exit 0"))
-    assert n < 6 or interrupted > 0, f"no attempt was interrupted: {outcomes}"
+        outcomes[f"exit {code}, {state}"] += 1
+    _some_interrupted(outcomes, n, seed, at_least=6)
