@@ -523,7 +523,8 @@ def test_progress_bar_eta_follows_the_recent_rate() -> None:
     """The steps of an adaptive CCM-PD run grow dearer as its region grows: the time left comes
     from the recent rate, not the rate since the start. 50 steps at 0.1 s, then 1 s a step:
     at step 80 the ETA is the 20 steps left at 1 s (the rate since the start would give 8.9 s);
-    a new total (another phase) starts its own rate."""
+    a report repeating the count keeps it, less the time since; a new total (another phase)
+    starts its own rate."""
     import io
 
     from rustfrac.progress import ProgressBar
@@ -536,6 +537,9 @@ def test_progress_bar_eta_follows_the_recent_rate() -> None:
         bar(k, 100, f"step {k}")
     eta = float(buf.getvalue().splitlines()[-1].split("ETA ")[1].split(" s")[0])
     assert eta == pytest.approx(20.0, rel=0.02)
+    t[0] += 0.5
+    bar(80, 100, "step 80 again")  # no new count: the estimate less the time since
+    assert buf.getvalue().splitlines()[-1].endswith("ETA 19.5 s")
     bar(1, 10, "phase 2")  # no rate yet for the new total
     t[0] += 0.5
     bar(2, 10, "phase 2")

@@ -66,23 +66,27 @@ class ProgressBar:
         self.drawn = True
 
     def _eta(self, now: float, done: int, total: int) -> str:
-        """Counts the report and returns "  ETA ... s", or "" while the rate is unknown."""
+        """Counts the report and returns "  ETA ... s", or "" while the rate is unknown. A report
+        that repeats the last count (the crack did not advance a thousandth since) keeps the
+        estimate, less the time since that count."""
         seen = self._seen
         if total != self._total:  # a new phase: its own rate
             seen.clear()
             self._total = total
-        if done <= 0 or (seen and done <= seen[-1][1]):
+        if done > 0 and (not seen or done > seen[-1][1]):
+            if not seen:
+                self._since = now
+            seen.append((now, done))
+            window = max(self.RECENT_MIN_S, self.RECENT * (now - self._since))
+            while len(seen) > 1 and now - seen[1][0] >= window:
+                seen.popleft()
+        if not seen or done <= 0 or done >= total:
             return ""
-        if not seen:
-            self._since = now
-        seen.append((now, done))
-        window = max(self.RECENT_MIN_S, self.RECENT * (now - self._since))
-        while len(seen) > 1 and now - seen[1][0] >= window:
-            seen.popleft()
-        t_ref, d_ref = seen[0]
-        if d_ref == done or done >= total:
+        (t_ref, d_ref), (t_last, d_last) = seen[0], seen[-1]
+        if d_last == d_ref:
             return ""
-        return f"  ETA {(now - t_ref) / (done - d_ref) * (total - done):.1f} s"
+        left = (t_last - t_ref) / (d_last - d_ref) * (total - d_last) - (now - t_last)
+        return f"  ETA {max(left, 0.0):.1f} s"
 
     def close(self) -> None:
         if self.drawn and self.stream.isatty():
