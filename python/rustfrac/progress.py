@@ -29,8 +29,8 @@ class ProgressBar:
 
     #: the time left is extrapolated from the rate over the last RECENT of the time since the
     #: first counted report, and over at least RECENT_MIN_S seconds
-    RECENT = 0.25
-    RECENT_MIN_S = 1.0
+    RECENT = 0.5
+    RECENT_MIN_S = 2.0
 
     def __init__(
         self,
