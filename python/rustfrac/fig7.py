@@ -6,7 +6,8 @@ strain, u2 = +-u0 on the grips, variant ``bc``):
 
 1. XFEM at the reference load (K_I, sigma22, CMOD), under traction 9.993 (the paper's second K_I),
    and quasi-static LEFM growth from a0 to 0.7 W (its critical states give Fig. 8b's panels);
-2. CCM-PD with the sequentially linear analysis (one bond break per step);
+2. CCM-PD with the sequentially linear analysis (one bond break per step), in a worker thread
+   beside the XFEM runs (the core releases the GIL), while Fig. 8b is drawn once those are done;
 3. the LEFM handbook curve (long strip under traction: a guide, not the paper's geometry).
 
 Writes ``fig7.png``, ``fig7.csv``, ``fig8a.png``, ``fig8b.png``, ``fig6.png``, ``summary.md``,
