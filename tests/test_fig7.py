@@ -183,6 +183,25 @@ def test_fig8b_drawn_beside_the_runs_is_the_figure_drawn_after(
     assert ahead.shape == late.shape and np.array_equal(ahead, late)
 
 
+def test_fig8b_without_a_reached_snapshot_step_is_missing_not_a_crash(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Fig. 8b shows the growth's critical states at the preset's snapshot steps; a growth that
+    reaches none of them gives no Fig. 8b (listed as missing), and the rest of the job is
+    written."""
+    from dataclasses import replace
+
+    from rustfrac import fig7 as fig7_mod
+
+    presets = dict(fig7_mod.PRESETS)
+    presets["fast"] = replace(presets["fast"], snapshot_steps=(900, 999))
+    monkeypatch.setattr(fig7_mod, "PRESETS", presets)
+    s = fig7(tmp_path, preset="fast", log=None)
+    assert s["missing"] == ["fig8b.png"] and s["complete"] is False
+    assert s["time_split_s"]["figures_beside_runs"] >= 0.0
+    assert not (tmp_path / "fig8b.png").exists() and (tmp_path / "fig7.png").is_file()
+
+
 # -- one unit, partial outputs marked (issue 17) --------------------------------------------
 
 

@@ -234,12 +234,14 @@ def fig7(
     scenes = _scenes(p, bc, s0_calibration, surface_correction)
     t_all = time.perf_counter()
     runs = _Runs(scenes, progress, say)
-    runs.run(lambda res: runs.draw_ahead(res, p))
+    runs.run(p)
     if runs.interrupted:
         say("interrupted: writing what finished")
     compute_s = time.perf_counter() - t_all
-    job = _Job(runs.results, runs.times, p, preset, bc, scenes, runs.interrupted, t_all, compute_s)
-    job.ahead, job.ahead_s = runs.ahead, runs.ahead_s
+    job = _Job(
+        runs.results, runs.times, p, preset, bc, scenes, runs.interrupted, t_all, compute_s,
+        runs.ahead, runs.ahead_s,
+    )  # fmt: skip
     summary = with_fallback(outdir, job.write, "fig7")
     commit_s = time.perf_counter() - t_all - summary["total_s"]
     say(
@@ -316,9 +318,10 @@ class _Runs:
         self._cancel = threading.Event()
         self._outcome: dict[str, Any] = {}
 
-    def run(self, beside: Callable[[dict[str, Result]], None]) -> None:
-        """Runs every scene; ``beside(results)`` runs here once the XFEM runs are done, while the
-        worker's run may still compute. The results come in the scenes' order."""
+    def run(self, p: Preset) -> None:
+        """Runs every scene, and draws ahead the figures of preset ``p`` that the XFEM runs give
+        (:meth:`draw_ahead`) once they are done, while the worker's run may still compute. The
+        results come in the scenes' order."""
         worker = None
         if self.BESIDE in self.scenes:
             # its progress callback made here, before the XFEM runs' (the factory's order)
@@ -333,7 +336,7 @@ class _Runs:
                     self.results[name], self.times[name] = run_logged(
                         name, scene, self.progress, self.say, _built
                     )
-            beside(self.results)
+            self.draw_ahead(p)
             if worker is not None:
                 worker.join()
         except KeyboardInterrupt:
@@ -366,13 +369,13 @@ class _Runs:
         except BaseException as e:  # raised again by run(), in the calling thread
             self._outcome["error"] = e
 
-    def draw_ahead(self, results: dict[str, Result], p: Preset) -> None:
+    def draw_ahead(self, p: Preset) -> None:
         """Draws Fig. 8b (the XFEM growth's deformed mesh: the costliest figure, and the only one
         that needs no CCM-PD result) while the CCM-PD run computes."""
         from . import figures
 
         t = time.perf_counter()
-        fig = _fig8b(results, p)
+        fig = _fig8b(self.results, p)
         if fig is not None:
             self.ahead["fig8b.png"] = figures.render(fig)
         self.ahead_s = time.perf_counter() - t
@@ -571,14 +574,10 @@ class _Job:
                     ),
                 )
             )
-        if "xfem_growth" in results:
-            ahead = self.ahead.get("fig8b.png")
-            out.append(
-                (
-                    "fig8b.png",
-                    lambda f: figures.save_figure(ahead or _fig8b(results, p), f),
-                )
-            )
+        # drawn beside the CCM-PD run, or now; none when the growth reached no snapshot step
+        fig8b = self.ahead.get("fig8b.png") or _fig8b(results, p)
+        if fig8b is not None:
+            out.append(("fig8b.png", lambda f: figures.save_figure(fig8b, f)))
         if "xfem" in results and "ccm_pd" in results:
             out.append(
                 (
