@@ -240,6 +240,7 @@ mod tests {
             q.symbolic.col_perm().arrays().0
         );
     }
+
     /// A symmetric, diagonally dominant path of `n` unknowns coupled to the next one, or (`moved`)
     /// with unknown 0 coupled to unknown 2 instead of 1: the same size and entry count, another
     /// pattern.

@@ -13,10 +13,11 @@
 //!   (`"sparse"`: K_PP plus a dense block on the FEM interface; sparse Cholesky for pure PD,
 //!   sparse LU for CCM-PD); the columns of S_0^{-1} the breaks need are kept
 //!   (`fast/columns.rs`). `"auto"` takes the form the cost model (`cost.rs`: dense O(n_P^3) per
-//!   condensation vs sparse factorisation + solves, for 500 steps) estimates cheaper; the choice and both estimates are in the result's `solver`. Periodic
-//!   re-condensation ([`auto_refactor_every`] dense, the cost model's interval sparse) bounds the
-//!   stored update vectors, so a run of any length keeps its memory bounded: per step only the
-//!   history row (about 100 bytes) is kept (`memory.rs`).
+//!   condensation vs sparse factorisation + solves, for 500 steps) estimates cheaper; the choice
+//!   and both estimates are in the result's `solver`. Periodic re-condensation
+//!   ([`auto_refactor_every`] dense, the cost model's interval sparse) bounds the stored update
+//!   vectors, so a run of any length keeps its memory bounded: per step only the history row
+//!   (about 100 bytes) is kept (`memory.rs`).
 //!
 //! **Detached nodes** (`grounding.rs`): a PD node whose intact bonds give no stiffness along some
 //! direction is grounded there by a spring before the break that needs it; every grounding is
