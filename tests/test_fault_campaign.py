@@ -130,7 +130,7 @@ def test_sigint_at_random_moments_of_the_fig7_job(tmp_path: Path, seed: int) -> 
     worker thread beside the XFEM runs and Fig. 8b is drawn meanwhile, so a SIGINT can meet the
     main thread in an XFEM run, in a drawing or waiting for the worker. Every attempt ends with
     exit 0 or an interrupt, and the folder is absent or one coherent job (``load_summary``
-    checks its result folders), complete only on exit 0."""
+    checks its result folders), complete whenever the exit is 0."""
     from rustfrac.fig7 import load_summary
 
     rng = random.Random(seed)
@@ -143,7 +143,9 @@ def test_sigint_at_random_moments_of_the_fig7_job(tmp_path: Path, seed: int) -> 
         )
         if (out / "summary.json").exists():
             s = load_summary(out)
-            assert s["complete"] is (code == 0), (k, code, s["missing"])
+            # exit 0 only for a complete job; a complete one may still end by the signal (it
+            # came after the commit, during the interpreter's exit: -SIGINT or 130)
+            assert s["complete"] or code != 0, (k, code, s["missing"])
             state = "complete" if s["complete"] else f"missing {len(s['missing'])}"
         else:
             assert code != 0, (k, err[-2000:])
