@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import csv
 import json
+import threading
 from pathlib import Path
 
 import numpy as np
@@ -152,16 +153,23 @@ def test_an_error_of_the_ccm_pd_run_beside_reaches_the_caller(
     from rustfrac import fig7 as fig7_mod
 
     real = fig7_mod.run
+    failed = threading.Event()
+    xfem_runs: list[str] = []
 
     def failing(scene, **k):  # type: ignore[no-untyped-def]
         if scene.method == "ccm_pd":
+            failed.set()
             raise rf.InvalidParameterError("invalid pd.dx: injected", "pd.dx")
+        assert failed.wait(30)  # the first XFEM run ends after the failure
+        xfem_runs.append(scene.name)
         return real(scene, **k)
 
     monkeypatch.setattr(fig7_mod, "run", failing)
     with pytest.raises(rf.InvalidParameterError, match="injected"):
         fig7(tmp_path, preset="fast", log=None)
-    assert not (tmp_path / "summary.json").exists()
+    assert len(xfem_runs) <= 1  # no XFEM run started after the failure
+    # nothing written: xfem/, staged beside the failed run, was removed with its temporaries
+    assert list(tmp_path.iterdir()) == []
 
 
 def test_fig8b_drawn_beside_the_runs_is_the_figure_drawn_after(
@@ -181,6 +189,26 @@ def test_fig8b_drawn_beside_the_runs_is_the_figure_drawn_after(
     figures.save_figure(fig, tmp_path / "late.png")
     ahead, late = imread(out / "fig8b.png"), imread(tmp_path / "late.png")
     assert ahead.shape == late.shape and np.array_equal(ahead, late)
+
+
+def test_figures_drawn_in_the_child_are_the_figures_drawn_here(
+    fast_run: tuple[Path, dict], tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """fig8a and fig6 are drawn in a forked child (``rustfrac._forked``) beside fig7.png; the
+    files are those the same job gives with every figure drawn in this process, pixel for
+    pixel."""
+    from matplotlib.image import imread
+
+    from rustfrac import fig7 as fig7_mod
+
+    out, summary = fast_run
+    assert set(fig7_mod.BESIDE) <= set(summary["files"])
+    monkeypatch.setattr(fig7_mod, "BESIDE", ())
+    here = fig7(tmp_path, preset="fast", log=None)
+    assert here["files"] == summary["files"]
+    for name in ("fig7.png", "fig8a.png", "fig6.png"):
+        a, b = imread(out / name), imread(tmp_path / name)
+        assert a.shape == b.shape and np.array_equal(a, b), name
 
 
 def test_fig8b_without_a_reached_snapshot_step_is_missing_not_a_crash(
@@ -254,8 +282,21 @@ def test_a_second_run_replaces_the_whole_folder(tmp_path: Path) -> None:
     assert (tmp_path / "notes.txt").read_text() == "mine"  # not a fig7 file: kept
 
 
+@pytest.mark.parametrize(
+    ("plot", "missing"),
+    [
+        # drawn here first: the rest is not drawn, the child drawing fig8a and fig6 is killed
+        ("plot_fig7", ["fig7.png", "fig7.csv", "fig8a.png", "fig8b.png", "fig6.png"]),
+        # drawn in the child, which fails: drawn again here after fig8b, where the Ctrl-C lands
+        ("plot_damage", ["fig8a.png", "fig6.png"]),
+    ],
+)
 def test_ctrl_c_while_plotting_lists_the_missing_files(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+    plot: str,
+    missing: list[str],
 ) -> None:
     from rustfrac import figures
     from rustfrac.cli import main
@@ -263,17 +304,19 @@ def test_ctrl_c_while_plotting_lists_the_missing_files(
     def interrupted(*a: object, **k: object) -> None:
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(figures, "plot_damage", interrupted)  # fig8a.png, after fig7.png/csv
+    monkeypatch.setattr(figures, plot, interrupted)
     assert main(["fig7", "--out", str(tmp_path), "--preset", "fast", "-q"]) == 130
     err = capsys.readouterr().err
-    assert "missing: fig8a.png, fig8b.png, fig6.png" in err
+    assert f"missing: {', '.join(missing)}" in err
     s = json.loads((tmp_path / "summary.json").read_text())
     assert s["interrupted"] is True and s["complete"] is False
-    assert s["missing"] == ["fig8a.png", "fig8b.png", "fig6.png"]
+    assert s["missing"] == missing
     for f in s["files"]:
         assert (tmp_path / f).is_file(), f
-    assert not (tmp_path / "fig8a.png").exists()
-    assert "**Missing:** fig8a.png, fig8b.png, fig6.png" in (tmp_path / "summary.md").read_text()
+    for f in missing:
+        assert not (tmp_path / f).exists(), f
+    assert not list(tmp_path.glob(".*.tmp")), "a staged figure left behind"
+    assert f"**Missing:** {', '.join(missing)}" in (tmp_path / "summary.md").read_text()
     assert rf.load(tmp_path / "ccm_pd").method == "ccm_pd"  # the runs are kept
 
 

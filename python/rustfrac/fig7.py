@@ -7,8 +7,13 @@ strain, u2 = +-u0 on the grips, variant ``bc``):
 1. XFEM at the reference load (K_I, sigma22, CMOD), under traction 9.993 (the paper's second K_I),
    and quasi-static LEFM growth from a0 to 0.7 W (its critical states give Fig. 8b's panels);
 2. CCM-PD with the sequentially linear analysis (one bond break per step), in a worker thread
-   beside the XFEM runs (the core releases the GIL), while Fig. 8b is drawn once those are done;
+   beside the XFEM runs (the core releases the GIL), while Fig. 8b is drawn and the ``xfem/``
+   result folder staged once those are done;
 3. the LEFM handbook curve (long strip under traction: a guide, not the paper's geometry).
+
+Once CCM-PD is done, Fig. 8a and Fig. 6 are drawn in a forked child process (:data:`BESIDE`,
+``rustfrac._forked``: matplotlib draws under the GIL, so threads cannot share that work) while
+this process draws Fig. 7; without a child (not Linux, no fork) they are drawn here after it.
 
 Writes ``fig7.png``, ``fig7.csv``, ``fig8a.png``, ``fig8b.png``, ``fig6.png``, ``summary.md``,
 ``summary.json`` and the result folders ``xfem/`` and ``ccm_pd/``, as one unit (``_folder``; the
@@ -32,6 +37,7 @@ import threading
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -39,6 +45,7 @@ import numpy as np
 
 from . import _core, agreement, energy, handbook
 from ._folder import FolderWriter, check_writable, locked, why, with_fallback, writing
+from ._forked import Forked
 from ._log import logger
 from .errors import InvalidResultError, OutputError, ResultNotFoundError
 from .result import JSON_NAME, OWNED_NAMES, Result, _atomic, _read_json
@@ -233,14 +240,19 @@ def fig7(
     p = PRESETS[preset]
     scenes = _scenes(p, bc, s0_calibration, surface_correction)
     t_all = time.perf_counter()
-    runs = _Runs(scenes, progress, say)
-    runs.run(p)
+    runs = _Runs(scenes, progress, say, outdir)
+    try:
+        runs.run(p)
+    except BaseException:
+        for part in runs.staged.values():
+            part.abort()
+        raise
     if runs.interrupted:
         say("interrupted: writing what finished")
     compute_s = time.perf_counter() - t_all
     job = _Job(
         runs.results, runs.times, p, preset, bc, scenes, runs.interrupted, t_all, compute_s,
-        runs.ahead, runs.ahead_s,
+        runs.ahead, runs.ahead_s, runs.staged,
     )  # fmt: skip
     summary = with_fallback(outdir, job.write, "fig7")
     commit_s = time.perf_counter() - t_all - summary["total_s"]
@@ -307,14 +319,17 @@ class _Runs:
         scenes: dict[str, Scene],
         progress: Callable[[str], Callable[[int, int, str], Any] | None] | None,
         say: Log,
+        outdir: Path,
     ) -> None:
-        self.scenes, self.progress, self.say = scenes, progress, say
+        self.scenes, self.progress, self.say, self.outdir = scenes, progress, say, outdir
         self.results: dict[str, Result] = {}
         self.times: dict[str, float] = {}
         self.interrupted = False
         #: figures drawn beside the CCM-PD run (file name -> pixels) and the time it took
         self.ahead: dict[str, figures.Rendered] = {}
         self.ahead_s = 0.0
+        #: result folders staged beside the CCM-PD run (run name -> staged folder)
+        self.staged: dict[str, _StagedPart] = {}
         self._cancel = threading.Event()
         self._outcome: dict[str, Any] = {}
 
@@ -332,11 +347,14 @@ class _Runs:
             worker.start()
         try:
             for name, scene in self.scenes.items():
+                if self._worker_failed():  # raised below, without the runs left
+                    break
                 if name != self.BESIDE:
                     self.results[name], self.times[name] = run_logged(
                         name, scene, self.progress, self.say, _built
                     )
-            self.draw_ahead(p)
+            if not self._worker_failed():
+                self.draw_ahead(p)
             if worker is not None:
                 worker.join()
         except KeyboardInterrupt:
@@ -355,6 +373,12 @@ class _Runs:
         self.results = {n: self.results[n] for n in self.scenes if n in self.results}
         self.times = {n: self.times[n] for n in self.results}
 
+    def _worker_failed(self) -> bool:
+        """The worker's run raised an error (a KeyboardInterrupt, which its progress callback
+        raises to cancel it, is not a failure: the XFEM runs go on and are kept)."""
+        error = self._outcome.get("error")
+        return error is not None and not isinstance(error, KeyboardInterrupt)
+
     def _worker(self, inner: Callable[[int, int, str], Any] | None) -> None:
         def report(done: int, total: int, message: str) -> None:
             if self._cancel.is_set():
@@ -370,11 +394,17 @@ class _Runs:
             self._outcome["error"] = e
 
     def draw_ahead(self, p: Preset) -> None:
-        """Draws Fig. 8b (the XFEM growth's deformed mesh: the costliest figure, and the only one
-        that needs no CCM-PD result) while the CCM-PD run computes."""
+        """Stages the XFEM growth's result folder (worker thread) and draws Fig. 8b (the XFEM
+        growth's deformed mesh: the costliest figure, and the only one that needs no CCM-PD
+        result) while the CCM-PD run computes."""
         from . import figures
 
         t = time.perf_counter()
+        name = "xfem_growth"
+        if name in self.results:
+            self.staged[name] = _StagedPart(
+                self.results[name], self.outdir / PARTS[name], secrets.token_hex(8)
+            )
         fig = _fig8b(self.results, p)
         if fig is not None:
             self.ahead["fig8b.png"] = figures.render(fig)
@@ -394,6 +424,9 @@ class Fig7Interrupted(KeyboardInterrupt):
 FILES = ("fig7.png", "fig7.csv", "fig8a.png", "fig8b.png", "fig6.png", "summary.md", "summary.json")
 #: folder name of each run saved as a result folder
 PARTS = {"xfem_growth": "xfem", "ccm_pd": "ccm_pd"}
+#: the figures drawn in a child process (:class:`~rustfrac._forked.Forked`) while this process
+#: draws the others: the two that need the CCM-PD result besides fig7.png
+BESIDE = ("fig8a.png", "fig6.png")
 
 
 @dataclass
@@ -414,6 +447,8 @@ class _Job:
     #: (inside ``compute_s``)
     ahead: dict[str, figures.Rendered] = field(default_factory=dict)
     ahead_s: float = 0.0
+    #: result folders staged beside the CCM-PD run, in the output folder (run name -> staged)
+    staged_ahead: dict[str, _StagedPart] = field(default_factory=dict)
 
     def write(self, outdir: Path) -> dict[str, Any]:
         """Writes every output into ``outdir`` (summary.json last, naming the save id of each
@@ -424,32 +459,24 @@ class _Job:
         try:
             return self._write(outdir, staged)
         except BaseException:
-            for part in staged:
+            for part in [*staged, *self.staged_ahead.values()]:
                 part.abort()
+            self.staged_ahead.clear()
             raise
 
     def _write(self, outdir: Path, staged: list[_StagedPart]) -> dict[str, Any]:
         owned = (*FILES, *PARTS.values())
         with writing(outdir, owned=owned, last="summary.json", inner=OWNED_NAMES) as w:
-            parts: dict[str, str] = {}
-            for name, part in PARTS.items():
-                if name in self.results:
-                    parts[part] = secrets.token_hex(8)
-                    staged.append(_StagedPart(self.results[name], outdir / part, parts[part]))
-                    w.under_lock(part, staged[-1].commit)
-            files: list[str] = []
-            stopped = False  # a Ctrl-C while drawing: the rest is listed as missing
             t_fig = time.perf_counter()
-            for fname, make in self._drawings():
-                if stopped:
-                    break
-                try:
-                    make(w.stage(fname))
-                except KeyboardInterrupt:
-                    w.discard(fname)
-                    stopped = True
-                    continue
-                files.append(fname)
+            drawings = self._drawings()
+            # some figures are drawn in a child process on the other core (forked before the
+            # result folders' staging threads start: a fork copies only the calling thread)
+            beside = [(f, make, w.stage(f)) for f, make in drawings if f in BESIDE]
+            child = Forked([partial(make, path) for _, make, path in beside])
+            try:
+                files, stopped = self._draw(w, drawings, staged, outdir, child, beside)
+            finally:
+                child.kill()  # an error here: the child's files are not needed
             figures_s = time.perf_counter() - t_fig
             t_files = time.perf_counter()
             for part in staged:  # the result folders' staging, if the figures drew faster
@@ -484,7 +511,7 @@ class _Job:
                 - split["summaries"],
             )
             summary["files"] = [*files, "summary.md", "summary.json"]
-            summary["parts"] = parts
+            summary["parts"] = {part: s.save_id for part, s in zip(self._parts(), staged)}
             summary["missing"] = (
                 [f"run {n}" for n in self.scenes if n not in self.results]
                 + [f"{part}/" for n, part in PARTS.items() if n not in self.results]
@@ -496,6 +523,56 @@ class _Job:
                 w.stage("summary.json"), json.dumps(summary, indent=2, default=_json_default)
             )
         return summary
+
+    def _parts(self) -> list[str]:
+        """The result folders this job writes (``xfem``, ``ccm_pd``), in order."""
+        return [part for name, part in PARTS.items() if name in self.results]
+
+    def _draw(
+        self,
+        w: FolderWriter,
+        drawings: list[tuple[str, Callable[[Path], Any]]],
+        staged: list[_StagedPart],
+        outdir: Path,
+        child: Forked,
+        beside: list[tuple[str, Callable[[Path], Any], Path]],
+    ) -> tuple[list[str], bool]:
+        """Stages the result folders (worker threads), draws the figures not ``beside`` (in the
+        child) here, then waits for the child; returns the files drawn, in the drawings' order,
+        and whether a Ctrl-C stopped the drawing (the files not drawn are then discarded)."""
+        for name, part in PARTS.items():
+            if name in self.results:
+                ahead = self.staged_ahead.pop(name, None)
+                if ahead is None or ahead.d != outdir / part:  # none, or not in this folder
+                    if ahead is not None:
+                        ahead.abort()
+                    ahead = _StagedPart(self.results[name], outdir / part, secrets.token_hex(8))
+                staged.append(ahead)
+                w.under_lock(part, ahead.commit)
+        done: set[str] = set()
+        stopped = False  # a Ctrl-C while drawing: the rest is listed as missing
+        for fname, make in drawings:
+            if fname in BESIDE:
+                continue
+            try:
+                make(w.stage(fname))
+            except KeyboardInterrupt:
+                w.discard(fname)
+                stopped = True
+                break
+            done.add(fname)
+        try:
+            if stopped:
+                child.kill()
+            else:
+                child.wait()  # the child's figures, or drawn here if the child failed
+                done.update(f for f, _, _ in beside)
+        except KeyboardInterrupt:
+            stopped = True
+        for fname, _, _ in beside:
+            if fname not in done:
+                w.discard(fname)
+        return [f for f, _ in drawings if f in done], stopped
 
     def _drawings(self) -> list[tuple[str, Callable[[Path], Any]]]:
         """(file name, writer into a path) of every file the finished runs give."""
@@ -627,6 +704,7 @@ class _StagedPart:
 
     def __init__(self, res: Result, d: Path, save_id: str) -> None:
         self.d = d
+        self.save_id = save_id
         self._made = not d.exists()
         self._w: FolderWriter | None = None
         self._error: BaseException | None = None
