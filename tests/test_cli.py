@@ -249,3 +249,73 @@ def test_console_runs_main_then_freezes_the_heap(monkeypatch: pytest.MonkeyPatch
     monkeypatch.setattr(gc, "freeze", lambda: calls.append("freeze"))
     assert cli.console() == 7
     assert calls == ["main", "freeze"]
+
+
+class _Terminal:
+    """A text stream that says it is a terminal (the bar then ends its drawings with CR)."""
+
+    def __init__(self) -> None:
+        self.parts: list[str] = []
+
+    def write(self, s: str) -> int:
+        self.parts.append(s)
+        return len(s)
+
+    def flush(self) -> None:
+        pass
+
+    def isatty(self) -> bool:
+        return True
+
+
+def test_job_console_lines_stay_whole_beside_a_bar_and_another_thread(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """fig7 and compare log from two threads (CCM-PD beside the XFEM runs) while a bar draws on
+    the terminal: a log line is one write, and a bar's line is ended first, so neither
+    overwrites the other (one line of each once seen: "...m=4run xfem: ..." and a result line
+    over the bar's last drawing)."""
+    import io
+    import threading
+
+    from rustfrac import cli
+    from rustfrac.progress import ProgressBar
+
+    term = _Terminal()
+    out = io.StringIO()
+    writes: list[str] = []
+
+    class Recorded(io.StringIO):
+        def write(self, s: str) -> int:  # every write, as the terminal gets them
+            writes.append(s)
+            return out.write(s)
+
+    monkeypatch.setattr(sys, "stdout", Recorded())
+    bars: list[ProgressBar] = []
+    log, progress = cli._job_console(bars, quiet=False)
+    assert log is not None
+    bar = progress("ccm_pd")
+    assert bar is not None
+    bar.stream, bar.delay = term, 0.0
+    bar(1, 10, "sla: step 1/10")
+    assert bar.mid_line
+    log("        result of ccm_pd")  # after the bar's drawing: its line ended first
+    assert term.parts[-1] == "\n" and not bar.mid_line
+
+    def many(name: str) -> None:
+        for i in range(200):
+            log(f"run     {name} {i}")
+
+    threads = [threading.Thread(target=many, args=(n,)) for n in ("ccm_pd", "xfem")]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    lines = out.getvalue().splitlines()
+    assert len(lines) == 401 and all(w.endswith("\n") for w in writes)
+    for name in ("ccm_pd", "xfem"):
+        assert [ln for ln in lines if ln.startswith(f"run     {name} ")] == [
+            f"run     {name} {i}" for i in range(200)
+        ]
+    quiet_log, quiet_progress = cli._job_console([], quiet=True)
+    assert quiet_log is None and quiet_progress("x") is None

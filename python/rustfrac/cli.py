@@ -552,9 +552,8 @@ def _cmd_fig7(args: argparse.Namespace) -> int:
     except OutputError as e:
         print(f"rustfrac: error: invalid --out: {e}", file=sys.stderr)
         return 2
-    log = None if args.quiet else (lambda s: print(s, flush=True))
     bars: list[ProgressBar] = []
-    progress = _bar_per_run(bars, args.quiet)
+    log, progress = _job_console(bars, args.quiet)
 
     try:
         fig7(
@@ -601,9 +600,8 @@ def _cmd_compare(args: argparse.Namespace) -> int:
     except OutputError as e:
         print(f"rustfrac: error: invalid --out: {e}", file=sys.stderr)
         return 2
-    log = None if args.quiet else (lambda s: print(s, flush=True))
     bars: list[ProgressBar] = []
-    progress = _bar_per_run(bars, args.quiet)
+    log, progress = _job_console(bars, args.quiet)
 
     try:
         compare(
@@ -620,9 +618,20 @@ def _cmd_compare(args: argparse.Namespace) -> int:
     return 0
 
 
-def _bar_per_run(bars: list[ProgressBar], quiet: bool) -> Callable[[str], ProgressBar | None]:
-    """The progress factory of a job of several runs (fig7, compare): a fresh text bar per run,
-    the previous one closed; kept in ``bars`` so the command closes the last one."""
+def _job_console(
+    bars: list[ProgressBar], quiet: bool
+) -> tuple[Callable[[str], None] | None, Callable[[str], ProgressBar | None]]:
+    """The log and the progress factory of a job of several runs (fig7, compare; None and no
+    bars with ``quiet``). The factory gives a fresh text bar per run, the previous ones' lines
+    ended; they are kept in ``bars`` so the command closes the last. The runs may report from
+    two threads (fig7 runs CCM-PD beside the XFEM runs): a log line is one write, after the
+    line of any bar drawn on a terminal is ended, so that neither overwrites the other."""
+
+    def log(s: str) -> None:
+        for b in bars:
+            b.end_line()
+        sys.stdout.write(s + "\n")
+        sys.stdout.flush()
 
     def progress(name: str) -> ProgressBar | None:
         if quiet:
@@ -632,7 +641,7 @@ def _bar_per_run(bars: list[ProgressBar], quiet: bool) -> Callable[[str], Progre
         bars.append(ProgressBar())
         return bars[-1]
 
-    return progress
+    return (None if quiet else log), progress
 
 
 def _interrupted(out: Path, missing: list[str]) -> int:

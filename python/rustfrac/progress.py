@@ -44,6 +44,8 @@ class ProgressBar:
         self.width, self.delay, self.clock = width, delay, clock
         self.t0 = clock()
         self.drawn = False
+        #: the last drawing ended with a carriage return (a terminal): the bar holds the line
+        self.mid_line = False
         #: (time, done) of the reports counted for the rate: those of the current total, from
         #: the first with done > 0; older ones are dropped once a newer one is older than the
         #: window
@@ -64,6 +66,7 @@ class ProgressBar:
         self.stream.write(f"[{bar}] {100 * frac:5.1f}% {elapsed:7.1f} s  {message}{eta}{end}")
         self.stream.flush()
         self.drawn = True
+        self.mid_line = end == "\r"
 
     def _eta(self, now: float, done: int, total: int) -> str:
         """Counts the report and returns "  ETA ... s", or "" while the rate is unknown. A report
@@ -88,10 +91,16 @@ class ProgressBar:
         left = (t_last - t_ref) / (d_last - d_ref) * (total - d_last) - (now - t_last)
         return f"  ETA {max(left, 0.0):.1f} s"
 
-    def close(self) -> None:
-        if self.drawn and self.stream.isatty():
+    def end_line(self) -> None:
+        """Ends the bar's line on a terminal (the next drawing starts a new one), e.g. before a
+        log line that would otherwise overwrite it."""
+        if self.mid_line:
             self.stream.write("\n")
             self.stream.flush()
+            self.mid_line = False
+
+    def close(self) -> None:
+        self.end_line()
 
 
 class TqdmProgress:
