@@ -366,7 +366,14 @@ fn cost_choice(
             // it on the main thread
             analysed: match analysed {
                 Some(a) => Some(a),
-                None => Some(SparseFactor::analyze(&pattern, false, &xy)?),
+                None => {
+                    let lu = SparseFactor::analyze(&pattern, false, &xy)?;
+                    timing(
+                        "engine: sparse S's LU analysed (COLAMD, dense block last)",
+                        t0,
+                    );
+                    Some(lu)
+                }
             },
             first_s: symmetric.then_some(pattern),
             interval: est.sparse_interval,
