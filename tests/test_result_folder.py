@@ -325,3 +325,28 @@ def test_long_lists_are_written_compactly(tmp_path: Path) -> None:
     size = (tmp_path / "result.json").stat().st_size
     assert size < 1.1 * len(json.dumps(steps)) + 10_000  # not an indented line per item
     assert rf.load(tmp_path).meta["scene"]["pd"]["damage_at_steps"] == steps
+
+
+def test_stage_each_stops_at_a_ctrl_c_and_discards_the_file_it_interrupted(
+    tmp_path: Path,
+) -> None:
+    """The jobs' figures (run --plot, fig7, compare, sweep) are staged by
+    ``FolderWriter.stage_each``: a Ctrl-C in one file's writer discards that file, writes none
+    after it and commits those before it."""
+    from rustfrac._folder import writing
+
+    def text(s: str):  # type: ignore[no-untyped-def]
+        return lambda p: Path(p).write_text(s)
+
+    def interrupted(p: Path) -> None:
+        Path(p).write_text("half")
+        raise KeyboardInterrupt
+
+    files = [("a.txt", text("a")), ("b.txt", interrupted), ("c.txt", text("c"))]
+    with writing(tmp_path, owned=["a.txt", "b.txt", "c.txt", "last"], last="last") as w:
+        done, stopped = w.stage_each(files)
+        w.stage("last").write_text("x")
+    assert done == ["a.txt"] and stopped
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.txt", "last"]
+    with writing(tmp_path, owned=["a.txt", "c.txt", "last"], last="last") as w:
+        assert w.stage_each(files[::2]) == (["a.txt", "c.txt"], False)

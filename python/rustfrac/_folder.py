@@ -165,6 +165,22 @@ class FolderWriter:
         if p is not None:
             _unlink(p)
 
+    def stage_each(
+        self, files: Iterable[tuple[str, Callable[[Path], object]]]
+    ) -> tuple[list[str], bool]:
+        """Stages the files ``(name, write(path))`` in order until a Ctrl-C: the file the
+        KeyboardInterrupt interrupts is discarded and the later ones are not written. Returns the
+        names staged and whether a Ctrl-C stopped it (a job then lists the others as missing)."""
+        done: list[str] = []
+        for name, write in files:
+            try:
+                write(self.stage(name))
+            except KeyboardInterrupt:
+                self.discard(name)
+                return done, True
+            done.append(name)
+        return done, False
+
     def under_lock(self, name: str, fn: Callable[[], object]) -> None:
         """Has ``fn`` write the entry ``name`` at the commit while the folder's lock is held,
         before the renames (e.g. a result folder inside a fig7 folder)."""

@@ -812,14 +812,12 @@ def _stage_plots(res: _Result, w: FolderWriter, plots: list[str], missing: list[
         todo.append(("tip_x50.png", lambda: plot_tip_deformation(res, scale=50.0)))
     if res.history:
         todo.append(("load_path.png", lambda: plot_load_path(res)))
-    for k, (name, draw) in enumerate(todo):
-        try:
-            draw().figure.savefig(w.stage(name), format="png", dpi=150, bbox_inches="tight")
-        except KeyboardInterrupt:
-            w.discard(name)
-            missing.extend(n for n, _ in todo[k:])
-            return
-        plots.append(name)
+    done, _ = w.stage_each(
+        (name, lambda p, d=draw: d().figure.savefig(p, format="png", dpi=150, bbox_inches="tight"))
+        for name, draw in todo
+    )
+    plots.extend(done)
+    missing.extend(n for n, _ in todo if n not in done)
 
 
 def _checkpoint_options(scene: _Scene, args: argparse.Namespace) -> _Scene:

@@ -657,18 +657,7 @@ class _Job:
                         ),
                     )  # fmt: skip
             s = self.summary()
-            files: list[str] = []
-            stopped = False
-            for fname, make in self._drawings(s):
-                if stopped:
-                    break
-                try:
-                    make(w.stage(fname))
-                except KeyboardInterrupt:
-                    w.discard(fname)
-                    stopped = True
-                    continue
-                files.append(fname)
+            files, stopped = w.stage_each(self._drawings(s))
             interrupted = self.interrupted or stopped
             s["interrupted"] = interrupted
             s["total_s"] = time.perf_counter() - self.t_all

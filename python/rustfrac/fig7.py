@@ -549,18 +549,8 @@ class _Job:
                     ahead = _StagedPart(self.results[name], outdir / part, secrets.token_hex(8))
                 staged.append(ahead)
                 w.under_lock(part, ahead.commit)
-        done: set[str] = set()
-        stopped = False  # a Ctrl-C while drawing: the rest is listed as missing
-        for fname, make in drawings:
-            if fname in BESIDE:
-                continue
-            try:
-                make(w.stage(fname))
-            except KeyboardInterrupt:
-                w.discard(fname)
-                stopped = True
-                break
-            done.add(fname)
+        here, stopped = w.stage_each((f, make) for f, make in drawings if f not in BESIDE)
+        done = set(here)
         try:
             if stopped:
                 child.kill()

@@ -26,6 +26,7 @@ a status) of the three finest levels. Every point is timed ``repeats`` times, th
 from __future__ import annotations
 
 import csv
+import functools
 import io
 import json
 import math
@@ -1053,18 +1054,12 @@ def _write(
         rows = ([r.get(k) for k in CSV_KEYS] for r in recs)
         w.stage("sweep.csv").write_text(_csv_text(CSV_KEYS, rows), encoding="utf-8")
         w.stage("sweep.md").write_text(markdown(recs, refs, presets), encoding="utf-8")
-        missing_files, stopped = [], False
-        for method in sorted({r["method"] for r in recs}):
-            name = f"sweep_{method}.png"
-            if stopped:
-                missing_files.append(name)
-                continue
-            try:
-                plot(recs, method, w.stage(name))
-            except KeyboardInterrupt:
-                w.discard(name)
-                missing_files.append(name)
-                stopped = True
+        plots = [
+            (f"sweep_{m}.png", functools.partial(plot, recs, m))
+            for m in sorted({r["method"] for r in recs})
+        ]
+        done, stopped = w.stage_each(plots)
+        missing_files = [name for name, _ in plots if name not in done]
         interrupted = bool(extra.get("interrupted")) or stopped
         doc = {
             "version": __version__,
