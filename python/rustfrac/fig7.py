@@ -511,7 +511,7 @@ class _Job:
                 - split["summaries"],
             )
             summary["files"] = [*files, "summary.md", "summary.json"]
-            summary["parts"] = {part: s.save_id for part, s in zip(self._parts(), staged)}
+            summary["parts"] = {part.d.name: part.save_id for part in staged}
             summary["missing"] = (
                 [f"run {n}" for n in self.scenes if n not in self.results]
                 + [f"{part}/" for n, part in PARTS.items() if n not in self.results]
@@ -523,10 +523,6 @@ class _Job:
                 w.stage("summary.json"), json.dumps(summary, indent=2, default=_json_default)
             )
         return summary
-
-    def _parts(self) -> list[str]:
-        """The result folders this job writes (``xfem``, ``ccm_pd``), in order."""
-        return [part for name, part in PARTS.items() if name in self.results]
 
     def _draw(
         self,
