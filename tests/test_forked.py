@@ -176,3 +176,24 @@ def test_the_child_dies_with_its_parent(tmp_path: Path) -> None:
     while _alive(child) and time.monotonic() < deadline:
         time.sleep(0.02)
     assert not _alive(child)
+
+
+def test_a_child_that_hangs_is_killed_and_its_tasks_run_here(tmp_path: Path) -> None:
+    """A child that does not end (a lock it never sees released) must not hang the job: after
+    the timeout it is killed and its tasks run in the caller."""
+    parent = os.getpid()
+    out = tmp_path / "out"
+
+    def hangs_in_the_child() -> None:
+        if os.getpid() != parent:
+            time.sleep(60)
+        out.write_text("caller")
+
+    f = Forked([hangs_in_the_child])
+    pid = f.pid
+    assert pid is not None
+    t = time.perf_counter()
+    f.wait(timeout_s=0.3)
+    assert 0.3 <= time.perf_counter() - t < 10
+    assert out.read_text() == "caller"
+    assert not f.forked and not _alive(pid)  # killed and reaped

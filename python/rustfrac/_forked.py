@@ -5,8 +5,9 @@ the process shares its memory (copy on write) and draws beside it, with nothing 
 send. :class:`Forked` runs tasks (callables that write their own files) in such a child; the
 caller goes on with its own work and then :meth:`Forked.wait`\\ s. Nothing is lost when the child
 cannot do its part: a failed fork (no ``os.fork``: Windows; not Linux; no memory or process
-left), or a child that failed, died or was killed, leaves the tasks to :meth:`Forked.wait`, which
-runs them in the caller, where their errors (a full disk, ...) are raised as they would have been.
+left), or a child that failed, died, was killed or did not end within :data:`CHILD_TIMEOUT_S`,
+leaves the tasks to :meth:`Forked.wait`, which runs them in the caller, where their errors (a full
+disk, ...) are raised as they would have been.
 
 Signals: the child ignores SIGINT (Ctrl-C reaches the whole process group: the caller handles it
 and kills the child) and dies with its parent (``PR_SET_PDEATHSIG``), so a killed job leaves no
@@ -21,6 +22,7 @@ import os
 import signal
 import sys
 import threading
+import time
 import warnings
 from collections.abc import Callable, Sequence
 
@@ -28,6 +30,10 @@ __all__ = ["Forked"]
 
 #: Linux's prctl option: the signal the child gets when its parent dies
 _PR_SET_PDEATHSIG = 1
+#: seconds :meth:`Forked.wait` waits for a child before it kills it and runs its tasks here: a
+#: child that hangs (a lock held by another thread at the fork, which the child never sees
+#: released) must not hang the job; two figures take well under a second
+CHILD_TIMEOUT_S = 120.0
 
 
 def _die_with_parent(parent: int) -> None:
@@ -85,19 +91,22 @@ class Forked:
     def forked(self) -> bool:
         return self.pid is not None
 
-    def wait(self) -> None:
-        """Waits for the child; if there was none, or it did not end with success, runs the
-        tasks here (raising their errors). A KeyboardInterrupt (or any exception) while waiting
-        kills the child first."""
+    def wait(self, timeout_s: float = CHILD_TIMEOUT_S) -> None:
+        """Waits for the child, at most ``timeout_s`` seconds; if there was none, or it did not
+        end with success in that time (then it is killed), runs the tasks here (raising their
+        errors). A KeyboardInterrupt (or any exception) while waiting kills the child first."""
         if self.pid is not None:
             try:
-                _, status = os.waitpid(self.pid, 0)
+                status = _waitpid(self.pid, timeout_s)
             except BaseException:
                 self.kill()
                 raise
-            self.pid = None
-            if os.waitstatus_to_exitcode(status) == 0:
-                return
+            if status is None:  # still running: killed, its tasks done here
+                self.kill()
+            else:
+                self.pid = None
+                if os.waitstatus_to_exitcode(status) == 0:
+                    return
         for task in self.tasks:
             task()
 
@@ -114,6 +123,21 @@ class Forked:
         except ChildProcessError:  # reaped already
             pass
         self.pid = None
+
+
+def _waitpid(pid: int, timeout_s: float) -> int | None:
+    """The wait status of child ``pid`` once it ends, or None if it still runs after
+    ``timeout_s`` seconds (polled: a sleep of at most 10 ms between checks)."""
+    deadline = time.monotonic() + timeout_s
+    pause = 0.001
+    while True:
+        done, status = os.waitpid(pid, os.WNOHANG)
+        if done:
+            return status
+        if time.monotonic() >= deadline:
+            return None
+        time.sleep(pause)
+        pause = min(2 * pause, 0.01)
 
 
 def _can_fork() -> bool:
