@@ -592,7 +592,8 @@ impl RunState {
         if model.all_pd {
             return;
         }
-        let cap = INTERFACE_SEARCH * model.pd.delta;
+        // a node farther than the closest so far cannot lower it: search only that far
+        let cap = self.closest.min(INTERFACE_SEARCH * model.pd.delta);
         for &b in sel {
             self.closest = self.closest.min(bond_interface_distance(model, b, cap));
         }
