@@ -7,7 +7,7 @@ mod common;
 use common::{go_on, pd_plate};
 use rustfrac_core::fe::mesh::Side;
 use rustfrac_core::pd::cell_fraction;
-use rustfrac_core::pd::sla::run;
+use rustfrac_core::pd::sla::{force_screening, run};
 use rustfrac_core::pd::splice::SpliceModel;
 use rustfrac_core::problem::{CrackKind, CrackSpec, HoleVolumes, Problem, SlaParams};
 
@@ -454,16 +454,21 @@ fn pulled_strip(method: &str) -> Problem {
 fn sla_on_region_scenes_fast_equals_oracle() {
     // a pure PD strip with an edge pre-crack, its bottom layer fixed, its top pulled by a
     // traction: the history's sigma22 is the load's mean stress, u0 the top's mean u2
+    // (the fast solver also with its bond screening forced on: it reads u0 from its ring then)
     for method in ["pd", "ccm_pd"] {
         let mut hist = Vec::new();
-        for fast in [true, false] {
+        for (fast, screen) in [(true, false), (true, true), (false, false)] {
             let mut p = pulled_strip(method);
             p.pd_mut().sla = SlaParams {
                 max_steps: 40,
                 fast,
                 ..SlaParams::default()
             };
-            let r = run(&p, &go_on).unwrap();
+            force_screening(screen);
+            let r = run(&p, &go_on);
+            force_screening(false);
+            let r = r.unwrap();
+            assert_eq!(r.screened_steps > 0, screen, "{method}");
             assert_eq!(r.grip, "regions");
             let t = p.material.elastic.thickness;
             for s in &r.history {
@@ -475,13 +480,16 @@ fn sla_on_region_scenes_fast_equals_oracle() {
             assert!((top.force[1] - 1.2 * t).abs() < 1e-9 * t);
             hist.push(r.history);
         }
-        let (a, b) = (&hist[0], &hist[1]);
-        assert_eq!(a.len(), b.len());
-        for (x, y) in a.iter().zip(b) {
-            assert_eq!(x.bonds, y.bonds, "{method}: step {}", x.step);
-            assert!((x.lambda - y.lambda).abs() <= 1e-8 * y.lambda);
-            assert!((x.u0 - y.u0).abs() <= 1e-8 * y.u0.abs(), "{x:?} {y:?}");
+        let b = &hist[2];
+        for a in &hist[..2] {
+            assert_eq!(a.len(), b.len());
+            for (x, y) in a.iter().zip(b) {
+                assert_eq!(x.bonds, y.bonds, "{method}: step {}", x.step);
+                assert!((x.lambda - y.lambda).abs() <= 1e-8 * y.lambda);
+                assert!((x.u0 - y.u0).abs() <= 1e-8 * y.u0.abs(), "{x:?} {y:?}");
+            }
         }
+        let a = &hist[0];
         println!(
             "{method}: {} steps, fast = oracle; last u0 {:.4e}",
             a.len(),
@@ -496,9 +504,11 @@ fn sla_histories_carry_the_probes() {
     // and the opening at the crack mouth. References: the oracle's full solve at every step, the
     // reference solution before any break (step 1 = lambda_1 times it), and the CMOD (the
     // opening probe at the mouth reads the same node pair)
+    // (the fast solver also with its bond screening forced on: it reads the FEM probe from its
+    // ring then)
     for method in ["pd", "ccm_pd"] {
         let mut runs = Vec::new();
-        for fast in [true, false] {
+        for (fast, screen) in [(true, false), (true, true), (false, false)] {
             let mut p = pulled_strip(method);
             p.probes = vec![
                 Probe {
@@ -522,7 +532,11 @@ fn sla_histories_carry_the_probes() {
                 fast,
                 ..SlaParams::default()
             };
-            let r = run(&p, &go_on).unwrap();
+            force_screening(screen);
+            let r = run(&p, &go_on);
+            force_screening(false);
+            let r = r.unwrap();
+            assert_eq!(r.screened_steps > 0, screen, "{method}");
             assert_eq!(r.history.len(), 30, "{method}");
             let s1 = &r.history[0];
             for (k, (name, v)) in r.responses.probes.iter().enumerate() {
@@ -544,13 +558,15 @@ fn sla_histories_carry_the_probes() {
             }
             runs.push(r.history);
         }
-        let (a, b) = (&runs[0], &runs[1]);
+        let b = &runs[2];
         let mut worst = 0.0f64;
-        for (x, y) in a.iter().zip(b) {
-            assert_eq!(x.bonds, y.bonds, "{method}: step {}", x.step);
-            for (p, q) in x.probes.iter().zip(&y.probes) {
-                let scale = q[0].hypot(q[1]).max(1e-300);
-                worst = worst.max((p[0] - q[0]).hypot(p[1] - q[1]) / scale);
+        for a in &runs[..2] {
+            for (x, y) in a.iter().zip(b) {
+                assert_eq!(x.bonds, y.bonds, "{method}: step {}", x.step);
+                for (p, q) in x.probes.iter().zip(&y.probes) {
+                    let scale = q[0].hypot(q[1]).max(1e-300);
+                    worst = worst.max((p[0] - q[0]).hypot(p[1] - q[1]) / scale);
+                }
             }
         }
         assert!(worst <= 1e-8, "{method}: fast vs oracle probes {worst:.2e}");

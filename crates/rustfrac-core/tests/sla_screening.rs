@@ -3,7 +3,8 @@
 //! refactorise-every-step oracle, which evaluates every bond: the same broken bonds and load
 //! factors within 1e-8 on small cases with the screening forced on (by size it starts at 4 096
 //! PD unknowns), across re-condensations, grounding springs, separation, ties, the surface
-//! correction, the adaptive region's switches, and a checkpoint resumed bit for bit.
+//! correction, the adaptive region's switches, bonds with an FEM end, and a checkpoint resumed bit
+//! for bit.
 
 mod common;
 
@@ -142,4 +143,27 @@ fn size_rule_and_checkpoint_resume() {
     let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
     assert_eq!(bits(&straight.u_final), bits(&resumed.u_final));
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A pre-crack ending a fifth of a horizon from the FEM part: bonds with an FEM end break (their
+/// update moves v by beta0 w, so the ring values the screened states read move too).
+#[test]
+fn bonds_with_an_fem_end_break_screened() {
+    let mut p = coarse(true, 40);
+    p.pd_mut().regions = vec![[0.0, 9.6, 1.7, 11.4]];
+    common::set_precrack(&mut p, 1.5, 10.5);
+    p.pd_mut().sla.refactor_every = 50;
+    let r = screened(&p);
+    assert_eq!(
+        r.interface_distance_min,
+        Some(0.0),
+        "no bond with an FEM end broke"
+    );
+    for e in [SlaEngine::Dense, SlaEngine::Sparse] {
+        check(
+            &format!("pre-crack at the FEM part {e:?}"),
+            &with_engine(p.clone(), e),
+            0.3,
+        );
+    }
 }

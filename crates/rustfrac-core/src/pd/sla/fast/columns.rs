@@ -10,11 +10,31 @@
 //! of w differs from one solve with a (the combination is taken after the solve).
 //!
 //! The kept columns are bounded by a memory budget; past it they are dropped and refilled.
+//!
+//! A screened run (`screening.rs`) also needs each update column's field at the FEM ring,
+//! Z_ring w_pc: it is kept per column too, for a batch one matrix product Z_ring C_pc (read once
+//! for the batch) instead of one matrix-vector product of Z_ring per break ([`RingMap`]).
 
 use super::base::Base;
 use crate::error::{Error, Result};
 use crate::pd::sla::engine::timing;
+use faer::linalg::matmul::matmul;
+use faer::{Accum, MatMut, MatRef, Par};
 use std::time::Instant;
+
+/// Z at the ring (row-major |ring| x |pc|) and the P indices `pc` of its columns: the ring field
+/// of a column c of S_0^{-1} is Z_ring c_pc.
+#[derive(Clone, Copy)]
+pub(in crate::pd::sla) struct RingMap<'z> {
+    pub(in crate::pd::sla) z: &'z [f64],
+    pub(in crate::pd::sla) pc: &'z [usize],
+}
+
+impl RingMap<'_> {
+    fn nring(&self) -> usize {
+        self.z.len().checked_div(self.pc.len()).unwrap_or(0)
+    }
+}
 
 /// Fraction of the memory available at the first batch that kept columns may take.
 const BUDGET_FRACTION: f64 = 0.25;
@@ -28,6 +48,8 @@ pub(in crate::pd::sla) struct Columns {
     col: Vec<Option<(usize, usize)>>,
     /// the batches' columns as solved (column-major, n_P x batch size)
     store: Vec<Vec<f64>>,
+    /// the batches' ring fields (column-major, |ring| x batch size; empty without a [`RingMap`])
+    ring: Vec<Vec<f64>>,
     kept: usize,
     /// most columns kept at once (from the memory budget; 0: not set yet)
     max_kept: usize,
@@ -41,28 +63,33 @@ impl Columns {
     pub(in crate::pd::sla) fn clear(&mut self) {
         self.col.clear();
         self.store.clear();
+        self.ring.clear();
         self.kept = 0;
     }
 
     /// w = S_0^{-1} a for a sparse a (index, value) on the `xy.len()` P unknowns at `xy`, with the
     /// columns of the unknowns of a, computed in batches of every missing unknown within
-    /// `radius` of one of them.
+    /// `radius` of one of them; with `ring`, also w's ring field Z_ring w_pc (the same
+    /// combination of the columns' ring fields). `ring` must be the same for every call between
+    /// two [`Self::clear`]s.
     pub(in crate::pd::sla) fn combine(
         &mut self,
         f: &Base,
         a: &[(usize, f64)],
         xy: &[[f64; 2]],
         radius: f64,
-    ) -> Result<Vec<f64>> {
+        ring: Option<RingMap<'_>>,
+    ) -> Result<(Vec<f64>, Option<Vec<f64>>)> {
         let n = xy.len();
         if self.col.len() != n {
             self.clear();
             self.col = vec![None; n];
         }
+        let nring = ring.map_or(0, |r| r.nring());
         if self.max_kept == 0 {
             let avail = crate::memory::available_bytes().unwrap_or(8.0e9);
             let budget = (avail * BUDGET_FRACTION).min(BUDGET_MAX_BYTES);
-            self.max_kept = ((budget / (8.0 * n.max(1) as f64)) as usize).max(8);
+            self.max_kept = ((budget / (8.0 * (n + nring).max(1) as f64)) as usize).max(8);
         }
         let missing: Vec<usize> = a
             .iter()
@@ -70,9 +97,10 @@ impl Columns {
             .filter(|&p| self.col[p].is_none())
             .collect();
         if !missing.is_empty() {
-            self.fetch(f, &missing, xy, radius)?;
+            self.fetch(f, &missing, xy, radius, ring)?;
         }
         let mut w = crate::la::written_zeros(n); // accumulated into
+        let mut zw = ring.map(|_| crate::la::written_zeros(nring));
         for &(p, val) in a {
             let (b, j) = self.col[p].ok_or_else(|| Error::Internal {
                 detail: format!("column {p} of the condensed inverse not fetched"),
@@ -81,13 +109,30 @@ impl Columns {
             for (wi, &s) in w.iter_mut().zip(c) {
                 *wi += s * val;
             }
+            if let Some(zw) = zw.as_mut() {
+                let r = self.ring[b]
+                    .get(j * nring..(j + 1) * nring)
+                    .ok_or_else(|| Error::Internal {
+                        detail: format!("ring field of column {p} not computed"),
+                    })?;
+                for (zi, &s) in zw.iter_mut().zip(r) {
+                    *zi += s * val;
+                }
+            }
         }
-        Ok(w)
+        Ok((w, zw))
     }
 
     /// Solves for the columns of `need` and of every missing unknown within `radius` of them
     /// (as many as the budget allows) in one multi-column solve.
-    fn fetch(&mut self, f: &Base, need: &[usize], xy: &[[f64; 2]], radius: f64) -> Result<()> {
+    fn fetch(
+        &mut self,
+        f: &Base,
+        need: &[usize],
+        xy: &[[f64; 2]],
+        radius: f64,
+        ring: Option<RingMap<'_>>,
+    ) -> Result<()> {
         let n = xy.len();
         if self.kept + need.len() > self.max_kept {
             self.clear();
@@ -125,6 +170,8 @@ impl Columns {
         for (j, &q) in batch.iter().enumerate() {
             self.col[q] = Some((self.store.len(), j));
         }
+        self.ring
+            .push(ring.map_or_else(Vec::new, |r| ring_fields(r, &rhs, n, k)));
         self.store.push(rhs);
         self.kept += k;
         self.batches += 1;
@@ -138,4 +185,28 @@ impl Columns {
         );
         Ok(())
     }
+}
+
+/// Z_ring C_pc for the `k` columns C (column-major, `n` x k): column-major |ring| x k.
+fn ring_fields(r: RingMap<'_>, c: &[f64], n: usize, k: usize) -> Vec<f64> {
+    let (nring, npc) = (r.nring(), r.pc.len());
+    let mut out = vec![0.0; nring * k];
+    if nring == 0 || npc == 0 {
+        return out;
+    }
+    let mut cpc = vec![0.0; npc * k];
+    for (cj, col) in cpc.chunks_exact_mut(npc).zip(c.chunks_exact(n)) {
+        for (v, &p) in cj.iter_mut().zip(r.pc) {
+            *v = col[p];
+        }
+    }
+    matmul(
+        MatMut::from_column_major_slice_mut(&mut out, nring, k),
+        Accum::Replace,
+        MatRef::from_row_major_slice(r.z, nring, npc),
+        MatRef::from_column_major_slice(&cpc, npc, k),
+        1.0,
+        Par::Seq,
+    );
+    out
 }

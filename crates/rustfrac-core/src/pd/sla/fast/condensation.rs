@@ -129,7 +129,7 @@ impl<'a> Fast<'a> {
             z_ring,
             probe_dofs,
         } = part;
-        let np = dc.p_dofs.len();
+        let (np, nring) = (dc.p_dofs.len(), cp.ring.len());
         let chol = ichol.map(|(c, _)| c.into_cholesky());
         let mut me = Self {
             model,
@@ -147,6 +147,8 @@ impl<'a> Fast<'a> {
             cmod_const: fun.cmod_const,
             needed: Vec::new(),
             needed_mask: vec![false; np],
+            ring_needed: Vec::new(),
+            ring_needed_mask: vec![false; nring],
             sig_nz: super::nonzeros(&fun.sig_coef),
             cmod_nz: super::nonzeros(&fun.cmod_coef),
             scr: Default::default(),
@@ -178,12 +180,11 @@ impl<'a> Fast<'a> {
             first_s,
         };
         me.p_xy = dof_xy(model, &me.p_dofs);
-        let pc_dofs: Vec<usize> = me.pc.iter().map(|&p| me.p_dofs[p]).collect();
         let nz: Vec<usize> = (me.sig_nz.iter().chain(&me.cmod_nz))
             .map(|&(p, _)| me.p_dofs[p])
             .collect();
         let load = model.response.load_dofs();
-        me.need(pc_dofs.into_iter().chain(nz).chain(load).chain(probe_dofs));
+        me.need(nz.into_iter().chain(load).chain(probe_dofs));
         me.condense(&k)?;
         timing("fast: condensed and factorised", t0);
         Ok(me)

@@ -84,11 +84,15 @@ pub(super) struct Fast<'a> {
     p_xy: Vec<[f64; 2]>,
     x0: Vec<f64>,
     v: Vec<f64>,
-    /// the P unknowns where every state computes x: `pc` (the ring's Z x_pc), the nonzeros of
-    /// the sigma22 and CMOD coefficients, the load displacement's, the probes' and the
-    /// loaded-edge bonds' PD dofs ([`Self::need`])
+    /// the P unknowns where every state computes x: the nonzeros of the sigma22 and CMOD
+    /// coefficients, the load displacement's, the probes' and the loaded-edge bonds' PD dofs
+    /// ([`Self::need`])
     needed: Vec<usize>,
     needed_mask: Vec<bool>,
+    /// the ring positions where a screened state computes u (the FEM dofs among the load
+    /// displacement's, the probes' and the loaded-edge bonds'; [`Self::need`])
+    ring_needed: Vec<usize>,
+    ring_needed_mask: Vec<bool>,
     /// nonzeros (P index, value) of `sig_coef` and `cmod_coef`
     sig_nz: Vec<(usize, f64)>,
     cmod_nz: Vec<(usize, f64)>,
@@ -124,15 +128,24 @@ impl Engine for Fast<'_> {
         let y = self.smw_coefficients();
         all_finite(&y)?;
         if self.scr.on {
-            // x only where the state needs it; the bonds' ends as `stretches` evaluates them
+            // x only where the state needs it, u at the ring dofs it reads; the bonds' ends as
+            // `stretches` evaluates them
             self.scr.epoch = self.scr.epoch.wrapping_add(1);
-            if self.scr.stamp.len() != self.p_dofs.len() || self.scr.epoch == 0 {
+            if self.scr.stamp.len() != self.p_dofs.len()
+                || self.scr.ring_stamp.len() != self.ring.len()
+                || self.scr.epoch == 0
+            {
                 self.scr.stamp = vec![0; self.p_dofs.len()];
+                self.scr.ring_stamp = vec![0; self.ring.len()];
                 self.scr.epoch = 1;
             }
             for &p in &self.needed {
                 self.u_full[self.p_dofs[p]] = self.x_at(p, &y);
                 self.scr.stamp[p] = self.scr.epoch;
+            }
+            self.scr.y = y;
+            for i in 0..self.ring_needed.len() {
+                self.ring_at(self.ring_needed[i]);
             }
         } else {
             let x = self.x_full(&y);
@@ -140,16 +153,14 @@ impl Engine for Fast<'_> {
             for (&d, &xv) in self.p_dofs.iter().zip(&x) {
                 self.u_full[d] = xv;
             }
+            let xpc: Vec<f64> = self.pc.iter().map(|&p| x[p]).collect();
+            let mut u = std::mem::take(&mut self.u_full);
+            self.ring_into(&xpc, true, &mut u);
+            self.u_full = u;
+            self.scr.y = y;
         }
         all_finite(self.needed.iter().map(|&p| &self.u_full[self.p_dofs[p]]))?;
-        let xpc: Vec<f64> = self
-            .pc
-            .iter()
-            .map(|&p| self.u_full[self.p_dofs[p]])
-            .collect();
-        let mut u = std::mem::take(&mut self.u_full);
-        self.ring_into(&xpc, true, &mut u);
-        self.u_full = u;
+        all_finite(self.ring_needed.iter().map(|&r| &self.u_full[self.ring[r]]))?;
         let at = |nz: &[(usize, f64)]| -> f64 {
             nz.iter()
                 .map(|&(p, c)| c * self.u_full[self.p_dofs[p]])
@@ -161,8 +172,7 @@ impl Engine for Fast<'_> {
             sigma22 -= c * bu;
         }
         let cmod = self.cmod_const + at(&self.cmod_nz);
-        self.scr.ynorm = y.iter().map(|v| v * v).sum::<f64>().sqrt();
-        self.scr.y = y;
+        self.scr.ynorm = self.scr.y.iter().map(|v| v * v).sum::<f64>().sqrt();
         Ok(State { sigma22, cmod })
     }
 
@@ -267,15 +277,26 @@ impl Fast<'_> {
         zx
     }
 
-    /// Adds the PD dofs among `dofs` to the unknowns every state computes x at.
+    /// Adds the PD dofs among `dofs` to the unknowns every state computes x at, and their ring
+    /// dofs to those where a screened state computes u.
     fn need(&mut self, dofs: impl IntoIterator<Item = usize>) {
         for d in dofs {
-            if self.cls[d] == CLS_P {
-                let p = self.idx[d];
-                if !self.needed_mask[p] {
-                    self.needed_mask[p] = true;
-                    self.needed.push(p);
+            match self.cls[d] {
+                CLS_P => {
+                    let p = self.idx[d];
+                    if !self.needed_mask[p] {
+                        self.needed_mask[p] = true;
+                        self.needed.push(p);
+                    }
                 }
+                CLS_F if self.ring_pos[d] != usize::MAX => {
+                    let r = self.ring_pos[d];
+                    if !self.ring_needed_mask[r] {
+                        self.ring_needed_mask[r] = true;
+                        self.ring_needed.push(r);
+                    }
+                }
+                _ => {}
             }
         }
     }

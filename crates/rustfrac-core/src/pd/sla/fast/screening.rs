@@ -17,11 +17,17 @@
 //! critical-stretch scale), so a block whose bound stays below the cut is cleared at O(1), and
 //! only the blocks near the tip are read bond by bond.
 //!
+//! The FEM ring's values follow the same way: x = v + W y gives u_ring = y0 - Z_ring v_pc -
+//! R y, with R's columns Z_ring w_pc kept beside W (computed per batch of columns of S_0^{-1},
+//! `columns.rs`), so a state reads a ring dof at O(k), only where it needs one (the load
+//! displacement's and the probes' dofs, the FEM ends of the bonds evaluated), instead of the
+//! whole Z_ring x_pc (|ring| |pc|) at every state and every column.
+//!
 //! Small condensations go without it ([`SCREEN_MIN_UNKNOWNS`]): x in full.
 
 use rayon::prelude::*;
 
-use super::{Fast, CLS_P};
+use super::{Fast, CLS_F, CLS_P};
 use crate::pd::bonds::Bond;
 
 /// Bonds above which the screening's passes over them run on all threads.
@@ -85,6 +91,13 @@ pub(super) struct Screening {
     /// scratch: a column's field at every dof (zero except at P and ring dofs), and its two
     /// components by node
     uw: Vec<f64>,
+    /// Z_ring w_pc of each stored update column (its ring field, negated), and Z_ring v_pc: a
+    /// state's ring value is y0 - rv - R y, read at O(k) a ring dof where it is needed
+    /// ([`Fast::ring_at`]) instead of the whole Z_ring x_pc (|ring| |pc|) every state
+    pub(super) rw: super::smw::UpdateColumns,
+    pub(super) rv: Vec<f64>,
+    /// the ring value at ring position r is current when `ring_stamp[r] == epoch`
+    pub(super) ring_stamp: Vec<u32>,
     ux: Vec<f64>,
     uy: Vec<f64>,
     /// the coefficients y of the last state and |y|
@@ -311,21 +324,40 @@ fn block_max(x: &[f64], out: &mut [f64], f: impl Fn(f64) -> f64) {
 
 impl Fast<'_> {
     /// Writes the field of the condensed unknowns `x` into `u` at the P and ring dofs: u_P = x,
-    /// u_ring = c y0 - Z_ring x_pc (c = 1 for a state, 0 for an update column).
-    pub(super) fn spread(&self, x: &[f64], with_y0: bool, u: &mut [f64]) {
+    /// u_ring = c y0 - Z_ring x_pc (c = 1 for a state, 0 for an update column). Returns
+    /// Z_ring x_pc.
+    pub(super) fn spread(&self, x: &[f64], with_y0: bool, u: &mut [f64]) -> Vec<f64> {
         for (&d, &xv) in self.p_dofs.iter().zip(x) {
             u[d] = xv;
         }
         let xpc: Vec<f64> = self.pc.iter().map(|&p| x[p]).collect();
-        self.ring_into(&xpc, with_y0, u);
+        self.ring_into(&xpc, with_y0, u)
     }
 
     /// u at the ring from x at `pc`: c y0 - Z_ring x_pc (c = 1 for a state, 0 for a column).
-    pub(super) fn ring_into(&self, xpc: &[f64], with_y0: bool, u: &mut [f64]) {
+    /// Returns Z_ring x_pc.
+    pub(super) fn ring_into(&self, xpc: &[f64], with_y0: bool, u: &mut [f64]) -> Vec<f64> {
         let zx = self.z_ring_times(xpc);
         for (&d, &zx) in self.ring.iter().zip(&zx) {
             u[d] = if with_y0 { self.y0[self.idx[d]] } else { 0.0 } - zx;
         }
+        zx
+    }
+
+    /// The state's value at ring position `r` (screened states), y0 - rv_r - R_r y, into `u_full`.
+    pub(super) fn ring_at(&mut self, r: usize) {
+        let s = &self.scr;
+        if s.ring_stamp[r] == s.epoch {
+            return;
+        }
+        let d = self.ring[r];
+        let zx = if s.y.is_empty() {
+            s.rv[r]
+        } else {
+            s.rv[r] + s.rw.row_dot(r, &s.y)
+        };
+        self.u_full[d] = self.y0[self.idx[d]] - zx;
+        self.scr.ring_stamp[r] = self.scr.epoch;
     }
 
     /// Starts the screening of a new condensation when it pays (at least
@@ -348,7 +380,8 @@ impl Fast<'_> {
             }
         }
         let mut u = self.model.prescribed.clone();
-        self.spread(&self.v, true, &mut u);
+        self.scr.rv = self.spread(&self.v, true, &mut u);
+        self.scr.rw.clear();
         self.scr.sv.clear();
         self.scr.sv.extend(self.scr.lat.perm.iter().map(|&b| {
             if self.broken[b as usize] {
@@ -380,12 +413,24 @@ impl Fast<'_> {
         }
     }
 
-    /// Adds the update column `w` (v grew by `beta0` w) to the screening: |h_b|^2 += h_b^2 and
-    /// s_b(v) += beta0 h_b, with h_b the bond's stretch in the field of w.
-    pub(super) fn screen_column(&mut self, w: &[f64], beta0: f64) {
+    /// Adds the update column `w` (v grew by `beta0` w; `zw` = Z_ring w_pc, from
+    /// `columns.rs`) to the screening: |h_b|^2 += h_b^2 and s_b(v) += beta0 h_b, with h_b the
+    /// bond's stretch in the field of w.
+    pub(super) fn screen_column(&mut self, w: &[f64], zw: &[f64], beta0: f64) {
         let mut uw = std::mem::take(&mut self.scr.uw);
-        self.spread(w, false, &mut uw);
+        for (&d, &xv) in self.p_dofs.iter().zip(w) {
+            uw[d] = xv;
+        }
+        for (&d, &z) in self.ring.iter().zip(zw) {
+            uw[d] = -z;
+        }
         let s = &mut self.scr;
+        if beta0 != 0.0 {
+            for (rv, &z) in s.rv.iter_mut().zip(zw) {
+                *rv += beta0 * z;
+            }
+        }
+        s.rw.push(zw);
         let nb = s.lat.perm.len();
         if beta0 == 0.0 {
             for ((x, y), u) in s.ux.iter_mut().zip(s.uy.iter_mut()).zip(uw.chunks_exact(2)) {
@@ -434,16 +479,21 @@ impl Fast<'_> {
         }
     }
 
-    /// x at the end unknowns of `bond` (current for this state), then its exact stretch.
+    /// x at the end unknowns of `bond` and u at its ring ends (current for this state), then its
+    /// exact stretch.
     fn exact_stretch(&mut self, bond: &Bond) -> f64 {
         let (i, j) = (bond.i as usize, bond.j as usize);
         for d in [2 * i, 2 * i + 1, 2 * j, 2 * j + 1] {
-            if self.cls[d] == CLS_P {
-                let p = self.idx[d];
-                if self.scr.stamp[p] != self.scr.epoch {
-                    self.u_full[d] = self.x_at(p, &self.scr.y);
-                    self.scr.stamp[p] = self.scr.epoch;
+            match self.cls[d] {
+                CLS_P => {
+                    let p = self.idx[d];
+                    if self.scr.stamp[p] != self.scr.epoch {
+                        self.u_full[d] = self.x_at(p, &self.scr.y);
+                        self.scr.stamp[p] = self.scr.epoch;
+                    }
                 }
+                CLS_F if self.ring_pos[d] != usize::MAX => self.ring_at(self.ring_pos[d]),
+                _ => {}
             }
         }
         bond.stretch(&self.u_full)

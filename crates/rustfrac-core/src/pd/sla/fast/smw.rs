@@ -47,7 +47,7 @@ impl UpdateColumns {
         self.k = 0;
     }
     /// Appends the column `w`.
-    fn push(&mut self, w: &[f64]) {
+    pub(super) fn push(&mut self, w: &[f64]) {
         if w.len() != self.n {
             self.n = w.len();
             self.panels.clear();
@@ -298,9 +298,13 @@ impl Fast<'_> {
         upd: Update,
     ) -> Result<()> {
         // w = S0^{-1} a from kept columns (`columns.rs`)
-        let w = self
-            .columns
-            .combine(&self.base, &a, &self.p_xy, self.model.pd.delta)?;
+        let ring = self.scr.on.then_some(super::columns::RingMap {
+            z: &self.z_ring,
+            pc: &self.pc,
+        });
+        let (w, zw) =
+            self.columns
+                .combine(&self.base, &a, &self.p_xy, self.model.pd.delta, ring)?;
         if w.iter().any(|v| !v.is_finite()) {
             return Err(separated(format!("{upd:?}: non-finite update column")));
         }
@@ -378,8 +382,8 @@ impl Fast<'_> {
         for (vi, &wi) in self.v.iter_mut().zip(&w) {
             *vi += wi * beta0;
         }
-        if self.scr.on {
-            self.screen_column(&w, beta0);
+        if let Some(zw) = zw {
+            self.screen_column(&w, &zw, beta0);
         }
         self.w.push(&w);
         self.bt.push(bt);
