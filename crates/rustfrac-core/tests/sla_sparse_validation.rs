@@ -7,7 +7,7 @@ mod common;
 
 use common::{coarse, go_on, pd_plate, pd_strip, rel};
 use rustfrac_core::fe::loading::Grip;
-use rustfrac_core::pd::sla::{run, CcmPdResult};
+use rustfrac_core::pd::sla::{force_lu_form, run, CcmPdResult};
 use rustfrac_core::problem::{Problem, SlaEngine};
 use std::path::PathBuf;
 
@@ -39,8 +39,8 @@ fn agree(a: &CcmPdResult, oracle: &CcmPdResult, tol: f64) {
     );
 }
 
-/// CCM-PD (the coarse plate, PD rectangle 4.4 x 2.4): the sparse engine (sparse LU of
-/// S = K_PP - K_PF Z) against the oracle, re-factorising every 40 breaks so the run crosses
+/// CCM-PD (the coarse plate, PD rectangle 4.4 x 2.4): the sparse engine (S = K_PP - K_PF Z as
+/// the Cholesky of K_PP bordered by the FEM coupling, Woodbury) against the oracle, re-factorising every 40 breaks so the run crosses
 /// re-factorisations; the dense engine agrees too.
 #[test]
 fn ccm_pd_sparse_matches_oracle() {
@@ -49,9 +49,10 @@ fn ccm_pd_sparse_matches_oracle() {
     p.pd_mut().sla.refactor_every = 40;
     let sparse = run(&with_engine(p.clone(), SlaEngine::Sparse), &go_on).unwrap();
     let dense = run(&with_engine(p.clone(), SlaEngine::Dense), &go_on).unwrap();
+    let p_lu = p.clone();
     let oracle = run(&with_engine(p, SlaEngine::Oracle), &go_on).unwrap();
     println!("sparse: {}\noracle: {}", sparse.solver, oracle.solver);
-    assert!(sparse.solver.contains("sparse LU"), "{}", sparse.solver);
+    assert!(sparse.solver.contains("bordered"), "{}", sparse.solver);
     assert!(oracle.solver.starts_with("oracle"), "{}", oracle.solver);
     assert_eq!(sparse.history.len(), steps);
     assert!(
@@ -61,6 +62,17 @@ fn ccm_pd_sparse_matches_oracle() {
     );
     agree(&sparse, &oracle, 1e-8);
     agree(&dense, &oracle, 1e-8);
+    // the LU of S, the form taken when K_PP is not symmetric positive definite
+    force_lu_form(true);
+    let lu = run(&with_engine(p_lu, SlaEngine::Sparse), &go_on);
+    force_lu_form(false);
+    let lu = lu.unwrap();
+    assert!(
+        lu.solver.contains("the LU of S at 1 condensation"),
+        "{}",
+        lu.solver
+    );
+    agree(&lu, &oracle, 1e-8);
 }
 
 /// The sparse engine keeps the columns of S_0^{-1} it computes (in batches around the crack):

@@ -124,6 +124,13 @@ impl DenseLu {
     pub fn n(&self) -> usize {
         self.lu.nrows()
     }
+
+    /// The smallest |pivot| of U (infinity for an empty matrix).
+    pub fn min_pivot(&self) -> f64 {
+        (0..self.n())
+            .map(|i| self.lu[(i, i)].abs())
+            .fold(f64::INFINITY, f64::min)
+    }
 }
 
 #[cfg(test)]

@@ -16,7 +16,9 @@ use super::adaptive::{
 use super::checkpoint;
 use super::cost::{CostEstimate, EngineKind};
 use super::engine::{timing, Engine, Update};
-use super::fast::{dense_lead, schur_pattern, Fast, FemPart, SchurKind, SparseFactor};
+use super::fast::{
+    bordered_analysis, dense_lead, schur_pattern, Fast, FemPart, SchurKind, SparseFactor,
+};
 use super::grounding::{Grounding, DEBRIS_LIMIT};
 use super::memory::{keep_large_blocks_mmapped, peak_memory_bytes};
 use super::oracle::Oracle;
@@ -150,6 +152,7 @@ fn run_from(
         info.n_refactorisations += engine.n_refactorisations();
         info.max_update_rank = info.max_update_rank.max(engine.max_update_rank());
         info.inverse_columns += engine.inverse_columns();
+        info.lu_fallbacks += engine.lu_fallbacks();
         let (ss, sb) = engine.screening();
         info.screened_steps += ss;
         info.screened_bonds += sb;
@@ -361,18 +364,15 @@ fn cost_choice(
         },
         EngineKind::Sparse => Choice {
             kind: SchurKind::Sparse,
-            // the LU's symbolic analysis of the CCM-PD S (its pattern is the one the engine
-            // builds): made here, on the cost model's thread beside the FEM part, instead of after
-            // it on the main thread
+            // the CCM-PD S's bordered form (`fast/base.rs`): K_PP's symbolic analysis, made
+            // here, on the cost model's thread beside the FEM part (the engine takes the LU of S
+            // when K_PP turns out not to be symmetric positive definite)
             analysed: match analysed {
                 Some(a) => Some(a),
                 None => {
-                    let lu = SparseFactor::analyze(&pattern, false, &xy)?;
-                    timing(
-                        "engine: sparse S's LU analysed (COLAMD, dense block last)",
-                        t0,
-                    );
-                    Some(lu)
+                    let b = bordered_analysis(model, k0, probe_dofs)?;
+                    timing("engine: K_PP's Cholesky analysed (nested dissection)", t0);
+                    Some(b)
                 }
             },
             first_s: symmetric.then_some(pattern),
@@ -380,8 +380,8 @@ fn cost_choice(
             name: if symmetric {
                 "fast, sparse (PD system by sparse Cholesky + Sherman-Morrison-Woodbury)"
             } else {
-                "fast, sparse (FEM condensed by Cholesky, PD system by sparse LU + \
-                 Sherman-Morrison-Woodbury)"
+                "fast, sparse (FEM condensed by Cholesky, PD system by sparse Cholesky of K_PP \
+                 bordered by the FEM coupling + Sherman-Morrison-Woodbury)"
             },
             why,
             est,
@@ -936,6 +936,8 @@ struct RunInfo {
     n_refactorisations: usize,
     max_update_rank: usize,
     inverse_columns: usize,
+    /// condensations whose sparse form is the LU of S instead of the bordered Cholesky
+    lu_fallbacks: usize,
     screened_steps: usize,
     screened_bonds: usize,
     resumed_steps: usize,
@@ -988,7 +990,14 @@ fn results(
     Ok(CcmPdResult {
         method: model.problem.method.name().into(),
         grip: model.problem.boundary.name().into(),
-        solver: info.solver,
+        solver: if info.lu_fallbacks > 0 {
+            format!(
+                "{}; the LU of S at {} condensation(s): K_PP not symmetric positive definite",
+                info.solver, info.lu_fallbacks
+            )
+        } else {
+            info.solver
+        },
         u: sol0.u,
         u_final,
         node_xy: (0..nn).map(|n| model.grid.xy(n)).collect(),

@@ -51,6 +51,11 @@ pub(super) trait Engine {
     fn inverse_columns(&self) -> usize {
         0
     }
+    /// condensations whose sparse form fell back from the bordered Cholesky to the LU of S
+    /// (`fast/base.rs`)
+    fn lu_fallbacks(&self) -> usize {
+        0
+    }
     /// steps screened and bonds evaluated exactly in them ([`Self::stretches`] returning true)
     fn screening(&self) -> (usize, usize) {
         (0, 0)

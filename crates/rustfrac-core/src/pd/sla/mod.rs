@@ -56,9 +56,9 @@ mod result;
 
 pub use cost::{factor_nnz_guess, CostEstimate, EngineKind, HORIZON_STEPS};
 pub use driver::{run, run_model, run_reporting};
-#[doc(hidden)]
-pub use fast::force_screening;
 use fast::SCREEN_MIN_UNKNOWNS;
+#[doc(hidden)]
+pub use fast::{force_lu_form, force_screening};
 pub use grounding::DEBRIS_LIMIT;
 pub use memory::peak_memory_bytes;
 pub use params::auto_refactor_every;

@@ -15,7 +15,7 @@
 //! `condense` builds and factorises S (also at every re-condensation); the dense S in two stages,
 //! since K_PF Z changes only its rows and columns at the FEM coupling ([`dense_lead`]).
 
-use super::base::{Base, SparseFactor};
+use super::base::{Base, Bordered, SparseFactor};
 use super::Columns;
 
 use super::{Fast, SchurKind, CLS_F, CLS_FIXED, CLS_P};
@@ -172,6 +172,7 @@ impl<'a> Fast<'a> {
             broken: broken.to_vec(),
             springs: springs.to_vec(),
             n_fact: 0,
+            lu_fallbacks: 0,
             u_full: model.prescribed.clone(),
             resp_coef: fun.resp_coef,
             wh: fun.wh,
@@ -229,6 +230,14 @@ impl<'a> Fast<'a> {
     /// S = K_PP - K_PF Z as a sparse matrix ([`schur_sparse`]), factorised (symbolic analysis at
     /// the first condensation only).
     fn condense_sparse(&mut self, k: &CscMatrix, t0: Instant) -> Result<()> {
+        if matches!(&self.base, Base::Sparse(f) if matches!(**f, SparseFactor::Bordered(_))) {
+            if !super::base::lu_form_forced() && self.condense_bordered(k, t0)? {
+                return Ok(());
+            }
+            // K_PP is not symmetric positive definite: the LU of S from now on
+            self.base = Base::None;
+            self.lu_fallbacks += 1;
+        }
         let cp = CouplingRef {
             pc: &self.pc,
             ring: &self.ring,
@@ -258,6 +267,66 @@ impl<'a> Fast<'a> {
         self.columns.clear();
         timing("fast: sparse S factorised", t0);
         Ok(())
+    }
+
+    /// The bordered form of S = K_PP + F E^T (`base.rs`): K_PP by Cholesky, then the Woodbury
+    /// border. Ok(false) when K_PP is not symmetric (to round-off) or not positive definite.
+    fn condense_bordered(&mut self, k: &CscMatrix, t0: Instant) -> Result<bool> {
+        let Base::Sparse(f) = &mut self.base else {
+            return Ok(false);
+        };
+        let SparseFactor::Bordered(b) = f.as_mut() else {
+            return Ok(false);
+        };
+        let kpp = kpp_sparse(k, &self.cls, &self.idx, &self.p_dofs);
+        // checked once a model: a broken bond or a grounding spring keeps the symmetry
+        if !b.symmetric_checked {
+            if kpp.asymmetry() > SYMMETRY_TOL {
+                return Ok(false);
+            }
+            b.symmetric_checked = true;
+        }
+        let np = self.p_dofs.len();
+        let npc = self.pc.len();
+        // F = -K_{P,ring} Z_ring on the pc columns, column-major n_P x |pc|: K_{P,ring}'s
+        // entries by P row, then blocks of rows accumulated row-major (contiguous in Z_ring's
+        // rows) and written out by columns
+        let mut ent: Vec<(usize, usize, f64)> = Vec::new();
+        for &fd in &self.ring {
+            for kk in k.col_ptr[fd]..k.col_ptr[fd + 1] {
+                let (r, v) = (k.row_idx[kk], k.val[kk]);
+                if self.cls[r] == CLS_P && v != 0.0 {
+                    ent.push((self.idx[r], self.ring_pos[fd], v));
+                }
+            }
+        }
+        ent.sort_by_key(|e| e.0);
+        let mut fm = vec![0.0; np * npc];
+        let mut blk = vec![0.0; F_BLOCK * npc];
+        for group in ent.chunk_by(|a, b| a.0 / F_BLOCK == b.0 / F_BLOCK) {
+            let r0 = group[0].0 / F_BLOCK * F_BLOCK;
+            let nr = F_BLOCK.min(np - r0);
+            blk.fill(0.0);
+            for &(pr, rp, v) in group {
+                let zrow = &self.z_ring[rp * npc..(rp + 1) * npc];
+                let brow = &mut blk[(pr - r0) * npc..(pr - r0 + 1) * npc];
+                for (f, &z) in brow.iter_mut().zip(zrow) {
+                    *f -= v * z;
+                }
+            }
+            for t in 0..npc {
+                for (i, f) in fm[t * np + r0..t * np + r0 + nr].iter_mut().enumerate() {
+                    *f = blk[i * npc + t];
+                }
+            }
+        }
+        timing("fast: K_PP and its FEM border built", t0);
+        if !b.factorize(&kpp, fm)? {
+            return Ok(false);
+        }
+        self.columns.clear();
+        timing("fast: K_PP factorised (Cholesky), FEM border solved", t0);
+        Ok(true)
     }
 
     /// S = K_PP - K_PF Z dense, factorised in place (LU) in two stages ([`LeadingLu`]): K_PF Z
@@ -808,6 +877,39 @@ fn schur_sparse(
 /// dofs) and the positions of its unknowns, for the engine's cost estimate and the symbolic
 /// analysis. Values 0, except for pure PD: there S = K_PP does not depend on the FEM part, so it is
 /// built whole here and the first condensation takes it ([`Fast::new`]).
+/// Relative asymmetry of K_PP (to its largest entry) up to which it is taken as symmetric for
+/// the bordered form's Cholesky (its rows hold bonds only: symmetric to the last bit so far).
+const SYMMETRY_TOL: f64 = 1e-13;
+
+/// Rows of F the bordered form builds at once (`condense_bordered`).
+const F_BLOCK: usize = 64;
+
+/// K_PP, the P x P entries of `k` (values included, zeros kept: the pattern of every state).
+fn kpp_sparse(k: &CscMatrix, cls: &[u8], idx: &[usize], p_dofs: &[usize]) -> CscMatrix {
+    let no_border = CouplingRef {
+        pc: &[],
+        ring: &[],
+        ring_pos: &[],
+    };
+    schur_sparse(k, cls, idx, p_dofs, &no_border, Some(&[]))
+}
+
+/// The bordered form's symbolic analysis (`base.rs`): K_PP's pattern ordered by nested
+/// dissection on the node positions, for the CCM-PD model of `k`.
+pub(in crate::pd::sla) fn bordered_analysis(
+    model: &SpliceModel,
+    k: &CscMatrix,
+    probe_dofs: &[usize],
+) -> Result<SparseFactor> {
+    let dc = dof_classes(model);
+    let cp = coupling_sets(model, k, &dc, probe_dofs);
+    let kpp = kpp_sparse(k, &dc.cls, &dc.idx, &dc.p_dofs);
+    let xy = dof_xy(model, &dc.p_dofs);
+    Ok(SparseFactor::Bordered(Box::new(Bordered::analyze(
+        &kpp, &xy, &cp.pc,
+    )?)))
+}
+
 pub(in crate::pd::sla) fn schur_pattern(
     model: &SpliceModel,
     k: &CscMatrix,

@@ -22,8 +22,9 @@ mod condensation;
 mod screening;
 mod smw;
 
+pub use base::force_lu_form;
 pub(super) use base::SparseFactor;
-pub(super) use condensation::{dense_lead, schur_pattern, FemPart};
+pub(super) use condensation::{bordered_analysis, dense_lead, schur_pattern, FemPart};
 pub use screening::force_screening;
 pub(super) use screening::SCREEN_MIN_UNKNOWNS;
 
@@ -111,6 +112,8 @@ pub(super) struct Fast<'a> {
     broken: Vec<bool>,
     springs: Vec<Spring>,
     n_fact: usize,
+    /// condensations whose sparse form is the LU of S instead of the bordered Cholesky
+    lu_fallbacks: usize,
     u_full: Vec<f64>,
     /// the matrix at the start (its FEM rows never change)
     k0: Arc<CscMatrix>,
@@ -226,6 +229,9 @@ impl Engine for Fast<'_> {
     }
     fn screening(&self) -> (usize, usize) {
         (self.scr.steps, self.scr.evaluated)
+    }
+    fn lu_fallbacks(&self) -> usize {
+        self.lu_fallbacks
     }
     fn u(&self) -> &[f64] {
         &self.u_full
