@@ -11,7 +11,9 @@
 //!   Woodbury (`fast/smw.rs`) on a base condensed system S_0 kept in one of two forms
 //!   (`fast/base.rs`): its dense LU (`pd.engine = "dense"`) or a sparse factor of it
 //!   (`"sparse"`: K_PP plus a dense block on the FEM interface; sparse Cholesky for pure PD,
-//!   sparse LU for CCM-PD); the columns of S_0^{-1} the breaks need are kept
+//!   for CCM-PD the Cholesky of K_PP bordered by the FEM coupling (Woodbury), or the sparse LU
+//!   of S when K_PP is not symmetric positive definite); the columns of S_0^{-1} the breaks
+//!   need are kept
 //!   (`fast/columns.rs`). `"auto"` takes the form the cost model (`cost.rs`: dense O(n_P^3) per
 //!   condensation vs sparse factorisation + solves, for 500 steps) estimates cheaper; the choice
 //!   and both estimates are in the result's `solver`. Periodic re-condensation
