@@ -14,7 +14,10 @@
 //!   half of it, their forward halves running along the elimination-tree paths only: the
 //!   estimate is kept, conservative for pure PD, whose choice it does not change). nnz(L) comes
 //!   from the symbolic Cholesky analysis of the pattern of S (for the non-symmetric CCM-PD S, of
-//!   its symmetrised pattern: LU stores L and U, so twice that). The interval minimising
+//!   its symmetrised pattern: LU stores L and U, so twice that; the engine takes the cheaper
+//!   bordered Cholesky of K_PP when it can, `fast/base.rs`, so this estimate is an upper bound
+//!   there: on the paper's case that form measured no faster than the dense one, whose choice it
+//!   keeps). The interval minimising
 //!   t_fact / N + t_solve + N n / [`UPDATE_FLOPS`] is N = sqrt(t_fact [`UPDATE_FLOPS`] / n).
 //!
 //! The estimates are for [`HORIZON_STEPS`] steps whatever the run's `sla_steps`, so a resumed run
