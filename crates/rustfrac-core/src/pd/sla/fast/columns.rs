@@ -22,18 +22,14 @@ use faer::linalg::matmul::matmul;
 use faer::{Accum, MatMut, MatRef, Par};
 use std::time::Instant;
 
-/// Z at the ring (row-major |ring| x |pc|) and the P indices `pc` of its columns: the ring field
-/// of a column c of S_0^{-1} is Z_ring c_pc.
+/// Z at the ring (row-major |ring| x |pc|), the P indices `pc` of its columns and |ring| (not
+/// derived from Z: with no `pc` Z is empty, the ring not): the ring field of a column c of
+/// S_0^{-1} is Z_ring c_pc.
 #[derive(Clone, Copy)]
 pub(in crate::pd::sla) struct RingMap<'z> {
     pub(in crate::pd::sla) z: &'z [f64],
     pub(in crate::pd::sla) pc: &'z [usize],
-}
-
-impl RingMap<'_> {
-    fn nring(&self) -> usize {
-        self.z.len().checked_div(self.pc.len()).unwrap_or(0)
-    }
+    pub(in crate::pd::sla) nring: usize,
 }
 
 /// Fraction of the memory available at the first batch that kept columns may take.
@@ -85,7 +81,7 @@ impl Columns {
             self.clear();
             self.col = vec![None; n];
         }
-        let nring = ring.map_or(0, |r| r.nring());
+        let nring = ring.map_or(0, |r| r.nring);
         if self.max_kept == 0 {
             let avail = crate::memory::available_bytes().unwrap_or(8.0e9);
             let budget = (avail * BUDGET_FRACTION).min(BUDGET_MAX_BYTES);
@@ -189,7 +185,7 @@ impl Columns {
 
 /// Z_ring C_pc for the `k` columns C (column-major, `n` x k): column-major |ring| x k.
 fn ring_fields(r: RingMap<'_>, c: &[f64], n: usize, k: usize) -> Vec<f64> {
-    let (nring, npc) = (r.nring(), r.pc.len());
+    let (nring, npc) = (r.nring, r.pc.len());
     let mut out = vec![0.0; nring * k];
     if nring == 0 || npc == 0 {
         return out;

@@ -269,9 +269,26 @@ impl<'a> Fast<'a> {
         Ok(())
     }
 
+    /// The nonzero entries of K_{P,ring} as (P index, ring position, value), ring dof by ring
+    /// dof: the FEM coupling K_PF Z = K_{P,ring} Z_ring of both forms of S.
+    fn p_ring_entries<'k>(
+        &'k self,
+        k: &'k CscMatrix,
+    ) -> impl Iterator<Item = (usize, usize, f64)> + 'k {
+        self.ring.iter().flat_map(move |&fd| {
+            (k.col_ptr[fd]..k.col_ptr[fd + 1]).filter_map(move |kk| {
+                let (r, v) = (k.row_idx[kk], k.val[kk]);
+                (self.cls[r] == CLS_P && v != 0.0).then(|| (self.idx[r], self.ring_pos[fd], v))
+            })
+        })
+    }
+
     /// The bordered form of S = K_PP + F E^T (`base.rs`): K_PP by Cholesky, then the Woodbury
     /// border. Ok(false) when K_PP is not symmetric (to round-off) or not positive definite.
     fn condense_bordered(&mut self, k: &CscMatrix, t0: Instant) -> Result<bool> {
+        // K_{P,ring}'s entries by P row (for F below)
+        let mut ent: Vec<(usize, usize, f64)> = self.p_ring_entries(k).collect();
+        ent.sort_by_key(|e| e.0);
         let Base::Sparse(f) = &mut self.base else {
             return Ok(false);
         };
@@ -288,19 +305,8 @@ impl<'a> Fast<'a> {
         }
         let np = self.p_dofs.len();
         let npc = self.pc.len();
-        // F = -K_{P,ring} Z_ring on the pc columns, column-major n_P x |pc|: K_{P,ring}'s
-        // entries by P row, then blocks of rows accumulated row-major (contiguous in Z_ring's
-        // rows) and written out by columns
-        let mut ent: Vec<(usize, usize, f64)> = Vec::new();
-        for &fd in &self.ring {
-            for kk in k.col_ptr[fd]..k.col_ptr[fd + 1] {
-                let (r, v) = (k.row_idx[kk], k.val[kk]);
-                if self.cls[r] == CLS_P && v != 0.0 {
-                    ent.push((self.idx[r], self.ring_pos[fd], v));
-                }
-            }
-        }
-        ent.sort_by_key(|e| e.0);
+        // F = -K_{P,ring} Z_ring on the pc columns, column-major n_P x |pc|: blocks of rows
+        // accumulated row-major (contiguous in Z_ring's rows) and written out by columns
         let mut fm = vec![0.0; np * npc];
         let mut blk = vec![0.0; F_BLOCK * npc];
         for group in ent.chunk_by(|a, b| a.0 / F_BLOCK == b.0 / F_BLOCK) {
@@ -361,18 +367,11 @@ impl<'a> Fast<'a> {
             });
         }
         let mut t = lead.trailing_mut();
-        for &fd in &self.ring {
-            let rp = self.ring_pos[fd];
+        for (pr, rp, v) in self.p_ring_entries(k) {
             let zrow = &self.z_ring[rp * npc..(rp + 1) * npc];
-            for kk in k.col_ptr[fd]..k.col_ptr[fd + 1] {
-                let r = k.row_idx[kk];
-                let v = k.val[kk];
-                if self.cls[r] == CLS_P && v != 0.0 {
-                    let tr = in_t(self.idx[r])?;
-                    for (&tc, &z) in pct.iter().zip(zrow) {
-                        t[(tr, tc)] -= v * z;
-                    }
-                }
+            let tr = in_t(pr)?;
+            for (&tc, &z) in pct.iter().zip(zrow) {
+                t[(tr, tc)] -= v * z;
             }
         }
         timing("fast: S = K_PP - K_PF Z built", t0);

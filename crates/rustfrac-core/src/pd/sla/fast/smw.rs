@@ -301,6 +301,7 @@ impl Fast<'_> {
         let ring = self.scr.on.then_some(super::columns::RingMap {
             z: &self.z_ring,
             pc: &self.pc,
+            nring: self.ring.len(),
         });
         let (w, zw) =
             self.columns
