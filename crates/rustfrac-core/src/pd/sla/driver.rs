@@ -238,7 +238,7 @@ struct Replay {
 /// asks for or, for `"auto"`, the cheaper by the cost model ([`CostEstimate`]). Returns it, its
 /// description (the choice and the estimates) and the re-condensation interval (0 for the oracle).
 /// The cost model's symbolic analysis (then, for the dense form, the LU of S's PD block; for the
-/// sparse CCM-PD form, the symbolic analysis of S's LU) and the condensation's FEM part
+/// sparse CCM-PD form, K_PP's analysis and Cholesky, `fast/base.rs`) and the condensation's FEM part
 /// ([`FemPart`]) do not depend on each other: they run at once, the analysis on its own thread
 /// while the FEM part's ordering and symbolic phases leave a core idle.
 fn engine_for<'a>(
@@ -364,14 +364,18 @@ fn cost_choice(
         },
         EngineKind::Sparse => Choice {
             kind: SchurKind::Sparse,
-            // the CCM-PD S's bordered form (`fast/base.rs`): K_PP's symbolic analysis, made
-            // here, on the cost model's thread beside the FEM part (the engine takes the LU of S
-            // when K_PP turns out not to be symmetric positive definite)
+            // the CCM-PD S's bordered form (`fast/base.rs`): K_PP's symbolic analysis and its
+            // Cholesky (K_PP does not depend on the FEM part), made here, on the cost model's
+            // thread beside the FEM part (the engine takes the LU of S when K_PP turns out not
+            // to be symmetric positive definite)
             analysed: match analysed {
                 Some(a) => Some(a),
                 None => {
                     let b = bordered_analysis(model, k0, probe_dofs)?;
-                    timing("engine: K_PP's Cholesky analysed (nested dissection)", t0);
+                    timing(
+                        "engine: K_PP analysed (nested dissection) and factorised (Cholesky)",
+                        t0,
+                    );
                     Some(b)
                 }
             },

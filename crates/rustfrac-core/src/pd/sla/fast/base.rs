@@ -70,6 +70,10 @@ pub(in crate::pd::sla) enum SparseFactor {
 /// 580 columns, in 0.26-0.37 s instead of about 0.5 s).
 const COLUMN_CHUNK: usize = 64;
 
+/// Relative asymmetry of K_PP (to its largest entry) up to which it is taken as symmetric for
+/// the bordered form's Cholesky (its rows hold bonds only: symmetric to the last bit so far).
+const SYMMETRY_TOL: f64 = 1e-13;
+
 /// S_0 = A + F E^T by Woodbury (module doc).
 pub(in crate::pd::sla) struct Bordered {
     /// A = K_PP, with its elimination tree once factorised (unit columns by forward solves)
@@ -82,7 +86,10 @@ pub(in crate::pd::sla) struct Bordered {
     /// the LU of M = I + H_pc
     m: Option<DenseLu>,
     /// K_PP was found symmetric (at the model's first condensation)
-    pub(in crate::pd::sla) symmetric_checked: bool,
+    symmetric_checked: bool,
+    /// A was factorised ahead, beside the FEM part ([`Bordered::lead`]): the next
+    /// [`Bordered::factorize`] takes it as it is
+    lead: bool,
 }
 
 impl Bordered {
@@ -99,23 +106,61 @@ impl Bordered {
             h: Vec::new(),
             m: None,
             symmetric_checked: false,
+            lead: false,
         })
     }
 
-    /// Factorises A = `kpp` and M from F (`f`, column-major n_P x |pc|, taken as H's storage).
-    /// Ok(false): A is not positive definite (the caller takes the LU form); a singular M is a
-    /// singular S_0 (separation).
-    pub(in crate::pd::sla) fn factorize(&mut self, kpp: &CscMatrix, f: Vec<f64>) -> Result<bool> {
-        let n = kpp.nrows;
-        let npc = self.pc.len();
+    /// Whether K_PP (`kpp`) is symmetric to [`SYMMETRY_TOL`], checked once a model: a broken
+    /// bond or a grounding spring keeps the symmetry.
+    pub(in crate::pd::sla) fn symmetric(&mut self, kpp: &CscMatrix) -> bool {
+        if !self.symmetric_checked {
+            if kpp.asymmetry() > SYMMETRY_TOL {
+                return false;
+            }
+            self.symmetric_checked = true;
+        }
+        true
+    }
+
+    /// Factorises A = `kpp` ahead of the condensation (the model's first: its K_PP does not
+    /// depend on the FEM part, so the engine makes it on the cost model's thread, on one thread
+    /// beside the FEM part's Cholesky). Returns whether it took: not when K_PP is not
+    /// symmetric ([`SYMMETRY_TOL`]) or not positive definite (the condensation then decides).
+    pub(in crate::pd::sla) fn lead(&mut self, kpp: &CscMatrix) -> Result<bool> {
+        if !self.symmetric(kpp) {
+            return Ok(false);
+        }
+        self.lead = false;
         self.tree = None;
-        self.m = None;
-        match self.a.factorize(kpp) {
+        match self.a.factorize_with(kpp, Par::Seq) {
             Ok(()) => {}
             Err(Error::NotPositiveDefinite { .. } | Error::Singular { .. }) => return Ok(false),
             Err(e) => return Err(e),
         }
         self.tree = Some(SparseForward::new(&self.a)?);
+        self.lead = true;
+        Ok(true)
+    }
+
+    /// Factorises A = `kpp` (unless [`Bordered::lead`] factorised it ahead: the model's first
+    /// condensation) and M from F (`f`, column-major n_P x |pc|, taken as H's storage).
+    /// Ok(false): A is not positive definite (the caller takes the LU form); a singular M is a
+    /// singular S_0 (separation).
+    pub(in crate::pd::sla) fn factorize(&mut self, kpp: &CscMatrix, f: Vec<f64>) -> Result<bool> {
+        let n = kpp.nrows;
+        let npc = self.pc.len();
+        self.m = None;
+        if !std::mem::take(&mut self.lead) {
+            self.tree = None;
+            match self.a.factorize(kpp) {
+                Ok(()) => {}
+                Err(Error::NotPositiveDefinite { .. } | Error::Singular { .. }) => {
+                    return Ok(false)
+                }
+                Err(e) => return Err(e),
+            }
+            self.tree = Some(SparseForward::new(&self.a)?);
+        }
         let mut h = f;
         if npc > 0 {
             // the |pc| columns in chunks on all threads (faer's supernodal solve of many
@@ -376,10 +421,47 @@ mod tests {
                 assert!((sx - want).abs() < 1e-12, "column {c} row {r}: {sx}");
             }
         }
-        // A indefinite: the caller takes the LU
+        // A factorised ahead (`lead`, as beside the FEM part): the same solve; the lead is taken
+        // by the next factorisation only
+        let mut bl = Bordered::analyze(&a, &xy(n), &pc).unwrap();
+        assert!(bl.lead(&a).unwrap());
+        assert!(bl.lead);
+        assert!(bl.factorize(&a, f.clone()).unwrap());
+        assert!(!bl.lead, "the lead is taken once");
+        let mut xl = rhs.clone();
+        bl.solve_in_place(&mut xl).unwrap();
+        let res_l = (0..n)
+            .map(|r| (s[r].iter().zip(&xl).map(|(v, x)| v * x).sum::<f64>() - rhs[r]).abs())
+            .fold(0.0, f64::max);
+        assert!(res_l < 1e-12, "residual with the lead {res_l:.2e}");
+        // after the lead's factorisation (of A with the diagonal 3), the next one factorises its
+        // own matrix again: the solve is the one of `a`
+        let (a3, _) = case(n, 3.0, &pc, &f);
+        let mut b3 = Bordered::analyze(&a3, &xy(n), &pc).unwrap();
+        assert!(b3.lead(&a3).unwrap());
+        assert!(b3.factorize(&a3, f.clone()).unwrap());
+        assert!(b3.factorize(&a, f.clone()).unwrap());
+        let mut x3 = rhs.clone();
+        b3.solve_in_place(&mut x3).unwrap();
+        let res_3 = (0..n)
+            .map(|r| (s[r].iter().zip(&x3).map(|(v, x)| v * x).sum::<f64>() - rhs[r]).abs())
+            .fold(0.0, f64::max);
+        assert!(
+            res_3 < 1e-12,
+            "residual after a lead of another matrix {res_3:.2e}"
+        );
+        // A indefinite: the caller takes the LU (also when its lead was tried)
         let (a_bad, _) = case(n, -2.5, &pc, &f);
         let mut b = Bordered::analyze(&a_bad, &xy(n), &pc).unwrap();
+        assert!(!b.lead(&a_bad).unwrap());
         assert!(!b.factorize(&a_bad, f.clone()).unwrap());
+        // K_PP not symmetric: no lead, and the condensation's check says so
+        let mut a_asym = a.clone();
+        let k = a_asym.col_ptr[1];
+        a_asym.val[k] += 1e-6;
+        let mut b = Bordered::analyze(&a_asym, &xy(n), &pc).unwrap();
+        assert!(!b.lead(&a_asym).unwrap());
+        assert!(!b.symmetric(&a_asym));
         // M = I + H_pc singular: F = -A e_3 on column 3 makes S_0 e_3 = 0
         let mut f1 = vec![0.0; n];
         f1[2] = 1.0;

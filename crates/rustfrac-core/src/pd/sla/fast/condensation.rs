@@ -296,12 +296,8 @@ impl<'a> Fast<'a> {
             return Ok(false);
         };
         let kpp = kpp_sparse(k, &self.cls, &self.idx, &self.p_dofs);
-        // checked once a model: a broken bond or a grounding spring keeps the symmetry
-        if !b.symmetric_checked {
-            if kpp.asymmetry() > SYMMETRY_TOL {
-                return Ok(false);
-            }
-            b.symmetric_checked = true;
+        if !b.symmetric(&kpp) {
+            return Ok(false);
         }
         let np = self.p_dofs.len();
         let npc = self.pc.len();
@@ -876,10 +872,6 @@ fn schur_sparse(
 /// dofs) and the positions of its unknowns, for the engine's cost estimate and the symbolic
 /// analysis. Values 0, except for pure PD: there S = K_PP does not depend on the FEM part, so it is
 /// built whole here and the first condensation takes it ([`Fast::new`]).
-/// Relative asymmetry of K_PP (to its largest entry) up to which it is taken as symmetric for
-/// the bordered form's Cholesky (its rows hold bonds only: symmetric to the last bit so far).
-const SYMMETRY_TOL: f64 = 1e-13;
-
 /// Rows of F the bordered form builds at once (`condense_bordered`).
 const F_BLOCK: usize = 64;
 
@@ -894,7 +886,8 @@ fn kpp_sparse(k: &CscMatrix, cls: &[u8], idx: &[usize], p_dofs: &[usize]) -> Csc
 }
 
 /// The bordered form's symbolic analysis (`base.rs`): K_PP's pattern ordered by nested
-/// dissection on the node positions, for the CCM-PD model of `k`.
+/// dissection on the node positions, for the CCM-PD model of `k`; then K_PP itself factorised
+/// ([`Bordered::lead`]): the engine makes both beside the FEM part, on the cost model's thread.
 pub(in crate::pd::sla) fn bordered_analysis(
     model: &SpliceModel,
     k: &CscMatrix,
@@ -904,9 +897,9 @@ pub(in crate::pd::sla) fn bordered_analysis(
     let cp = coupling_sets(model, k, &dc, probe_dofs);
     let kpp = kpp_sparse(k, &dc.cls, &dc.idx, &dc.p_dofs);
     let xy = dof_xy(model, &dc.p_dofs);
-    Ok(SparseFactor::Bordered(Box::new(Bordered::analyze(
-        &kpp, &xy, &cp.pc,
-    )?)))
+    let mut b = Bordered::analyze(&kpp, &xy, &cp.pc)?;
+    b.lead(&kpp)?;
+    Ok(SparseFactor::Bordered(Box::new(b)))
 }
 
 pub(in crate::pd::sla) fn schur_pattern(
