@@ -117,6 +117,72 @@ impl CscMatrix {
         }
     }
 
+    /// The pattern of A + A^T of a square matrix (values 0), for a symmetric analysis of a
+    /// non-symmetric pattern: the transpose by counting, then each column's two sorted row lists
+    /// merged (O(nnz), no sort).
+    pub fn symmetrised_pattern(&self) -> Self {
+        let n = self.ncols;
+        debug_assert_eq!(self.nrows, n, "a square matrix");
+        // A^T: column r of A^T holds the columns c of A with an entry in row r, ascending
+        let mut t_ptr = vec![0usize; n + 1];
+        for &r in &self.row_idx {
+            t_ptr[r + 1] += 1;
+        }
+        for r in 0..n {
+            t_ptr[r + 1] += t_ptr[r];
+        }
+        let mut next = t_ptr.clone();
+        let mut t_idx = vec![0usize; self.row_idx.len()];
+        for c in 0..n {
+            for &r in &self.row_idx[self.col_ptr[c]..self.col_ptr[c + 1]] {
+                t_idx[next[r]] = c;
+                next[r] += 1;
+            }
+        }
+        let mut col_ptr = Vec::with_capacity(n + 1);
+        col_ptr.push(0);
+        let mut row_idx = Vec::with_capacity(2 * self.row_idx.len());
+        for c in 0..n {
+            let (a, b) = (
+                &self.row_idx[self.col_ptr[c]..self.col_ptr[c + 1]],
+                &t_idx[t_ptr[c]..t_ptr[c + 1]],
+            );
+            let (mut i, mut j) = (0, 0);
+            while i < a.len() || j < b.len() {
+                let r = match (a.get(i), b.get(j)) {
+                    (Some(&x), Some(&y)) if x == y => {
+                        i += 1;
+                        j += 1;
+                        x
+                    }
+                    (Some(&x), Some(&y)) if x < y => {
+                        i += 1;
+                        x
+                    }
+                    (Some(&x), None) => {
+                        i += 1;
+                        x
+                    }
+                    (_, Some(&y)) => {
+                        j += 1;
+                        y
+                    }
+                    (None, None) => unreachable!("the loop condition"),
+                };
+                row_idx.push(r);
+            }
+            col_ptr.push(row_idx.len());
+        }
+        let val = vec![0.0; row_idx.len()];
+        Self {
+            nrows: n,
+            ncols: n,
+            col_ptr,
+            row_idx,
+            val,
+        }
+    }
+
     /// Dense copy (tests and small systems only).
     pub fn to_dense(&self) -> Vec<Vec<f64>> {
         let mut d = vec![vec![0.0; self.ncols]; self.nrows];
@@ -180,6 +246,34 @@ where
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The merged pattern of A + A^T equals the one built from both triplets of every entry
+    /// (sorted, unique rows; empty columns kept; the diagonal once).
+    #[test]
+    fn symmetrised_pattern_is_a_plus_a_transpose() {
+        let n = 23;
+        let mut seed = 777u64;
+        let mut next = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 33) as usize
+        };
+        let trip: Vec<(usize, usize, f64)> = (0..90)
+            .map(|_| (next() % n, next() % (n - 3), 1.0))
+            .chain([(4, 4, 1.0), (0, n - 1, 1.0)])
+            .collect();
+        let a = CscMatrix::from_triplets(n, n, &trip).unwrap();
+        let both: Vec<(usize, usize, f64)> = trip
+            .iter()
+            .flat_map(|&(r, c, _)| [(r, c, 0.0), (c, r, 0.0)])
+            .collect();
+        let want = CscMatrix::from_triplets(n, n, &both).unwrap();
+        let got = a.symmetrised_pattern();
+        assert_eq!(got.col_ptr, want.col_ptr);
+        assert_eq!(got.row_idx, want.row_idx);
+        assert!(got.val.iter().all(|&v| v == 0.0));
+    }
 
     #[test]
     fn triplets_sum_duplicates() {

@@ -337,7 +337,7 @@ fn cost_choice(
             (Some(f), nnz)
         })
     } else {
-        Cholesky::analyze_with(&symmetrised(&pattern), Some(&xy))
+        Cholesky::analyze_with(&pattern.symmetrised_pattern(), Some(&xy))
             .map(|c| (None, 2.0 * c.factor_nnz() as f64))
     };
     let (analysed, factor_nnz) = match analysis {
@@ -391,18 +391,6 @@ fn cost_choice(
             est,
         },
     })
-}
-
-/// The pattern of A + A^T (values 0), for a symmetric analysis of a non-symmetric pattern.
-fn symmetrised(a: &CscMatrix) -> CscMatrix {
-    let mut trip = Vec::with_capacity(2 * a.nnz());
-    for c in 0..a.ncols {
-        for &r in &a.row_idx[a.col_ptr[c]..a.col_ptr[c + 1]] {
-            trip.push((r, c, 0.0));
-            trip.push((c, r, 0.0));
-        }
-    }
-    CscMatrix::from_triplets(a.nrows, a.ncols, &trip).expect("indices of a square matrix")
 }
 
 /// The evolving state of a run: the broken bonds (pre-crack included), the groundings, the
