@@ -407,11 +407,15 @@ mod tests {
         let mut b = Bordered::analyze(&a, &xy(n), &pc).unwrap();
         assert!(b.factorize(&a, f.clone()).unwrap());
         let rhs: Vec<f64> = (0..n).map(|i| (i as f64 * 0.3).sin()).collect();
-        let mut x = rhs.clone();
-        b.solve_in_place(&mut x).unwrap();
-        let res = (0..n)
-            .map(|r| (s[r].iter().zip(&x).map(|(v, x)| v * x).sum::<f64>() - rhs[r]).abs())
-            .fold(0.0, f64::max);
+        // the largest |S_0 x - rhs| of the solve of `rhs` by `b`
+        let residual = |b: &Bordered| {
+            let mut x = rhs.clone();
+            b.solve_in_place(&mut x).unwrap();
+            (0..n)
+                .map(|r| (s[r].iter().zip(&x).map(|(v, x)| v * x).sum::<f64>() - rhs[r]).abs())
+                .fold(0.0, f64::max)
+        };
+        let res = residual(&b);
         assert!(res < 1e-12, "residual {res:.2e}");
         let cols = b.unit_columns(&[0, 17, 39]).unwrap();
         for (j, &c) in [0usize, 17, 39].iter().enumerate() {
@@ -428,11 +432,7 @@ mod tests {
         assert!(bl.lead);
         assert!(bl.factorize(&a, f.clone()).unwrap());
         assert!(!bl.lead, "the lead is taken once");
-        let mut xl = rhs.clone();
-        bl.solve_in_place(&mut xl).unwrap();
-        let res_l = (0..n)
-            .map(|r| (s[r].iter().zip(&xl).map(|(v, x)| v * x).sum::<f64>() - rhs[r]).abs())
-            .fold(0.0, f64::max);
+        let res_l = residual(&bl);
         assert!(res_l < 1e-12, "residual with the lead {res_l:.2e}");
         // after the lead's factorisation (of A with the diagonal 3), the next one factorises its
         // own matrix again: the solve is the one of `a`
@@ -441,11 +441,7 @@ mod tests {
         assert!(b3.lead(&a3).unwrap());
         assert!(b3.factorize(&a3, f.clone()).unwrap());
         assert!(b3.factorize(&a, f.clone()).unwrap());
-        let mut x3 = rhs.clone();
-        b3.solve_in_place(&mut x3).unwrap();
-        let res_3 = (0..n)
-            .map(|r| (s[r].iter().zip(&x3).map(|(v, x)| v * x).sum::<f64>() - rhs[r]).abs())
-            .fold(0.0, f64::max);
+        let res_3 = residual(&b3);
         assert!(
             res_3 < 1e-12,
             "residual after a lead of another matrix {res_3:.2e}"
