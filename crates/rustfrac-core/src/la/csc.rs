@@ -117,12 +117,14 @@ impl CscMatrix {
         }
     }
 
-    /// The pattern of A + A^T of a square matrix (values 0), for a symmetric analysis of a
-    /// non-symmetric pattern: the transpose by counting, then each column's two sorted row lists
-    /// merged (O(nnz), no sort).
+    /// The pattern of A + A^T (values 0), for a symmetric analysis of a non-symmetric pattern:
+    /// the transpose by counting, then each column's two sorted row lists merged (O(nnz), no
+    /// sort). A rectangular A is taken as its square completion of order max(rows, columns).
     pub fn symmetrised_pattern(&self) -> Self {
-        let n = self.ncols;
-        debug_assert_eq!(self.nrows, n, "a square matrix");
+        let n = self.ncols.max(self.nrows);
+        let mut col_ptr_a = self.col_ptr.clone();
+        col_ptr_a.resize(n + 1, *self.col_ptr.last().unwrap_or(&0));
+        let a_ptr = &col_ptr_a;
         // A^T: column r of A^T holds the columns c of A with an entry in row r, ascending
         let mut t_ptr = vec![0usize; n + 1];
         for &r in &self.row_idx {
@@ -134,7 +136,7 @@ impl CscMatrix {
         let mut next = t_ptr.clone();
         let mut t_idx = vec![0usize; self.row_idx.len()];
         for c in 0..n {
-            for &r in &self.row_idx[self.col_ptr[c]..self.col_ptr[c + 1]] {
+            for &r in &self.row_idx[a_ptr[c]..a_ptr[c + 1]] {
                 t_idx[next[r]] = c;
                 next[r] += 1;
             }
@@ -144,7 +146,7 @@ impl CscMatrix {
         let mut row_idx = Vec::with_capacity(2 * self.row_idx.len());
         for c in 0..n {
             let (a, b) = (
-                &self.row_idx[self.col_ptr[c]..self.col_ptr[c + 1]],
+                &self.row_idx[a_ptr[c]..a_ptr[c + 1]],
                 &t_idx[t_ptr[c]..t_ptr[c + 1]],
             );
             let (mut i, mut j) = (0, 0);
@@ -248,7 +250,8 @@ mod tests {
     use super::*;
 
     /// The merged pattern of A + A^T equals the one built from both triplets of every entry
-    /// (sorted, unique rows; empty columns kept; the diagonal once).
+    /// (sorted, unique rows; empty columns kept; the diagonal once); a rectangular A gives its
+    /// square completion's.
     #[test]
     fn symmetrised_pattern_is_a_plus_a_transpose() {
         let n = 23;
@@ -273,6 +276,17 @@ mod tests {
         assert_eq!(got.col_ptr, want.col_ptr);
         assert_eq!(got.row_idx, want.row_idx);
         assert!(got.val.iter().all(|&v| v == 0.0));
+        // rectangular (3 x 5, 5 x 3): the square completion, no panic
+        let r35 = CscMatrix::from_triplets(3, 5, &[(0, 4, 1.0), (2, 1, 1.0)]).unwrap();
+        let r53 = CscMatrix::from_triplets(5, 3, &[(4, 0, 1.0), (1, 2, 1.0)]).unwrap();
+        let sq =
+            CscMatrix::from_triplets(5, 5, &[(0, 4, 0.0), (4, 0, 0.0), (2, 1, 0.0), (1, 2, 0.0)])
+                .unwrap();
+        for r in [r35, r53] {
+            let g = r.symmetrised_pattern();
+            assert_eq!((g.nrows, g.ncols), (5, 5));
+            assert_eq!((&g.col_ptr, &g.row_idx), (&sq.col_ptr, &sq.row_idx));
+        }
     }
 
     #[test]

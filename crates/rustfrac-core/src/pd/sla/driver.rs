@@ -928,7 +928,8 @@ struct RunInfo {
     n_refactorisations: usize,
     max_update_rank: usize,
     inverse_columns: usize,
-    /// condensations whose sparse form is the LU of S instead of the bordered Cholesky
+    /// models whose sparse form fell back from the bordered Cholesky to the LU of S (at the
+    /// condensation where K_PP was not symmetric positive definite, and from then on)
     lu_fallbacks: usize,
     screened_steps: usize,
     screened_bonds: usize,
@@ -984,7 +985,8 @@ fn results(
         grip: model.problem.boundary.name().into(),
         solver: if info.lu_fallbacks > 0 {
             format!(
-                "{}; the LU of S at {} condensation(s): K_PP not symmetric positive definite",
+                "{}; the LU of S in {} model(s), from the condensation where K_PP was not \
+                 symmetric positive definite",
                 info.solver, info.lu_fallbacks
             )
         } else {

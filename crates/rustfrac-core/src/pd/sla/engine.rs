@@ -51,8 +51,8 @@ pub(super) trait Engine {
     fn inverse_columns(&self) -> usize {
         0
     }
-    /// condensations whose sparse form fell back from the bordered Cholesky to the LU of S
-    /// (`fast/base.rs`)
+    /// 1 when the sparse form fell back from the bordered Cholesky to the LU of S
+    /// (`fast/base.rs`), else 0
     fn lu_fallbacks(&self) -> usize {
         0
     }

@@ -13,7 +13,6 @@
 //!   pattern of S_0 does not change between condensations (broken bonds stay stored as zeros),
 //!   so the symbolic analysis is done once.
 //!
-//!
 //! CCM-PD's sparse form is **bordered** when K_PP is symmetric positive definite (always so far:
 //! its rows hold bonds only): S_0 = A + F E^T, A = K_PP by sparse Cholesky (nested dissection on
 //! the node positions, the pure PD factor), F = -K_{P,ring} Z_ring the FEM coupling on the |pc|
@@ -87,9 +86,10 @@ pub(in crate::pd::sla) struct Bordered {
     m: Option<DenseLu>,
     /// K_PP was found symmetric (at the model's first condensation)
     symmetric_checked: bool,
-    /// A was factorised ahead, beside the FEM part ([`Bordered::lead`]): the next
-    /// [`Bordered::factorize`] takes it as it is
-    lead: bool,
+    /// A was factorised ahead, beside the FEM part ([`Bordered::lead`]): the values of the K_PP
+    /// it was factorised from, which the next [`Bordered::factorize`] takes the factor for when
+    /// its K_PP has them (else it factorises its own)
+    lead: Option<Vec<f64>>,
 }
 
 impl Bordered {
@@ -106,7 +106,7 @@ impl Bordered {
             h: Vec::new(),
             m: None,
             symmetric_checked: false,
-            lead: false,
+            lead: None,
         })
     }
 
@@ -130,7 +130,7 @@ impl Bordered {
         if !self.symmetric(kpp) {
             return Ok(false);
         }
-        self.lead = false;
+        self.lead = None;
         self.tree = None;
         match self.a.factorize_with(kpp, Par::Seq) {
             Ok(()) => {}
@@ -138,19 +138,20 @@ impl Bordered {
             Err(e) => return Err(e),
         }
         self.tree = Some(SparseForward::new(&self.a)?);
-        self.lead = true;
+        self.lead = Some(kpp.val.clone());
         Ok(true)
     }
 
-    /// Factorises A = `kpp` (unless [`Bordered::lead`] factorised it ahead: the model's first
-    /// condensation) and M from F (`f`, column-major n_P x |pc|, taken as H's storage).
+    /// Factorises A = `kpp` (unless [`Bordered::lead`] factorised this very K_PP ahead: the
+    /// model's first condensation) and M from F (`f`, column-major n_P x |pc|, taken as H's storage).
     /// Ok(false): A is not positive definite (the caller takes the LU form); a singular M is a
     /// singular S_0 (separation).
     pub(in crate::pd::sla) fn factorize(&mut self, kpp: &CscMatrix, f: Vec<f64>) -> Result<bool> {
         let n = kpp.nrows;
         let npc = self.pc.len();
         self.m = None;
-        if !std::mem::take(&mut self.lead) {
+        let ahead = self.lead.take().is_some_and(|v| v == kpp.val);
+        if !ahead {
             self.tree = None;
             match self.a.factorize(kpp) {
                 Ok(()) => {}
@@ -429,14 +430,23 @@ mod tests {
         // by the next factorisation only
         let mut bl = Bordered::analyze(&a, &xy(n), &pc).unwrap();
         assert!(bl.lead(&a).unwrap());
-        assert!(bl.lead);
+        assert!(bl.lead.is_some());
         assert!(bl.factorize(&a, f.clone()).unwrap());
-        assert!(!bl.lead, "the lead is taken once");
+        assert!(bl.lead.is_none(), "the lead is taken once");
         let res_l = residual(&bl);
         assert!(res_l < 1e-12, "residual with the lead {res_l:.2e}");
+        // a lead of another K_PP (the diagonal 3) is not taken: A is factorised from `a`
+        let (a3, _) = case(n, 3.0, &pc, &f);
+        let mut bx = Bordered::analyze(&a, &xy(n), &pc).unwrap();
+        assert!(bx.lead(&a3).unwrap());
+        assert!(bx.factorize(&a, f.clone()).unwrap());
+        let res_x = residual(&bx);
+        assert!(
+            res_x < 1e-12,
+            "residual after a lead of another K_PP {res_x:.2e}"
+        );
         // after the lead's factorisation (of A with the diagonal 3), the next one factorises its
         // own matrix again: the solve is the one of `a`
-        let (a3, _) = case(n, 3.0, &pc, &f);
         let mut b3 = Bordered::analyze(&a3, &xy(n), &pc).unwrap();
         assert!(b3.lead(&a3).unwrap());
         assert!(b3.factorize(&a3, f.clone()).unwrap());

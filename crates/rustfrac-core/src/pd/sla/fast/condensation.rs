@@ -868,10 +868,6 @@ fn schur_sparse(
     }
 }
 
-/// The pattern of the sparse S ([`schur_sparse`]), whether it is symmetric (pure PD: no free FEM
-/// dofs) and the positions of its unknowns, for the engine's cost estimate and the symbolic
-/// analysis. Values 0, except for pure PD: there S = K_PP does not depend on the FEM part, so it is
-/// built whole here and the first condensation takes it ([`Fast::new`]).
 /// Rows of F the bordered form builds at once (`condense_bordered`).
 const F_BLOCK: usize = 64;
 
@@ -902,6 +898,10 @@ pub(in crate::pd::sla) fn bordered_analysis(
     Ok(SparseFactor::Bordered(Box::new(b)))
 }
 
+/// The pattern of the sparse S ([`schur_sparse`]), whether it is symmetric (pure PD: no free FEM
+/// dofs) and the positions of its unknowns, for the engine's cost estimate and the symbolic
+/// analysis. Values 0, except for pure PD: there S = K_PP does not depend on the FEM part, so it is
+/// built whole here and the first condensation takes it ([`Fast::new`]).
 pub(in crate::pd::sla) fn schur_pattern(
     model: &SpliceModel,
     k: &CscMatrix,

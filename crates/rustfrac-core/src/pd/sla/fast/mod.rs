@@ -112,7 +112,8 @@ pub(super) struct Fast<'a> {
     broken: Vec<bool>,
     springs: Vec<Spring>,
     n_fact: usize,
-    /// condensations whose sparse form is the LU of S instead of the bordered Cholesky
+    /// 1 once the sparse form fell back from the bordered Cholesky to the LU of S (kept from
+    /// then on: the base is the LU's)
     lu_fallbacks: usize,
     u_full: Vec<f64>,
     /// the matrix at the start (its FEM rows never change)
