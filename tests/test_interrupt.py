@@ -5,6 +5,7 @@ callback, ends in a clean KeyboardInterrupt (never a PanicException) and keeps w
 from __future__ import annotations
 
 import json
+import os
 import signal
 import subprocess
 import sys
@@ -13,6 +14,8 @@ import time
 from pathlib import Path
 
 import pytest
+
+import rustfrac as rf
 
 # a CCM-PD run of many cheap steps (coarse grid) and an XFEM growth of many states: each runs
 # far longer than the time before the signal
@@ -31,10 +34,17 @@ SCENES = {
 }
 
 
+def _env() -> dict[str, str]:
+    """The children import the rustfrac this suite imports, whatever their working directory
+    (a relative PYTHONPATH, as in ``PYTHONPATH=python pytest``, would not reach it from cwd)."""
+    return {**os.environ, "PYTHONPATH": str(Path(rf.__file__).resolve().parents[1])}
+
+
 def _interrupt(cmd: list[str], after: float, cwd: Path) -> tuple[int, str, float]:
     p = subprocess.Popen(
         cmd,
         cwd=cwd,
+        env=_env(),
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
@@ -83,6 +93,7 @@ def test_rf_run_without_callback_is_interrupted(tmp_path: Path) -> None:
     )
     p = subprocess.Popen(
         [sys.executable, "-c", script],
+        env=_env(),
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
