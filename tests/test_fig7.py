@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import csv
 import json
+import os
 import threading
 from pathlib import Path
 
@@ -408,3 +409,26 @@ def test_full_disk_while_staging_a_result_folder_leaves_the_folder_as_it_was(
             fig7(out, preset="fast", log=None)
     assert {p: p.read_bytes() for p in old.rglob("*") if p.is_file()} == before
     assert not new.exists() or list(new.rglob("*")) == []
+
+
+def test_the_cpu_parts_benchmark_accounts_for_every_part() -> None:
+    """``benches/fig7_cpu_parts.py`` (RESULTS.md, "The two targets not reached") runs every part
+    of the job and prints a total that is the sum of its parts."""
+    import subprocess
+    import sys
+
+    script = Path(__file__).resolve().parents[1] / "benches" / "fig7_cpu_parts.py"
+    env = {**os.environ, "PYTHONPATH": str(Path(rf.__file__).resolve().parents[1])}
+    p = subprocess.run(
+        [sys.executable, str(script), "--preset", "fast"],
+        capture_output=True, text=True, check=False, env=env,
+    )  # fmt: skip
+    assert p.returncode == 0, p.stderr
+    rows = [line.split(" s  ", 1) for line in p.stdout.splitlines()]
+    parts = {name: float(s) for s, name in rows}
+    for name in ("run xfem_growth", "run ccm_pd", "draw fig7.png", "draw fig6.png",
+                 "result folder ccm_pd/"):  # fmt: skip
+        assert name in parts, p.stdout
+    total = parts.pop("CPU in all (user + system, every thread of this process)")
+    assert total == pytest.approx(sum(parts.values()), abs=0.01)
+    assert all(s >= 0.0 for s in parts.values())
