@@ -5,7 +5,8 @@ from __future__ import annotations
 
 import csv
 import json
-import os
+import subprocess
+import sys
 import threading
 from pathlib import Path
 
@@ -411,17 +412,14 @@ def test_full_disk_while_staging_a_result_folder_leaves_the_folder_as_it_was(
     assert not new.exists() or list(new.rglob("*")) == []
 
 
-def test_the_cpu_parts_benchmark_accounts_for_every_part() -> None:
+def test_the_cpu_parts_benchmark_accounts_for_every_part(
+    root: Path, child_env: dict[str, str]
+) -> None:
     """``benches/fig7_cpu_parts.py`` (RESULTS.md, "The two targets not reached") runs every part
     of the job and prints a total that is the sum of its parts."""
-    import subprocess
-    import sys
-
-    script = Path(__file__).resolve().parents[1] / "benches" / "fig7_cpu_parts.py"
-    env = {**os.environ, "PYTHONPATH": str(Path(rf.__file__).resolve().parents[1])}
     p = subprocess.run(
-        [sys.executable, str(script), "--preset", "fast"],
-        capture_output=True, text=True, check=False, env=env,
+        [sys.executable, str(root / "benches" / "fig7_cpu_parts.py"), "--preset", "fast"],
+        capture_output=True, text=True, check=False, env=child_env,
     )  # fmt: skip
     assert p.returncode == 0, p.stderr
     rows = [line.split(" s  ", 1) for line in p.stdout.splitlines()]

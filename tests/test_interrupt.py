@@ -5,7 +5,6 @@ callback, ends in a clean KeyboardInterrupt (never a PanicException) and keeps w
 from __future__ import annotations
 
 import json
-import os
 import signal
 import subprocess
 import sys
@@ -14,8 +13,6 @@ import time
 from pathlib import Path
 
 import pytest
-
-import rustfrac as rf
 
 # a CCM-PD run of many cheap steps (coarse grid) and an XFEM growth of many states: each runs
 # far longer than the time before the signal
@@ -34,17 +31,13 @@ SCENES = {
 }
 
 
-def _env() -> dict[str, str]:
-    """The children import the rustfrac this suite imports, whatever their working directory
-    (a relative PYTHONPATH, as in ``PYTHONPATH=python pytest``, would not reach it from cwd)."""
-    return {**os.environ, "PYTHONPATH": str(Path(rf.__file__).resolve().parents[1])}
-
-
-def _interrupt(cmd: list[str], after: float, cwd: Path) -> tuple[int, str, float]:
+def _interrupt(
+    cmd: list[str], after: float, cwd: Path, env: dict[str, str]
+) -> tuple[int, str, float]:
     p = subprocess.Popen(
         cmd,
         cwd=cwd,
-        env=_env(),
+        env=env,
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
@@ -59,12 +52,14 @@ def _interrupt(cmd: list[str], after: float, cwd: Path) -> tuple[int, str, float
 
 
 @pytest.mark.parametrize("method", ["ccm_pd", "xfem"])
-def test_cli_ctrl_c_keeps_the_finished_part(tmp_path: Path, method: str) -> None:
+def test_cli_ctrl_c_keeps_the_finished_part(
+    tmp_path: Path, method: str, child_env: dict[str, str]
+) -> None:
     scene = tmp_path / "s.toml"
     scene.write_text(SCENES[method])
     out = tmp_path / "out"
     cmd = [sys.executable, "-m", "rustfrac.cli", "run", str(scene), "--out", str(out), "-q"]
-    code, err, waited = _interrupt(cmd, 4.0, tmp_path)
+    code, err, waited = _interrupt(cmd, 4.0, tmp_path, child_env)
     print(f"{method}: exit {code} {waited:.2f} s after SIGINT; stderr: {err.strip()[-300:]}")
     assert code == 130, err
     assert "PanicException" not in err and "Traceback" not in err, err
@@ -77,7 +72,7 @@ def test_cli_ctrl_c_keeps_the_finished_part(tmp_path: Path, method: str) -> None
     assert "finished part" in err
 
 
-def test_rf_run_without_callback_is_interrupted(tmp_path: Path) -> None:
+def test_rf_run_without_callback_is_interrupted(child_env: dict[str, str]) -> None:
     script = textwrap.dedent(
         """
         import rustfrac as rf
@@ -93,7 +88,7 @@ def test_rf_run_without_callback_is_interrupted(tmp_path: Path) -> None:
     )
     p = subprocess.Popen(
         [sys.executable, "-c", script],
-        env=_env(),
+        env=child_env,
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
