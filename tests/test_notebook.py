@@ -264,10 +264,14 @@ def test_plotting_is_reachable_from_rustfrac_without_slowing_its_import() -> Non
 # the example notebook
 
 
-def test_example_notebook_reproduces_fig7(tmp_path: Path) -> None:
+def test_example_notebook_reproduces_fig7(
+    tmp_path: Path, child_env: dict[str, str], monkeypatch: pytest.MonkeyPatch
+) -> None:
     nbformat = pytest.importorskip("nbformat")
     nbclient = pytest.importorskip("nbclient")
     pytest.importorskip("ipykernel")
+    # the kernel runs in tmp_path: it imports the rustfrac this suite imports
+    monkeypatch.setenv("PYTHONPATH", child_env["PYTHONPATH"])
     nb = nbformat.read(ROOT / "examples" / "fig7.ipynb", as_version=4)
     client = nbclient.NotebookClient(
         nb, timeout=300, kernel_name="python3", resources={"metadata": {"path": str(tmp_path)}}
