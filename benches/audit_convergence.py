@@ -1,4 +1,4 @@
-"""Convergence of the energy audit (issue 14, item 2): XFEM against its element size, CCM-PD
+"""Convergence of the energy audit (``rustfrac.energy``): XFEM against its element size, CCM-PD
 under delta-, m- and delta-m-refinement (Bobaru et al. 2009), on the paper's plate under the free
 displacement grips (the audit needs a work-conjugate load).
 

@@ -1,4 +1,4 @@
-"""What ``pd.s0_calibration`` does to the PD-LEFM gap (issue 14 item 3).
+"""What ``pd.s0_calibration`` does to the PD-LEFM gap.
 
 1. The calibration's reference energies per m (``meta["s0_calibration"]`` of a run without
    steps): G_ref / G0 of "grid" and "sla", the factor s0' / s0, and the cost of the first "sla"

@@ -1,4 +1,4 @@
-"""The PD surface correction on the paper's case (issue 14, item 3; ``pd.surface_correction``).
+"""The PD surface correction on the paper's case (``pd.surface_correction``).
 
 Runs the Fig. 7 job (``rustfrac.fig7.fig7``, preset ``paper``, free grips) without and with
 ``surface_correction = "energy"`` into OUT/none and OUT/energy, and the paper's CCM-PD case to a

@@ -1,4 +1,4 @@
-"""The adaptive CCM-PD region (``[pd] region = "adaptive"``, issue 13) from Python and the CLI:
+"""The adaptive CCM-PD region (``[pd] region = "adaptive"``) from Python and the CLI:
 the region grows ahead of the crack, no bond breaks within ``adapt_margin`` horizons of the FEM
 part, the switches are reported, and bad options are refused naming the key. The numerics
 (against a fixed region covering the path, the oracle, bit-for-bit resume across switches)

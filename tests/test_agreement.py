@@ -1,4 +1,4 @@
-"""The sigma22-CMOD agreement of two load paths (rustfrac.agreement, issue 14 item 1), on
+"""The sigma22-CMOD agreement of two load paths (rustfrac.agreement), on
 saw-tooths built around a known curve (its place in the Fig. 7 summary: tests/test_fig7.py)."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""The convergence study of the energy audit (benches/audit_convergence.py, issue 14 item 2):
+"""The convergence study of the energy audit (benches/audit_convergence.py):
 its rate fit on data with a known rate, the audit along the crack (its bins add up to the
 total), and XFEM's G / G0 approaching 1 under mesh refinement (LEFM's known answer). No result
 of the study itself is asserted."""

@@ -1,4 +1,4 @@
-"""Issue 17, items 8 and 14 (the core's part): an integer too large for any key and a scene with
+"""The core's bounds on bad input: an integer too large for any key and a scene with
 millions of unknown keys end in RustfracError subclasses naming the key, with a bounded
 message, quickly."""
 

@@ -116,7 +116,7 @@ def test_console_script(root: Path, tmp_path: Path) -> None:
     assert "unknowns" in p.stdout
 
 
-# -- output problems are found before computing, or the result is kept (issue 17) ------------------
+# -- output problems are found before computing, or the result is kept -----------------------------
 
 UNCRACKED = "paper_fem_uncracked.toml"
 

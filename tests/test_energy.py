@@ -1,4 +1,4 @@
-"""The energy audit (rustfrac.energy, issue 14 item 2) on cases with a known answer: LEFM growth
+"""The energy audit (rustfrac.energy) on cases with a known answer: LEFM growth
 in mode I dissipates G0 per unit of new crack area, and a PD strip breaking across releases at
 least the energy of the bonds it breaks, which is the grid's discrete fracture energy computed
 here independently (bond by bond, partial volumes by sub-sampling)."""

@@ -1,4 +1,4 @@
-"""Issue 17: a fault campaign of our own. SIGINT at random moments of ``rustfrac run`` (during
+"""A fault campaign of our own. SIGINT at random moments of ``rustfrac run`` (during
 start-up, the build, the steps, the save) on small CCM-PD and XFEM-growth scenes: every attempt
 ends with exit 0 or an interrupt (130, or the signal itself during interpreter start-up), never
 a panic, an abort or a hang, and the output folder is either absent or loads as one coherent

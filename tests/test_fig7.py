@@ -109,7 +109,7 @@ def test_interruption_keeps_what_finished(tmp_path: Path) -> None:
     assert (tmp_path / "fig7.png").is_file()
 
 
-# -- CCM-PD beside the XFEM runs, Fig. 8b drawn meanwhile (issue 15 item 3) -----------------
+# -- CCM-PD beside the XFEM runs, Fig. 8b drawn meanwhile -----------------------------------
 
 
 def test_ctrl_c_in_an_xfem_run_cancels_the_ccm_pd_run_beside_it(tmp_path: Path) -> None:
@@ -232,7 +232,7 @@ def test_fig8b_without_a_reached_snapshot_step_is_missing_not_a_crash(
     assert not (tmp_path / "fig8b.png").exists() and (tmp_path / "fig7.png").is_file()
 
 
-# -- one unit, partial outputs marked (issue 17) --------------------------------------------
+# -- one unit, partial outputs marked -------------------------------------------------------
 
 
 def _stop_at(*runs: str):
@@ -361,7 +361,7 @@ def test_summary_carries_the_energy_audit(fast_run: tuple[Path, dict]) -> None:
 
 
 def test_summary_splits_the_job_time(fast_run: tuple[Path, dict]) -> None:
-    """issue 15 item 3: the job's own time split (computation, figures, result folders,
+    """The job's own time split (computation, figures, result folders,
     summaries) in summary.json and summary.md; the parts add up to the total."""
     out, summary = fast_run
     t = summary["time_split_s"]

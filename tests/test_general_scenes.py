@@ -1,4 +1,4 @@
-"""General scenes from Python (issue 12): the [[hole]], [[notch]], [[support]], [[load]] and
+"""General scenes from Python: the [[hole]], [[notch]], [[support]], [[load]] and
 [[probe]] tables, the literature specimens (rustfrac.specimens) against their references, the
 region responses of results, the load-path figure and the command line.
 

@@ -1,4 +1,4 @@
-"""Issue 17, item 3: Ctrl-C (SIGINT) stops a long run promptly with or without a progress
+"""Ctrl-C (SIGINT) stops a long run promptly with or without a progress
 callback, ends in a clean KeyboardInterrupt (never a PanicException) and keeps what finished:
 ``rf.run`` attaches it as ``e.result``, ``rustfrac run`` writes it to ``--out`` and exits 130."""
 

@@ -1,4 +1,4 @@
-"""Issue 17, items 7, 10 and 11: loads too small (or too large) for floating point are refused
+"""Loads too small (or too large) for floating point are refused
 naming the load key, the FEM seam's real length is reported (with a warning when it is not
 ``crack.a0``) and a seam that leaves no ligament is refused, one-point Gauss quadrature is
 refused for Q4 elasticity (its hourglass modes)."""

@@ -1,4 +1,4 @@
-"""Issue 17, item 2: out of memory ends in a clean exception, never an abort or a hang. A run
+"""Out of memory ends in a clean exception, never an abort or a hang. A run
 whose estimated need exceeds what the machine or the process's address-space limit leaves is
 refused before the model is built (``rf.OutOfMemoryError``, naming the size); under
 ``ulimit -v`` limits from 300 MB to 1.5 GB the paper's CCM-PD run either completes or fails with

@@ -1,4 +1,4 @@
-"""PD extremes and long SLA runs from Python (issue 6, items 3 and 7): the m < 2 accuracy warning,
+"""PD extremes and long SLA runs from Python: the m < 2 accuracy warning,
 PD regions thinner than two horizons, checkpoints and bit-for-bit resume (scene options and CLI),
 refusal of another model's checkpoint, detached-node reporting."""
 

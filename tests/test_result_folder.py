@@ -1,4 +1,4 @@
-"""Result folders are written as one unit and read back checked (issue 17): a full disk, a killed
+"""Result folders are written as one unit and read back checked: a full disk, a killed
 writer or several concurrent writers never leave a folder that loads as a mix of two runs, and
 ``rf.load`` refuses what it cannot trust with an error naming the file and the field."""
 

@@ -1,4 +1,4 @@
-"""Issue 6, singular systems through Python: a free rigid-body mode is named, a separated body is
+"""Singular systems through Python: a free rigid-body mode is named, a separated body is
 reported, never NaN; the condition estimate can be skipped (``condition=False``); warnings carry a
 kind that survives saving. The Rust side (pivot test per unknown, COND_SINGULAR, scale disparity
 of 1e12 between unknowns) is tested in crates/rustfrac-core/tests/singular_detection.rs."""

@@ -127,7 +127,7 @@ def test_ctrl_c_keeps_finished_points(tmp_path: Path) -> None:
     assert (tmp_path / "sweep.csv").exists() and (tmp_path / "sweep.md").exists()
 
 
-# -- partial outputs marked (issue 17) ---------------------------------------------------------
+# -- partial outputs marked --------------------------------------------------------------------
 
 
 def test_ctrl_c_while_plotting_marks_the_sweep_incomplete(
@@ -181,7 +181,7 @@ def test_out_naming_a_file_fails_before_the_sweep(
     assert calls == []
 
 
-# -- presets not picked by timer noise (issue 16) ----------------------------------------------
+# -- presets not picked by timer noise ---------------------------------------------------------
 
 
 def test_presets_are_not_picked_by_timer_noise(tiny: tuple[Path, dict[str, Any]]) -> None:

@@ -1,4 +1,4 @@
-"""Sweeps of the user's own scene (issue 16 item 5): ``rustfrac sweep SCENE.toml --param ...``
+"""Sweeps of the user's own scene: ``rustfrac sweep SCENE.toml --param ...``
 and ``rustfrac.sweep.sweep_scene``: levels, quantities, repeated timings, Richardson, dask."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Agreement of two load paths in the sigma22-CMOD plane (issue 14, item 1).
+"""Agreement of two load paths in the sigma22-CMOD plane.
 
 The SLA of CCM-PD gives a saw-tooth: one point per bond break, each at the load that breaks it,
 so the load drops after some breaks and rises before the next. LEFM growth (XFEM) gives one

@@ -1,5 +1,4 @@
-"""LEFM and peridynamics side by side on one scene (``rustfrac compare SCENE.toml --out DIR``;
-issue 14, item 4).
+"""LEFM and peridynamics side by side on one scene (``rustfrac compare SCENE.toml --out DIR``).
 
 From one scene of any method, :func:`compare` derives two scenes with the same plate, material,
 load, holes and pre-crack, and runs them:

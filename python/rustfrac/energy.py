@@ -1,5 +1,5 @@
-"""Energy audit of a load path (issue 14, item 2): the energy dissipated per unit of new crack
-area, from the history alone, against the fracture energy G0.
+"""Energy audit of a load path: the energy dissipated per unit of new crack area, from the
+history alone, against the fracture energy G0 (docs/design.md, "The energy audit").
 
 The load's work at a state is 1/2 (a sigma22)(b u0) with the work-conjugate pair (a, b) the core
 gives (``meta["work_conjugate"]``; the paper's grips: a = W t, b = 2, so P = sigma22 W t is the

@@ -1,5 +1,5 @@
 """Crack paths of two methods compared: stations along a polyline, the ridge of a set of broken
-bonds along it, and the distance between the ridge and the polyline (issue 14, item 4).
+bonds along it, and the distance between the ridge and the polyline.
 
 A PD crack is a set of broken bonds, an XFEM crack a polyline. To compare them no PD crack line
 is guessed from the damage map alone: the XFEM polyline gives the stations, and the PD crack is

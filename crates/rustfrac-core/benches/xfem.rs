@@ -1,5 +1,5 @@
-//! XFEM benchmarks (issue 3 performance targets), each with a plain-FEM baseline on the same mesh
-//! in the same run:
+//! XFEM benchmarks against their targets, each with a plain-FEM baseline on the same mesh in the
+//! same run:
 //! * growth of the paper's edge crack from a = 1.1 to 0.7 W on 44 x 83 (target < 1 s);
 //! * a single solve with SIFs on 352 x 664 (target < 2 s).
 

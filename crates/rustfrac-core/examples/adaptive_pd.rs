@@ -1,4 +1,4 @@
-//! The adaptive CCM-PD region on the paper's case (issue 13 items 2-4), in one run:
+//! The adaptive CCM-PD region on the paper's case, in one run:
 //! * the adaptive run (`pd.region = "adaptive"`, margin and size in horizons) from the tip at
 //!   a0 = 1.1 to `--a-stop` (0.7 W = 7.6 by default, the XFEM growth's end) or `--steps`;
 //! * the paper's fixed rectangle for its 500 steps (the baseline of Fig. 7): the same bonds

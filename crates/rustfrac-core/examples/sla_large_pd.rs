@@ -1,5 +1,5 @@
-//! Large PD regions (issue 13, item 1), in one run: the new engine (`pd.engine = "auto"`, which
-//! picks the sparse form here) against the refactorise-every-step oracle (what these cases ran
+//! Large PD regions, in one run: the new engine (`pd.engine = "auto"`, which picks the sparse
+//! form here) against the refactorise-every-step oracle (what these cases ran
 //! before: above 6000 free PD dofs the old code fell back to it), per case:
 //! * pure PD on the paper's full grid (52 k nodes, 103 583 unknowns): `--steps` (500) steps of
 //!   the new engine, set-up included; the oracle's per-step time over `--oracle-steps` (3) steps,

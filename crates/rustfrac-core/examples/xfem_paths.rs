@@ -1,4 +1,4 @@
-//! Path convergence of XFEM mixed-mode growth (issue 14, item 5) and the effect of
+//! Path convergence of XFEM mixed-mode growth and the effect of
 //! `xfem.kink_rule`: the 30-degree inclined edge crack of the paper's plate under tension (free
 //! grips) and the edge crack under shear (Moes et al. 1999, fig. 13), grown with several element
 //! sizes h and extensions da under `hoop` and `predictor_corrector`, each path compared with a

@@ -1,4 +1,4 @@
-//! The memory budget of a run (issue 17, item 2): what the machine (`MemAvailable`) and the
+//! The memory budget of a run: what the machine (`MemAvailable`) and the
 //! process (its address-space limit, `ulimit -v`) leave for it, and the refusal, before anything
 //! large is built, of a run whose estimated need does not fit: an [`Error::OutOfMemory`] naming
 //! the size, never an abort in the middle of the run. The estimates are upper bounds from the

@@ -1,4 +1,4 @@
-//! The adaptive CCM-PD region (`pd.region = "adaptive"`, issue 13 items 2-3,
+//! The adaptive CCM-PD region (`pd.region = "adaptive"`, docs/design.md, "The adaptive region",
 //! `problem::pd_region`, `pd::sla` adaptive.rs): no bond breaks within the margin of the
 //! interface; the run against one whose fixed region covers the whole path (the same bonds,
 //! load factors within a measured tolerance); the fast engine against the refactorise-every-step

@@ -1,4 +1,4 @@
-//! Holes and notches in the FEM part of CCM-PD (issue 12, `pd/splice/holes.rs`): the cut elements
+//! Holes and notches in the FEM part of CCM-PD (`pd/splice/holes.rs`): the cut elements
 //! of the fictitious domain ([`rustfrac_core::fe::fictitious`]) in the splice model, against the
 //! pure FEM solution of the same scene and Kirsch's hole; the SLA on a plate with a FEM hole (the
 //! fast engine equals the oracle); the refusal of a hole cutting a hybrid element.

@@ -1,4 +1,4 @@
-//! General scenes (issue 12): supports, loads and probes on regions, graded grids, against
+//! General scenes: supports, loads and probes on regions, graded grids, against
 //! references rustfrac did not compute: the edge crack under shear (Yau, Wang and Corten 1980;
 //! Moes, Dolbow and Belytschko 1999: K_I = 34.0, K_II = 4.55), the single-edge notched bend
 //! beam (Srawley 1976, ASTM E399 for S/W = 4), Timoshenko's beam deflection, and the graded
@@ -422,7 +422,7 @@ fn holes_and_notches_from_the_scene() {
     }
 }
 
-/// Cracks from a hole's boundary (issue 12, item 1): a square plate of side `w` under remote
+/// Cracks from a hole's boundary: a square plate of side `w` under remote
 /// uniaxial tension (unit normal traction on the top edge, rollers on the bottom, one point held
 /// in x1) with a circular hole of radius `r` at its centre and `cracks` as (centre x1, half-length)
 /// of horizontal centre cracks at mid-height; a graded grid of spacing `h` around the hole.

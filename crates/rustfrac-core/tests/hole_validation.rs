@@ -1,4 +1,4 @@
-//! Holes and notches as a fictitious domain (issue 12; `fe::fictitious`): Kirsch's plate with a
+//! Holes and notches as a fictitious domain (`fe::fictitious`): Kirsch's plate with a
 //! circular hole (energy-norm convergence and the hoop stress at the hole), a grid-aligned
 //! rectangular hole against the same mesh with its elements removed, notches poking out of the
 //! plate through the FEM driver, the small-fraction node rule against the condition estimate,

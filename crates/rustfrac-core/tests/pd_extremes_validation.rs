@@ -1,4 +1,4 @@
-//! PD / CCM-PD at the extremes (issue 6, item 3): horizon factors m = 1..8, PD regions thinner than
+//! PD / CCM-PD at the extremes: horizon factors m = 1..8, PD regions thinner than
 //! two horizons, PD regions on the plate's boundary and corners and pure PD against the continuum,
 //! nodes whose bonds all break, and the step at which the ligament separates (fast and oracle).
 
@@ -155,8 +155,8 @@ fn pd_regions_on_the_boundary_and_pure_pd_match_the_continuum() {
         ("left edge", vec![[0.0, 2.0, 1.6, 4.0]], 0.01),
         ("right edge", vec![[2.4, 2.0, 4.0, 4.0]], 0.01),
         ("full width", vec![[0.0, 2.0, 4.0, 4.0]], 0.02),
-        // on a loaded edge the splice coupling's out-of-balance force (reported; DESIGN.md
-        // section 3) is ~2 % of the edge load and shows in the top reaction
+        // on a loaded edge the splice coupling's out-of-balance force (reported; docs/design.md,
+        // "The splice coupling") is ~2 % of the edge load and shows in the top reaction
         ("top edge", vec![[1.0, 4.4, 3.0, 6.0]], 0.025),
         ("top-left corner", vec![[0.0, 4.4, 1.6, 6.0]], 0.025),
         (

@@ -1,4 +1,4 @@
-//! General scenes for PD and CCM-PD (issue 12): pre-cracks at any angle and position, holes,
+//! General scenes for PD and CCM-PD: pre-cracks at any angle and position, holes,
 //! supports and loads on regions, probes; against brute force, Kirsch's hole, the shear of a
 //! block, and pure PD against CCM-PD. Run in release (`cargo test --release --test pd_general`).
 

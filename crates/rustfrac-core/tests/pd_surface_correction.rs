@@ -1,4 +1,4 @@
-//! The PD surface correction (`pd.surface_correction = "energy"`, issue 14 item 3;
+//! The PD surface correction (`pd.surface_correction = "energy"`;
 //! `pd::surface_correction`): against the closed-form homogeneous solution, bulk factors, the
 //! lattice family against the model's bonds, the adaptive region, fast engines vs the oracle, and
 //! the scene key's refusal.

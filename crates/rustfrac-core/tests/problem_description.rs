@@ -41,7 +41,8 @@ fn refused(t: &Table) -> Error {
     Problem::from_scene(t).expect_err("the scene must be refused")
 }
 
-/// The paper's case (Tuna et al., section 3; DESIGN.md section 2) is every default.
+/// The paper's case (Tuna et al., section 3; docs/design.md, "Units and the paper's conventions")
+/// is every default.
 #[test]
 fn an_empty_scene_is_the_papers_case() {
     for m in schema::METHODS {

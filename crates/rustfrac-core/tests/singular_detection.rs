@@ -1,5 +1,5 @@
-//! Issue 6: a singular or separated system is reported (Error::Singular), never solved into
-//! wrong numbers; a well-posed system whose unknowns differ wildly in scale is not misreported.
+//! A singular or separated system is reported (Error::Singular), never solved into wrong
+//! numbers; a well-posed system whose unknowns differ wildly in scale is not misreported.
 
 use rustfrac_core::fe::loading::{plate_conditions, Grip, PlateEdges, PlateLoad};
 use rustfrac_core::fe::material::{Elastic, Plane};

@@ -1,4 +1,4 @@
-//! Long SLA runs (issue 6, item 7): bounded solver memory over thousands of steps, nodes detached
+//! Long SLA runs: bounded solver memory over thousands of steps, nodes detached
 //! during the run, checkpoints and bit-for-bit resume, refusal of foreign or corrupt checkpoints.
 
 mod common;
@@ -307,7 +307,7 @@ fn crafted(bytes: &[u8], at: usize, word: u64) -> Vec<u8> {
     b
 }
 
-/// Hostile checkpoints (issue 17, items 4, 5 and 12): a FIFO and a directory are refused before
+/// Hostile checkpoints: a FIFO and a directory are refused before
 /// they are opened (no hang), an oversized file before it is read, crafted files with a valid
 /// checksum but NaN values or a bond listed twice in a step are refused, a `checkpoint_path`
 /// naming an existing non-checkpoint file leaves it untouched, and no temporary file remains.

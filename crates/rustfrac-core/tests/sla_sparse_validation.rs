@@ -1,4 +1,4 @@
-//! The sparse SLA engine (issue 13, item 1: large PD regions without a speed cliff) against the
+//! The sparse SLA engine (large PD regions without a speed cliff) against the
 //! refactorise-every-step oracle: the same broken bonds and load factors within 1e-8 on CCM-PD and
 //! pure PD grids, separation detected at the same step, checkpoints resumed bit for bit, the
 //! engine's choice reported; and an ignored paper-scale run (pure PD, 52 k nodes).

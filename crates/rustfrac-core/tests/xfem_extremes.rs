@@ -1,4 +1,4 @@
-//! Numerical stability at the extremes (issue 6): the solver's condition estimate against exact
+//! Numerical stability at the extremes: the solver's condition estimate against exact
 //! dense condition numbers, XFEM crack geometries at the edge of what a mesh resolves (tips on and
 //! near nodes and element edges, cracks along mesh lines, sliver cuts, tips next to the boundary,
 //! a/W from 0.01 to 0.95) and extreme meshes (one element across the ligament, stretched

@@ -1,4 +1,4 @@
-//! XFEM mixed-mode growth paths (issue 14, item 5): the 30-degree edge crack of the paper's plate
+//! XFEM mixed-mode growth paths (`xfem.kink_rule`): the 30-degree edge crack of the paper's plate
 //! under tension grows with a zig-zag under `xfem.kink_rule = "hoop"` (kinks of -32, +8, -7,
 //! +3 degrees on the 44 x 83 mesh); `"predictor_corrector"` ([`rustfrac_core::xfem::kink`])
 //! removes it. The paths are compared with a finer reference path computed here (88 x 166, da =

@@ -1,5 +1,5 @@
-//! Holes and notches as a fictitious domain on the structured Q4 grid (issue 12): the mesh stays
-//! the rectangle's, every element is classified against the domain's level set
+//! Holes and notches as a fictitious domain on the structured Q4 grid: the mesh stays the
+//! rectangle's, every element is classified against the domain's level set
 //! ([`Domain::level_set`]) as *material* (no hole meets it: the element's own rule, bit for bit
 //! as without holes), *void* (inside a hole: no stiffness) or *cut*, and a cut element is
 //! integrated over its material part only.

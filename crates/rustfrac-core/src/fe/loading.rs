@@ -1,6 +1,7 @@
-//! Loading of the paper's plate (eq. 61 and DESIGN.md section 2): opposite displacements u0 on the
-//! top and bottom edges with u1 free (one anchor node removes the rigid translation) or clamped
-//! (u1 = 0 on both edges), or a uniform traction on both edges (three anchor constraints, which
+//! Loading of the paper's plate (eq. 61; docs/design.md, "Units and the paper's conventions"):
+//! opposite displacements u0 on the top and bottom edges with u1 free (one anchor node removes
+//! the rigid translation) or clamped (u1 = 0 on both edges), or a uniform traction on both
+//! edges (three anchor constraints, which
 //! carry no load because the applied forces are balanced).
 //!
 //! Shared by the FEM, XFEM and CCM-PD models; each says in its output which variant ran and which

@@ -1,7 +1,7 @@
 //! Sparse LU with partial pivoting (faer) of the non-symmetric splice-coupled CCM-PD systems
-//! (DESIGN.md section 4): symbolic analysis (COLAMD) once, reused for every numeric
-//! refactorisation with the same pattern; several right-hand sides at once; every failure an
-//! [`Error`], never a NaN, and a panic inside faer caught.
+//! (docs/design.md, "Matrix symmetry and solver strategy"): symbolic analysis (COLAMD) once,
+//! reused for every numeric refactorisation with the same pattern; several right-hand sides
+//! at once; every failure an [`Error`], never a NaN, and a panic inside faer caught.
 //!
 //! [`Lu::analyze_dense_last`] orders the matrix's dense columns last: COLAMD leaves a column with
 //! more than a given number of entries out of its fill-reducing order and numbers it after the

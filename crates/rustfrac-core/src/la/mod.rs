@@ -4,7 +4,7 @@
 //! solvers on top of faer, supernodal Cholesky for the SPD FEM/XFEM systems ([`cholesky`]), the
 //! block of the inverse at a few interface unknowns from one factorisation ([`schur`]), the
 //! forward solve with a sparse right-hand side along the elimination tree ([`sparse_forward`]), and
-//! sparse LU for the non-symmetric splice-coupled CCM-PD systems ([`lu`], DESIGN.md section 4), dense LU
+//! sparse LU for the non-symmetric splice-coupled CCM-PD systems ([`lu`]), dense LU
 //! in place for their condensed PD system ([`dense_lu`]; in two stages, [`block_lu`]),
 //! and the condition estimate with its thresholds ([`condition`]).
 //!

@@ -20,7 +20,8 @@ use rayon::prelude::*;
 ///
 /// `rows_of[b]` are the dofs whose *rows* block `b` writes and `cols_of[b]` the dofs of its columns.
 /// For symmetric FEM assembly they are the same list; the splice coupling writes only the rows of
-/// the nodes of one kind (DESIGN.md section 4), so rows and columns differ there.
+/// the nodes of one kind (docs/design.md, "Matrix symmetry and solver strategy"), so rows and
+/// columns differ there.
 #[derive(Debug, Clone)]
 pub struct Pattern {
     pub n: usize,

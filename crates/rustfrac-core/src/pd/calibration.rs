@@ -1,5 +1,5 @@
-//! The calibration of the critical stretch s0 (scene key `pd.s0_calibration`, DESIGN.md
-//! section 3; issue 14 item 3).
+//! The calibration of the critical stretch s0 (scene key `pd.s0_calibration`;
+//! docs/design.md, "The bond-based PD model and gamma").
 //!
 //! Eq. 48, s0 = sqrt(5 pi G0 / (12 E delta)), makes the *continuum* energy of the bonds crossing a
 //! line equal G0. On a grid the fracture energy differs: the bonds of the stencil crossing a line

@@ -13,8 +13,8 @@ use crate::fe::material::{Elastic, Plane};
 use std::f64::consts::PI;
 
 /// gamma = [integral over the disc of xi1^4/|xi|^3 dA] / [sum_j xi1^4/|xi|^3 beta_j dx^2]
-/// (Ongaro et al. 2021, DESIGN.md section 3), computed on the grid stencil of horizon m dx. It is
-/// independent of dx. The continuum integral is pi delta^3 / 4.
+/// (Ongaro et al. 2021; docs/design.md, "The bond-based PD model and gamma"), computed on the
+/// grid stencil of horizon m dx. It is independent of dx. The continuum integral is pi delta^3 / 4.
 pub fn gamma(m: usize) -> Result<f64> {
     if m == 0 || m > 64 {
         return Err(Error::invalid("m", "an integer horizon ratio 1..=64", m));
@@ -98,8 +98,8 @@ impl PdConstants {
     }
 
     /// Linearised bond stiffness (eqs. 46, 55, 56) with both node volumes (rows scaled by the
-    /// node volume, DESIGN.md section 3): the force on node i is alpha n n^T (u_j - u_i) with
-    /// alpha = c beta V_i V_j / |xi| and n = xi / |xi|. Returns alpha.
+    /// node volume: docs/design.md, "The bond-based PD model and gamma"): the force on node i is
+    /// alpha n n^T (u_j - u_i) with alpha = c beta V_i V_j / |xi| and n = xi / |xi|. Returns alpha.
     pub fn bond_alpha(&self, bond: &Bond) -> f64 {
         let l = (bond.xi[0] * bond.xi[0] + bond.xi[1] * bond.xi[1]).sqrt();
         self.c * bond.beta * self.volume * self.volume / l

@@ -1,4 +1,4 @@
-//! Exact partial volumes of the family (paper section 2.2.1; DESIGN.md section 3).
+//! Exact partial volumes of the family (paper section 2.2.1, eq. 54).
 //!
 //! The family of a node is every grid node whose cell overlaps the horizon disc of radius
 //! `delta = m dx` (eq. 57); its partial-volume factor `beta` is the *exact* fraction of that cell

@@ -1,5 +1,5 @@
-//! The PD surface correction (`pd.surface_correction = "energy"`, issue 14 item 3): the energy
-//! method of Le & Bobaru 2018 (Comput. Mech. 61, "Surface corrections for peridynamic models in
+//! The PD surface correction (`pd.surface_correction = "energy"`): the energy method of Le &
+//! Bobaru 2018 (Comput. Mech. 61, "Surface corrections for peridynamic models in
 //! elasticity and fracture", section 3; Madenci & Oterkus 2014, "Peridynamic theory and its
 //! applications", section 4.2).
 //!

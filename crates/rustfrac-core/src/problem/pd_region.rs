@@ -1,6 +1,6 @@
-//! The adaptive CCM-PD region's geometry (`pd.region = "adaptive"`, issue 13 item 2): where
-//! the PD region starts and how it grows. The SLA side (when it grows, the re-built model, the
-//! state carried over) is [`crate::pd::sla`] (`adaptive.rs`).
+//! The adaptive CCM-PD region's geometry (`pd.region = "adaptive"`): where the PD region
+//! starts and how it grows (docs/design.md, "The adaptive region"). The SLA side (when it grows,
+//! the re-built model, the state carried over) is [`crate::pd::sla`] (`adaptive.rs`).
 //!
 //! * **Start**: one square of half-side `size` horizons around each crack tip (the scene's
 //!   crack; [`crate::problem::CrackSpec::tips`]).

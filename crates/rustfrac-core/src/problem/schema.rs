@@ -92,7 +92,7 @@ pub const SLA_ENGINES: [&str; 4] = ["auto", "dense", "sparse", "oracle"];
 /// `pd.region`: the CCM-PD region fixed (`pd.center`, `pd.size`) or adaptive
 /// ([`super::pd_region`]).
 pub const PD_REGIONS: [&str; 2] = ["fixed", "adaptive"];
-// --- pd.surface_correction (issue 14 item 3; one block) ---
+// --- pd.surface_correction ---
 /// `pd.surface_correction`: the PD surface correction ([`super::SurfaceCorrection`],
 /// `crate::pd::surface_correction`).
 pub const SURFACE_CORRECTIONS: [&str; 2] = ["none", "energy"];
@@ -452,7 +452,7 @@ fn build() -> Vec<KeySpec> {
         k("pd", "hole_volumes", Str, Val::Str("centre".into()), &choice(&HOLE_VOLUMES),
           "volume of a node whose cell a hole cuts: 'centre' (the full cell, the centre rule) \
            or 'exact' (the cell's material part)", |v| HOLE_VOLUMES.contains(&v.s())),
-        // --- pd.surface_correction (issue 14 item 3; one block) ---
+        // --- pd.surface_correction ---
         k("pd", "surface_correction", Str, Val::Str("none".into()), &choice(&SURFACE_CORRECTIONS),
           "PD surface effect: 'none' (the paper's bonds) or 'energy' (Le & Bobaru 2018's \
            energy method: each bond's stiffness scaled so that a node near a hole or the \

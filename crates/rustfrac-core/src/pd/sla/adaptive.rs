@@ -1,6 +1,6 @@
-//! The adaptive PD region in the SLA (`pd.region = "adaptive"`, issue 13 item 2; DESIGN.md
-//! section 8): the interface distance of a bond, the growth trigger, and the state carried from
-//! one model to the next.
+//! The adaptive PD region in the SLA (`pd.region = "adaptive"`): the interface distance of a
+//! bond, the growth trigger, and the state carried from one model to the next (docs/design.md,
+//! "The adaptive region").
 //!
 //! * **Interface distance** of a node: the distance to the nearest FEM node (a material node
 //!   that is not PD; the plate's edges and holes are not an interface). Of a bond: the smaller

@@ -1,4 +1,4 @@
-//! Detached nodes and debris (DESIGN.md section 4).
+//! Detached nodes and debris (docs/design.md, "Detached nodes").
 //!
 //! A PD node's rows hold only its bonds. When its intact bonds give no stiffness along some
 //! direction of its free dofs (all broken, or the remaining ones parallel), the system would be

@@ -1,4 +1,4 @@
-//! The graded FEM grid of a CCM-PD model (`pd.fem_grading` > 1; issue 12 item 2).
+//! The graded FEM grid of a CCM-PD model (`pd.fem_grading` > 1).
 //!
 //! The grid lines are uniform, spacing dx, over the bounding box of the PD rectangles plus a
 //! band of m + 1 elements around it (clipped to the plate), and grow geometrically beyond it

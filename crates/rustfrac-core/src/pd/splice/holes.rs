@@ -1,4 +1,4 @@
-//! Holes and notches of the PD model (issue 12): the *centre rule* and bonds through holes.
+//! Holes and notches of the PD model: the *centre rule* and bonds through holes.
 //!
 //! * A grid node is material iff its cell centre (the node itself: each node carries the
 //!   dx x dx cell around it) is, `Domain::level_set(x) >= 0`. A cut cell is all material or all

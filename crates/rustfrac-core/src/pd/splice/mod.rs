@@ -1,4 +1,4 @@
-//! Splice CCM-PD coupling on the paper's plate (section 2.2.2, eq. 58; DESIGN.md sections 3-4).
+//! Splice CCM-PD coupling (paper section 2.2.2, eq. 58; docs/design.md, "The splice coupling").
 //!
 //! Every node of one tensor grid is a FEM node or a PD node; PD nodes are those inside the
 //! given rectangles (closed, tolerance 1e-9 dx), or all nodes for the pure PD model. The grid is

@@ -1,4 +1,4 @@
-//! The pre-crack of the splice model (DESIGN.md section 4).
+//! The pre-crack of the splice model (docs/design.md, "The splice coupling").
 //!
 //! A polyline: a bond is broken when its end nodes lie strictly on opposite sides of a
 //! crack segment and the crossing point lies on the *closed* segment (the tip counts), decided in

@@ -1,4 +1,4 @@
-//! Supports and loads on regions ([`crate::fe::regions`]) for the splice model (issue 12).
+//! Supports and loads on regions ([`crate::fe::regions`]) for the splice model.
 //!
 //! The region node sets, the consistent nodal forces of tractions and the checks (a part holding
 //! nodes, a point near a node, one prescription per dof) are [`region_conditions`] on the PD grid

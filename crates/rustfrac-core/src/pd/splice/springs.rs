@@ -1,4 +1,4 @@
-//! Grounding springs of detached PD nodes (DESIGN.md section 4; the model side).
+//! Grounding springs of detached PD nodes (the model side; docs/design.md, "Detached nodes").
 //!
 //! A PD node's rows hold only its bonds. When its intact bonds give no stiffness along some
 //! direction of its free dofs (all broken, or the remaining ones parallel), the splice matrix is

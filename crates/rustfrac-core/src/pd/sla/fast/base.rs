@@ -7,9 +7,10 @@
 //!   plus a dense block only on the PD rows coupled to the FEM ring x the PD columns of hybrid
 //!   elements (`pc`); none for pure PD. Pure PD: K_PP is symmetric positive definite, sparse
 //!   Cholesky ([`Cholesky`], nested dissection on the node positions); CCM-PD: S_0 is not
-//!   symmetric (DESIGN.md section 4), sparse LU ([`Lu`], COLAMD with the dense block's columns
-//!   ordered last: [`Lu::analyze_dense_last`]). A solve with S_0 costs one
-//!   pair of triangular solves (about 4 nnz(L) flops), the factorisation O(nnz(L)^2 / n_P). The
+//!   symmetric (docs/design.md, "Matrix symmetry and solver strategy"), sparse LU ([`Lu`],
+//!   COLAMD with the dense block's columns ordered last: [`Lu::analyze_dense_last`]). A solve
+//!   with S_0 costs one pair of triangular solves (about 4 nnz(L) flops), the factorisation
+//!   O(nnz(L)^2 / n_P). The
 //!   pattern of S_0 does not change between condensations (broken bonds stay stored as zeros),
 //!   so the symbolic analysis is done once.
 //!
