@@ -4,11 +4,11 @@ Build (warnings are errors, as in CI: ``tests/test_docs.py``)::
 
     python -m sphinx -W --keep-going -b html docs docs/_build/html
 
-The pages are Markdown (MyST); the README's sections, ``docs/architecture.md`` and
-``benches/RESULTS.md`` are included, not copied. The scene-key table, the error hierarchy and the
-gallery (each example scene, run at build time for a figure) come from the package itself
-(``docs/_ext/rustfrac_docs.py``). rustfrac is imported from the installed package, or from
-``python/`` of this checkout when it holds a built native module.
+The pages are Markdown (MyST); the README's sections and ``benches/RESULTS.md`` are included,
+not copied (``docs/design.md`` and ``docs/architecture.md`` are pages of their own). The scene-key
+table, the error hierarchy and the gallery (each example scene, run at build time for a figure)
+come from the package itself (``docs/_ext/rustfrac_docs.py``). rustfrac is imported from the
+installed package, or from ``python/`` of this checkout when it holds a built native module.
 """
 
 from __future__ import annotations

@@ -62,6 +62,7 @@ def test_docs_build_with_warnings_as_errors(site: Path) -> None:
         "api/core",
         "gallery",
         "validation",
+        "design",
         "architecture",
     ):
         assert (site / f"{page}.html").is_file(), page
