@@ -1,6 +1,7 @@
 """References a reader of the repository can follow: no source or documentation file cites the
 design notes or the tracker that only the developers had (a "DESIGN" file's section, an issue
-number), and every ``docs/design.md, "Section"`` citation names a heading of ``docs/design.md``."""
+number), and every section of ``docs/design.md`` the files cite by its quoted title is a heading of
+it."""
 
 from __future__ import annotations
 
@@ -19,7 +20,7 @@ SKIP_DIRS = {"target", ".venv", "venv", ".git", "_build", "node_modules", "__pyc
 # with "#"), a conversation's turn; \b keeps "return 0" (the examples below are written in two
 # parts so that this file does not cite them itself)
 UNFOLLOWABLE = re.compile(r"DESIGN\.md|\b[Ii]ssues? #?[0-9]+|\b[Tt]urn [0-9]+")
-# a citation of a design section: docs/design.md, "Title" (the title may wrap onto the next
+# a citation of a design section: the path, a comma, the quoted title (which may wrap onto the next
 # comment line, whose prefix is dropped)
 CITATION = re.compile(r'docs/design\.md,\s*(?:(?://[/!]?|#)\s*)?"([^"]+)"')
 
