@@ -1,4 +1,4 @@
-"""Results as meshio meshes and ParaView files : result.vtu written through
+"""Results as meshio meshes and ParaView files: result.vtu written through
 meshio and read back, the XFEM cut cells on both crack faces, FEM element stresses, PD broken
 bonds, the time series result.pvd, the ASCII fallback without meshio, and the result folder as
 one unit with the new files."""
