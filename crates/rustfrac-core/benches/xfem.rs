@@ -4,9 +4,10 @@
 //! * a single solve with SIFs on 352 x 664 (target < 2 s).
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use rustfrac_core::fe::loading::{plate_conditions, Grip, PlateEdges, PlateLoad};
+use rustfrac_core::fe::loading::{plate_conditions, PlateEdges};
 use rustfrac_core::fe::mesh::Mesh;
 use rustfrac_core::fe::{FemModel, LinearSystem};
+use rustfrac_core::problem::{Grip, PlateLoad};
 use rustfrac_core::problem::{Growth, Problem};
 use rustfrac_core::xfem::run;
 use std::hint::black_box;
@@ -37,7 +38,7 @@ fn growth_params() -> Problem {
     x.growth = Some(Growth {
         da: None,
         a_stop: 0.7 * 11.0,
-        kink_rule: rustfrac_core::xfem::KinkRule::Hoop,
+        kink_rule: rustfrac_core::problem::KinkRule::Hoop,
         max_steps: 1000,
     });
     p

@@ -5,10 +5,11 @@
 //!
 //! `cargo run --release -p rustfrac-core --example holes_cost -- [N ...]` (default 128 256 512
 //! elements per side).
-use rustfrac_core::fe::material::{Elastic, Plane};
-use rustfrac_core::fe::mesh::{Mesh, Side};
+use rustfrac_core::fe::mesh::Mesh;
 use rustfrac_core::fe::{Dirichlet, FemModel, LinearSystem};
+use rustfrac_core::problem::Side;
 use rustfrac_core::problem::{Domain, Hole, Shape};
+use rustfrac_core::problem::{Elastic, Plane};
 use std::time::Instant;
 
 /// (build, assemble, factorise + solve) seconds, best of 3, and the free dofs.

@@ -5,11 +5,11 @@
 //! Covers the FEM plate (every grip, uncracked and seam), XFEM (paper case, single solve and
 //! growth on 44 x 83, two cracks), CCM-PD (the paper's 500 SLA steps, fast solver) and pure PD and
 //! the oracle on a coarse grid.
-use rustfrac_core::fe::loading::{Grip, PlateLoad};
-use rustfrac_core::fe::mesh::Side;
 use rustfrac_core::fem_driver;
 use rustfrac_core::pd::sla;
+use rustfrac_core::problem::Side;
 use rustfrac_core::problem::{CrackSpec, Growth, Problem, SlaParams};
+use rustfrac_core::problem::{Grip, PlateLoad};
 use rustfrac_core::xfem;
 
 fn h(v: f64) -> String {
@@ -94,7 +94,7 @@ fn growth(a_stop: f64, max_steps: usize) -> Option<Growth> {
         max_steps,
         da: None,
         a_stop,
-        kink_rule: rustfrac_core::xfem::KinkRule::Hoop,
+        kink_rule: rustfrac_core::problem::KinkRule::Hoop,
     })
 }
 

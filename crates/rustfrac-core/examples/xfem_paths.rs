@@ -9,9 +9,10 @@
 //! `cargo run --release -p rustfrac-core --example xfem_paths -- [inclined|shear|all] [fine]`
 //! (`fine` adds the finest level, minutes; `PATHS_OUT=DIR` writes every path as CSV).
 use rustfrac_core::problem::value::{Table, Value};
+use rustfrac_core::problem::KinkRule;
 use rustfrac_core::problem::Problem;
 use rustfrac_core::xfem::paths::{path_deviation, turning_angles};
-use rustfrac_core::xfem::{run, KinkRule, XfemResult};
+use rustfrac_core::xfem::{run, XfemResult};
 use std::time::Instant;
 
 fn f(x: f64) -> Value {

@@ -50,7 +50,7 @@ pub struct FemPlateResult {
     /// against [`crate::la::COND_SINGULAR`])
     pub condition: Option<ConditionEstimate>,
     /// numerical and accuracy warnings (a condition estimate above [`crate::la::COND_WARN`],
-    /// volumetric locking near nu = 0.5, [`crate::fe::material::Elastic::locking_warning`])
+    /// volumetric locking near nu = 0.5, [`crate::problem::Elastic::locking_warning`])
     pub warnings: Vec<Warning>,
 }
 
@@ -231,7 +231,7 @@ fn probes(
 /// scene keys.
 fn seamed_mesh(p: &Problem, method: &FemMethod) -> Result<SeamedMesh> {
     let (d, grid) = (&p.domain, &method.grid);
-    let mesh = grid.mesh(d)?;
+    let mesh = Mesh::of_grid(grid, d)?;
     let Some((k, c)) = p
         .cracks
         .iter()

@@ -18,6 +18,8 @@ pub mod fe;
 pub mod fem_driver;
 pub mod geometry;
 pub mod la;
+#[cfg(test)]
+mod layering_test;
 pub mod memory;
 pub mod pd;
 pub mod problem;

@@ -11,7 +11,7 @@ pub enum WarningKind {
     /// comparable with the discretisation error
     IllConditioned,
     /// volumetric locking of the fully integrated Q4 elements near nu = 0.5 in plane strain
-    /// ([`crate::fe::material::Elastic::locking_warning`])
+    /// ([`crate::problem::Elastic::locking_warning`])
     Locking,
     /// a known limit of the discretisation: PD horizon factor m < 2, PD nodes grounded after
     /// losing all stiffness along a direction

@@ -215,7 +215,7 @@ fn graded_grid_refusals_name_the_key() {
 /// on its left and right edges (supports on regions), PD rectangle [0.6, 2.0] x [2.0, 4.0],
 /// m = 3, dx = 0.1; graded at `ratio` (at most 3 dx) or uniform (ratio 1).
 fn holed_plate(ratio: f64) -> Problem {
-    use rustfrac_core::fe::mesh::Side;
+    use rustfrac_core::problem::Side;
     use rustfrac_core::problem::{Boundary, Hole, Region, Shape, Support};
     let mut p = Problem::paper("ccm_pd");
     p.domain = Domain::rect(6.0, 6.0);

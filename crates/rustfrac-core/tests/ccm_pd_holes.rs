@@ -6,10 +6,10 @@
 mod common;
 
 use common::{coarse, go_on};
-use rustfrac_core::fe::mesh::Side;
 use rustfrac_core::fem_driver;
 use rustfrac_core::pd::sla::run;
 use rustfrac_core::pd::splice::SpliceModel;
+use rustfrac_core::problem::Side;
 use rustfrac_core::problem::{Boundary, Domain, Hole, Problem, Region, Shape, Support};
 
 /// Plate size, hole radius and centre (in the FEM part), grid spacing, end displacement.

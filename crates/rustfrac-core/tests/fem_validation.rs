@@ -4,12 +4,14 @@
 mod common;
 
 use common::{grips, solve_fem_plate};
-use rustfrac_core::fe::loading::{sigma22, Grip};
-use rustfrac_core::fe::material::{Elastic, Plane};
-use rustfrac_core::fe::mesh::{Mesh, Side};
+use rustfrac_core::fe::loading::sigma22;
+use rustfrac_core::fe::mesh::Mesh;
 use rustfrac_core::fe::{Dirichlet, FemModel, LinearSystem};
 use rustfrac_core::la::CscMatrix;
 use rustfrac_core::la::{Cholesky, Lu};
+use rustfrac_core::problem::Grip;
+use rustfrac_core::problem::Side;
+use rustfrac_core::problem::{Elastic, Plane};
 use rustfrac_core::Error;
 
 #[test]

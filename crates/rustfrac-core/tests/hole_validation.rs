@@ -10,11 +10,12 @@
 
 use rustfrac_core::fe::fictitious::{FictitiousDomain, DEFAULT_MIN_SUPPORT_FRACTION};
 use rustfrac_core::fe::loading::{plate_conditions, PlateEdges};
-use rustfrac_core::fe::material::{Elastic, Plane};
-use rustfrac_core::fe::mesh::{Mesh, Side};
+use rustfrac_core::fe::mesh::Mesh;
 use rustfrac_core::fe::{Dirichlet, ElementKind, FemModel, LinearSystem};
 use rustfrac_core::fem_driver;
+use rustfrac_core::problem::Side;
 use rustfrac_core::problem::{CrackKind, Domain, Growth, Hole, Method, Problem, Shape};
+use rustfrac_core::problem::{Elastic, Plane};
 use rustfrac_core::xfem::MIN_HOLE_FREE_RADIUS;
 use rustfrac_core::xfem::{self, GrowthStatus, XfemModel};
 use std::sync::Arc;
@@ -714,7 +715,7 @@ fn xfem_growth_towards_a_hole_stops_at_the_ligament() {
             max_steps: 40,
             da: None,
             a_stop: 8.0,
-            kink_rule: rustfrac_core::xfem::KinkRule::Hoop,
+            kink_rule: rustfrac_core::problem::KinkRule::Hoop,
         });
     }
     let r = xfem::run(&p, &|_, _| true).unwrap();

@@ -6,10 +6,11 @@ mod common;
 
 use common::XfemCase;
 use common::{quiet, tada_f};
-use rustfrac_core::fe::loading::{Grip, PlateLoad};
-use rustfrac_core::fe::material::{Elastic, Plane, NU_LOCKING_WARN};
 use rustfrac_core::fem_driver;
+use rustfrac_core::problem::material::NU_LOCKING_WARN;
 use rustfrac_core::problem::{Boundary, Domain, FeGrid, Problem};
+use rustfrac_core::problem::{Elastic, Plane};
+use rustfrac_core::problem::{Grip, PlateLoad};
 use std::f64::consts::PI;
 
 /// Tada's V(a/b) of CMOD = 4 sigma a V / E'.

@@ -6,9 +6,9 @@ mod common;
 
 use common::XfemCase;
 use common::{go_on, pd_plate, pd_strip, quiet, rel, set_precrack};
-use rustfrac_core::fe::loading::Grip;
 use rustfrac_core::pd::sla::{run, run_model, CcmPdResult};
 use rustfrac_core::pd::splice::SpliceModel;
+use rustfrac_core::problem::Grip;
 use rustfrac_core::problem::{Method, Problem, SlaParams};
 use rustfrac_core::Error;
 use rustfrac_core::WarningKind;

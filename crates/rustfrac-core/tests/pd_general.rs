@@ -5,10 +5,10 @@
 mod common;
 
 use common::{go_on, pd_plate};
-use rustfrac_core::fe::mesh::Side;
 use rustfrac_core::pd::cell_fraction;
 use rustfrac_core::pd::sla::{force_screening, run};
 use rustfrac_core::pd::splice::SpliceModel;
+use rustfrac_core::problem::Side;
 use rustfrac_core::problem::{CrackKind, CrackSpec, HoleVolumes, Problem, SlaParams};
 
 /// Does the bond p-q cross the crack segment a-b: its ends strictly on both sides of the crack's
@@ -132,8 +132,8 @@ fn edge_precracks_from_every_side_and_centre_cracks() {
 
 // ---- supports and loads on regions, holes ----
 
-use rustfrac_core::fe::material::Plane;
 use rustfrac_core::fem_driver;
+use rustfrac_core::problem::Plane;
 use rustfrac_core::problem::{
     Boundary, Domain, Hole, LoadKind, Probe, ProbeKind, Region, RegionLoad, Shape, Support,
 };

@@ -6,12 +6,12 @@
 mod common;
 
 use common::{coarse, go_on, pd_plate, pd_strip, same_sla_history, set_precrack};
-use rustfrac_core::fe::loading::Grip;
 use rustfrac_core::pd::sla::run;
 use rustfrac_core::pd::splice::SpliceModel;
 use rustfrac_core::pd::{family_stencil, Grid};
 use rustfrac_core::problem::value::{Table, Value};
-use rustfrac_core::problem::{pd_region, Hole, Problem, Shape, SurfaceCorrection};
+use rustfrac_core::problem::Grip;
+use rustfrac_core::problem::{pd_region, AdaptiveRegion, Hole, Problem, Shape, SurfaceCorrection};
 
 fn with_correction(mut p: Problem, c: SurfaceCorrection) -> Problem {
     p.pd_mut().surface_correction = c;
@@ -250,7 +250,7 @@ fn lattice_family_is_the_models_bonds() {
 #[test]
 fn factors_do_not_depend_on_the_pd_region() {
     let mut p = coarse(true, 0);
-    let a = pd_region::AdaptiveRegion {
+    let a = AdaptiveRegion {
         margin: 1.5,
         size: 2.5,
     };

@@ -1,11 +1,11 @@
 //! Peridynamics validation: gamma from exact partial areas, constants, energy density of bulk nodes,
 //! pure PD model under linear fields.
 
-use rustfrac_core::fe::material::{Elastic, Plane};
 use rustfrac_core::pd::sla::run;
 use rustfrac_core::pd::splice::SpliceModel;
 use rustfrac_core::pd::{family_stencil, find_bonds, gamma, Grid, PdConstants, BYTES_PER_BOND};
 use rustfrac_core::problem::{Domain, Problem};
+use rustfrac_core::problem::{Elastic, Plane};
 use rustfrac_core::Error;
 
 #[test]

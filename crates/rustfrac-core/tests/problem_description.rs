@@ -1,10 +1,10 @@
 //! The problem description: a scene tree read into a `Problem` with the paper's defaults, and
 //! every refusal naming the scene key (the Python package relies on `Error::param`).
 
-use rustfrac_core::fe::loading::Grip;
-use rustfrac_core::fe::material::Plane;
-use rustfrac_core::fe::mesh::Side;
 use rustfrac_core::problem::value::{Table, Value};
+use rustfrac_core::problem::Grip;
+use rustfrac_core::problem::Plane;
+use rustfrac_core::problem::Side;
 use rustfrac_core::problem::{schema, CrackKind, Method, Problem};
 use rustfrac_core::Error;
 

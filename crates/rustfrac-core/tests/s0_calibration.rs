@@ -10,11 +10,12 @@ mod common;
 use common::{coarse, go_on, rel};
 use rustfrac_core::pd::calibration::{
     calibration, grid_energy_ratio, reference_strip, sla_energy_ratio, strip_release_ratio,
-    S0Calibration, STRIP_HEIGHT, STRIP_PRECRACK, STRIP_WIDTH,
+    STRIP_HEIGHT, STRIP_PRECRACK, STRIP_WIDTH,
 };
 use rustfrac_core::pd::sla;
 use rustfrac_core::problem::value::{Table, Value};
 use rustfrac_core::problem::Problem;
+use rustfrac_core::problem::S0Calibration;
 use std::time::Instant;
 
 /// The strip is scale-free: the same strip in cells of dx = 1 and dx = 1/15 releases the same
@@ -148,7 +149,7 @@ fn sla_reference_strip_size_study() {
             let t = Instant::now();
             let mut p = reference_strip(m, 1.0, w, h, STRIP_PRECRACK).unwrap();
             if std::env::var("CALIB_CLAMPED").is_ok() {
-                p = p.with_grip(rustfrac_core::fe::loading::Grip::Clamped);
+                p = p.with_grip(rustfrac_core::problem::Grip::Clamped);
             }
             let r = strip_release_ratio(&p).unwrap();
             let steps = sla::run(&p, &go_on).unwrap().history.len();

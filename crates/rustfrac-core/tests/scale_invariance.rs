@@ -17,13 +17,14 @@ mod common;
 
 use common::{go_on, grips, quiet, solve_fem_plate};
 use common::{GrowthParams, XfemCase};
-use rustfrac_core::fe::loading::{sigma22, Grip, PlateLoad};
-use rustfrac_core::fe::material::{Elastic, Plane};
+use rustfrac_core::fe::loading::sigma22;
 use rustfrac_core::fe::mesh::Mesh;
 use rustfrac_core::fe::FemModel;
 use rustfrac_core::fem_driver::{self, FemPlateResult};
 use rustfrac_core::pd::sla;
 use rustfrac_core::problem::{Boundary, Domain, Problem, SlaParams};
+use rustfrac_core::problem::{Elastic, Plane};
+use rustfrac_core::problem::{Grip, PlateLoad};
 
 const TOL: f64 = 1e-9;
 

@@ -1,12 +1,14 @@
 //! A singular or separated system is reported (Error::Singular), never solved into wrong
 //! numbers; a well-posed system whose unknowns differ wildly in scale is not misreported.
 
-use rustfrac_core::fe::loading::{plate_conditions, Grip, PlateEdges, PlateLoad};
-use rustfrac_core::fe::material::{Elastic, Plane};
-use rustfrac_core::fe::mesh::{Mesh, Side};
+use rustfrac_core::fe::loading::{plate_conditions, PlateEdges};
+use rustfrac_core::fe::mesh::Mesh;
 use rustfrac_core::fe::{Dirichlet, FemModel, LinearSystem};
 use rustfrac_core::la::CscMatrix;
 use rustfrac_core::la::{check_condition, Cholesky, COND_SINGULAR, PIVOT_TOL};
+use rustfrac_core::problem::Side;
+use rustfrac_core::problem::{Elastic, Plane};
+use rustfrac_core::problem::{Grip, PlateLoad};
 use rustfrac_core::Error;
 
 fn steel() -> Elastic {

@@ -4,8 +4,9 @@
 mod common;
 
 use common::{coarse, go_on};
+use rustfrac_core::pd::cost::auto_refactor_every;
 use rustfrac_core::pd::sla::checkpoint;
-use rustfrac_core::pd::sla::{auto_refactor_every, run, CcmPdResult};
+use rustfrac_core::pd::sla::{run, CcmPdResult};
 use rustfrac_core::problem::{Probe, ProbeKind, Problem};
 use rustfrac_core::Error;
 use rustfrac_core::WarningKind;

@@ -9,8 +9,8 @@
 mod common;
 
 use common::{coarse, go_on, pd_plate, pd_strip, same_sla_history};
-use rustfrac_core::fe::loading::Grip;
 use rustfrac_core::pd::sla::{force_screening, run, CcmPdResult};
+use rustfrac_core::problem::Grip;
 use rustfrac_core::problem::{Problem, SlaEngine, SurfaceCorrection};
 
 fn with_engine(mut p: Problem, e: SlaEngine) -> Problem {

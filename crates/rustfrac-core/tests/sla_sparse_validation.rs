@@ -6,8 +6,8 @@
 mod common;
 
 use common::{coarse, go_on, pd_plate, pd_strip, rel};
-use rustfrac_core::fe::loading::Grip;
 use rustfrac_core::pd::sla::{force_lu_form, run, CcmPdResult};
+use rustfrac_core::problem::Grip;
 use rustfrac_core::problem::{Problem, SlaEngine};
 use std::path::PathBuf;
 

@@ -4,8 +4,8 @@
 mod common;
 
 use common::{coarse, go_on, pd_strip};
-use rustfrac_core::fe::loading::Grip;
 use rustfrac_core::pd::sla::run;
+use rustfrac_core::problem::Grip;
 use rustfrac_core::problem::Problem;
 
 #[test]

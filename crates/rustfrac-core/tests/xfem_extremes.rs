@@ -9,11 +9,12 @@ mod common;
 
 use common::{quiet, tada_f, tall_strip};
 use nalgebra::DMatrix;
-use rustfrac_core::fe::material::{Elastic, Plane};
-use rustfrac_core::fe::mesh::{Mesh, Side};
+use rustfrac_core::fe::mesh::Mesh;
 use rustfrac_core::fe::{Dirichlet, FemModel, LinearSystem};
 use rustfrac_core::la::CscMatrix;
 use rustfrac_core::la::{Cholesky, ConditionEstimate};
+use rustfrac_core::problem::Side;
+use rustfrac_core::problem::{Elastic, Plane};
 use rustfrac_core::xfem::williams_displacement;
 use rustfrac_core::xfem::{branch_functions, XfemModel, XfemOptions};
 use std::sync::Arc;
@@ -196,7 +197,8 @@ fn condition_estimate_matches_dense_exact_values() {
 // XFEM crack geometry extremes
 
 use common::{run, XfemCase};
-use rustfrac_core::fe::loading::{plate_conditions, Grip, PlateEdges, PlateLoad};
+use rustfrac_core::fe::loading::{plate_conditions, PlateEdges};
+use rustfrac_core::problem::{Grip, PlateLoad};
 use rustfrac_core::xfem::XfemResult;
 use rustfrac_core::Error;
 

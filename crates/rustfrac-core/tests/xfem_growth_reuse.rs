@@ -193,7 +193,7 @@ fn predictor_corrector_growth_matches_the_reference() {
     c.growth = Some(paper_growth(0.6, 8));
     let mut p = problem(&c);
     if let Method::Xfem(x) = &mut p.method {
-        x.growth.as_mut().unwrap().kink_rule = rustfrac_core::xfem::KinkRule::PredictorCorrector;
+        x.growth.as_mut().unwrap().kink_rule = rustfrac_core::problem::KinkRule::PredictorCorrector;
     }
     compare("inclined edge crack, predictor-corrector", &p, 8);
 }

@@ -7,10 +7,11 @@ mod common;
 
 use common::{paper_growth, quiet, tall_strip};
 use common::{run, XfemCase};
-use rustfrac_core::fe::loading::{plate_conditions, Grip, PlateEdges, PlateLoad};
-use rustfrac_core::fe::material::{Elastic, Plane};
+use rustfrac_core::fe::loading::{plate_conditions, PlateEdges};
 use rustfrac_core::fe::mesh::Mesh;
 use rustfrac_core::fe::LinearSystem;
+use rustfrac_core::problem::{Elastic, Plane};
+use rustfrac_core::problem::{Grip, PlateLoad};
 use rustfrac_core::xfem::{GrowthStatus, XfemModel, XfemOptions};
 use rustfrac_core::Error;
 use std::f64::consts::PI;

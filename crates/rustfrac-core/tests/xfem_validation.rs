@@ -6,10 +6,12 @@ mod common;
 
 use common::{grips, paper_growth, quiet, solve_fem_plate, tada_f, tall_strip};
 use common::{run, GrowthParams, XfemCase};
-use rustfrac_core::fe::loading::{plate_conditions, sigma22, Grip, PlateEdges, PlateLoad};
-use rustfrac_core::fe::material::{Elastic, Plane};
-use rustfrac_core::fe::mesh::{Mesh, Side};
+use rustfrac_core::fe::loading::{plate_conditions, sigma22, PlateEdges};
+use rustfrac_core::fe::mesh::Mesh;
 use rustfrac_core::fe::{Dirichlet, FemModel, LinearSystem};
+use rustfrac_core::problem::Side;
+use rustfrac_core::problem::{Elastic, Plane};
+use rustfrac_core::problem::{Grip, PlateLoad};
 use rustfrac_core::xfem::williams_displacement;
 use rustfrac_core::xfem::{GrowthStatus, XfemModel, XfemOptions};
 use rustfrac_core::Error;

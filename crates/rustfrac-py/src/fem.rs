@@ -7,11 +7,11 @@ use crate::shaped::Shaped;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use rustfrac_core::error::Error as CoreError;
-use rustfrac_core::fe::material::{Elastic, Plane};
 use rustfrac_core::fe::mesh::Mesh;
 use rustfrac_core::fe::{Dirichlet, FemModel, LinearSystem};
 use rustfrac_core::fem_driver;
 use rustfrac_core::problem::Problem;
+use rustfrac_core::problem::{Elastic, Plane};
 
 /// Runs the FEM plate of `p`: fields coords, elements, u, reactions, nodal_stress,
 /// gauss_points, gauss_stress; scalars energy, residual, condition, condition_pivot_ratio; meta

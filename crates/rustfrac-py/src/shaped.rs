@@ -64,7 +64,7 @@ impl<'py> Shaped<'py> {
         let none = p
             .boundary
             .grips()
-            .is_none_or(|l| l.grip == rustfrac_core::fe::loading::Grip::Clamped);
+            .is_none_or(|l| l.grip == rustfrac_core::problem::Grip::Clamped);
         if none {
             self.meta.set_item("anchor_node", self.py.None())
         } else {

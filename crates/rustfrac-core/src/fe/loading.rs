@@ -9,41 +9,8 @@
 
 use crate::error::{check_finite, Error, Result};
 use crate::fe::dirichlet::Dirichlet;
-use crate::fe::mesh::{Mesh, Side};
-
-/// The grip condition on the loaded edges.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Grip {
-    /// u2 = +-u0, u1 free (rigid translation removed at the anchor node)
-    Free,
-    /// u2 = +-u0, u1 = 0 on both edges
-    Clamped,
-    /// uniform normal traction on both edges
-    Traction,
-}
-
-impl Grip {
-    /// Parses "free" | "clamped" | "traction".
-    pub fn parse(s: &str) -> Result<Self> {
-        match s {
-            "free" => Ok(Grip::Free),
-            "clamped" => Ok(Grip::Clamped),
-            "traction" => Ok(Grip::Traction),
-            _ => Err(Error::invalid(
-                "bc",
-                "one of 'free', 'clamped', 'traction'",
-                s,
-            )),
-        }
-    }
-    pub fn name(&self) -> &'static str {
-        match self {
-            Grip::Free => "free",
-            Grip::Clamped => "clamped",
-            Grip::Traction => "traction",
-        }
-    }
-}
+use crate::fe::mesh::Mesh;
+use crate::problem::{Grip, PlateLoad, Side};
 
 /// The loaded edges of a plate, in terms of node indices (dof = 2 n + comp).
 #[derive(Debug, Clone)]
@@ -72,14 +39,6 @@ impl PlateEdges {
             bottom,
         }
     }
-}
-
-/// Loading of the plate; `u0` for displacement grips, `traction` (stress) for [`Grip::Traction`].
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PlateLoad {
-    pub grip: Grip,
-    pub u0: f64,
-    pub traction: f64,
 }
 
 /// Dirichlet conditions, force vector and the anchor node for a plate load.

@@ -6,28 +6,7 @@
 //! from the lower-left corner, as in eq. (6) of the paper.
 
 use crate::error::{check_finite, check_positive, Error, Result};
-
-/// A boundary side of the rectangle.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Side {
-    Left,
-    Right,
-    Bottom,
-    Top,
-}
-
-impl Side {
-    /// Parses "left" | "right" | "bottom" | "top".
-    pub fn parse(s: &str) -> Result<Self> {
-        match s {
-            "left" => Ok(Side::Left),
-            "right" => Ok(Side::Right),
-            "bottom" => Ok(Side::Bottom),
-            "top" => Ok(Side::Top),
-            _ => Err(Error::invalid("side", "one of left, right, bottom, top", s)),
-        }
-    }
-}
+use crate::problem::{Domain, FeGrid, Side, MAX_ELEMENTS};
 
 /// A Q4 mesh on a rectangle, built from its grid lines; nodes may be duplicated along a seam.
 #[derive(Debug, Clone)]
@@ -44,17 +23,11 @@ pub struct Mesh {
     pub duplicate_of: Vec<(usize, usize)>,
 }
 
-/// Largest grid accepted (elements), so that a mistyped size is refused at once instead of
-/// exhausting the memory: 1000 x 1000 Q4 elements (2e6 dofs) take about 5 GB and 25 s for one FEM
-/// solve on a 2-core machine (sparse Cholesky fill grows as n log n), so 2e6 elements is about as
-/// much as a 16-32 GB machine holds.
-pub const MAX_ELEMENTS: usize = 2_000_000;
-
 fn check_grid_size(nx: usize, ny: usize) -> Result<()> {
     if nx.saturating_mul(ny) > MAX_ELEMENTS {
         return Err(Error::invalid(
             "nx * ny",
-            &format!("at most {MAX_ELEMENTS} elements (mesh::MAX_ELEMENTS)"),
+            &format!("at most {MAX_ELEMENTS} elements (problem::MAX_ELEMENTS)"),
             format!("{nx} x {ny}"),
         ));
     }
@@ -96,6 +69,34 @@ impl Mesh {
                 .collect()
         };
         Self::from_lines(lines(x0, width, nx), lines(y0, height, ny))
+    }
+
+    /// The mesh of a problem's grid over the domain's rectangle: [`Mesh::uniform`] for a uniform
+    /// grid, else [`Mesh::from_lines`] (a direction without lines divided uniformly).
+    pub fn of_grid(grid: &FeGrid, d: &Domain) -> Result<Self> {
+        let uniform = Self::uniform(0.0, 0.0, d.width, d.height, grid.nx, grid.ny);
+        if grid.xs.is_empty() && grid.ys.is_empty() {
+            return uniform;
+        }
+        let lines = |v: &Vec<f64>, len: f64, n: usize| {
+            if v.is_empty() {
+                (0..=n)
+                    .map(|i| {
+                        if i == n {
+                            len
+                        } else {
+                            len * i as f64 / n as f64
+                        }
+                    })
+                    .collect()
+            } else {
+                v.clone()
+            }
+        };
+        Self::from_lines(
+            lines(&grid.xs, d.width, grid.nx),
+            lines(&grid.ys, d.height, grid.ny),
+        )
     }
 
     /// Grid from explicit line coordinates (non-uniform spacing; at most [`MAX_ELEMENTS`]).

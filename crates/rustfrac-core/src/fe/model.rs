@@ -12,12 +12,11 @@
 use crate::error::{Error, Result};
 use crate::fe::dirichlet::Dirichlet;
 use crate::fe::fictitious::{ElementKind, FictitiousDomain, DEFAULT_MIN_SUPPORT_FRACTION};
-use crate::fe::material::Elastic;
-use crate::fe::mesh::{Mesh, Side};
+use crate::fe::mesh::Mesh;
 use crate::fe::q4::{element_stiffness, geometry, shape, strain, stress};
 use crate::fe::quadrature::{subquad_rule, QPoint};
 use crate::la::{CscMatrix, Pattern};
-use crate::problem::Domain;
+use crate::problem::{Domain, Elastic, Side};
 
 /// A Q4 plane-elasticity model on a mesh: standard dofs only.
 pub struct FemModel {

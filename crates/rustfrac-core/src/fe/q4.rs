@@ -4,8 +4,8 @@
 //!
 //! The standard dofs of node n are 2n (u1) and 2n + 1 (u2).
 
-use crate::fe::material::Elastic;
 use crate::fe::quadrature::QPoint;
+use crate::problem::Elastic;
 
 /// Bilinear shape functions N1..N4 at (xi, eta), eq. (6).
 #[inline]
@@ -133,8 +133,8 @@ pub fn stress(d: &[[f64; 3]; 3], eps: &[f64; 3]) -> [f64; 3] {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fe::material::Plane;
     use crate::fe::quadrature::subquad_rule;
+    use crate::problem::Plane;
 
     #[test]
     fn rectangle_stiffness_2x2_is_exact() {

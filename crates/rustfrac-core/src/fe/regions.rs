@@ -12,9 +12,9 @@
 
 use crate::error::{Error, Result};
 use crate::fe::dirichlet::Dirichlet;
-use crate::fe::mesh::{Mesh, Side};
+use crate::fe::mesh::Mesh;
 use crate::problem::regions::{outward_normal, traction_vector};
-use crate::problem::{Domain, LoadKind, Region, RegionLoad, Support};
+use crate::problem::{Domain, LoadKind, Region, RegionLoad, Side, Support};
 
 /// The nodes of one support or load and what its responses need.
 #[derive(Debug, Clone)]

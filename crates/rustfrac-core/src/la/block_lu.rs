@@ -143,6 +143,24 @@ impl LeadingLu {
     }
 }
 
+impl DenseLu {
+    /// Factorises `a` in place. A pivot below `rel_tol` x the largest pivot (or not finite) is
+    /// [`Error::Singular`]. The one-stage LU is the two-stage one ([`LeadingLu`]) with an empty
+    /// leading block.
+    pub fn new(a: Mat<f64>, rel_tol: f64) -> Result<Self> {
+        let n = a.nrows();
+        if a.ncols() != n {
+            return Err(Error::SizeMismatch {
+                what: "columns of a square matrix".into(),
+                expected: n,
+                got: a.ncols(),
+            });
+        }
+        let par = faer::get_global_parallelism();
+        LeadingLu::new(a, 0, None, par)?.finish(rel_tol, par)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -4,7 +4,6 @@
 //! matrix of fresh pages), whose SLA needs S^{-1} only at the ends of the bonds it breaks
 //! (`pd::sla::fast::columns`).
 
-use super::block_lu::LeadingLu;
 use super::checks::{check_rhs, check_solution, workspace};
 use crate::error::{catch_panic, Error, Result};
 use faer::dyn_stack::MemStack;
@@ -13,7 +12,8 @@ use faer::perm::PermRef;
 use faer::{Mat, MatMut, Par};
 
 /// P A = L U of a square matrix, L and U in the storage of A; or of Q^T A Q, the unknowns
-/// reordered (`order`, from [`super::LeadingLu`]).
+/// reordered (`order`, from [`super::LeadingLu`]). Made by [`DenseLu::new`] or
+/// [`super::LeadingLu::finish`] (`block_lu.rs`).
 pub struct DenseLu {
     lu: Mat<f64>,
     perm: Vec<usize>,
@@ -28,22 +28,6 @@ pub struct DenseLu {
 pub const DENSE_PIVOT_TOL: f64 = 1e-13;
 
 impl DenseLu {
-    /// Factorises `a` in place. A pivot below `rel_tol` x the largest pivot (or not finite) is
-    /// [`Error::Singular`]. The one-stage LU is the two-stage one ([`LeadingLu`]) with an empty
-    /// leading block.
-    pub fn new(a: Mat<f64>, rel_tol: f64) -> Result<Self> {
-        let n = a.nrows();
-        if a.ncols() != n {
-            return Err(Error::SizeMismatch {
-                what: "columns of a square matrix".into(),
-                expected: n,
-                got: a.ncols(),
-            });
-        }
-        let par = faer::get_global_parallelism();
-        LeadingLu::new(a, 0, None, par)?.finish(rel_tol, par)
-    }
-
     /// The factorisation from its parts (L and U in `lu`, the row permutation), after the pivot
     /// test: a pivot below `rel_tol` x the largest pivot (or not finite) is [`Error::Singular`].
     pub(super) fn from_parts(

@@ -31,40 +31,9 @@ use crate::pd::family_stencil;
 use crate::pd::gamma;
 use crate::pd::sla::{self, SlaStatus};
 use crate::problem::value::{Table, Value};
-use crate::problem::Problem;
+use crate::problem::{Problem, S0Calibration};
 use std::collections::HashMap;
 use std::sync::Mutex;
-
-/// The rule of `pd.s0_calibration` (values: [`crate::problem::schema::S0_CALIBRATIONS`]).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum S0Calibration {
-    /// eq. 48 (the paper's)
-    #[default]
-    Continuum,
-    /// the grid stencil's discrete fracture energy equals G0
-    Grid,
-    /// the SLA's release in the reference strip equals G0
-    Sla,
-}
-
-impl S0Calibration {
-    /// From the scene key's value (one of the schema's choices; anything else is `Continuum`).
-    pub fn from_name(s: &str) -> Self {
-        match s {
-            "grid" => Self::Grid,
-            "sla" => Self::Sla,
-            _ => Self::Continuum,
-        }
-    }
-    /// The scene key's value.
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Continuum => "continuum",
-            Self::Grid => "grid",
-            Self::Sla => "sla",
-        }
-    }
-}
 
 /// What a calibration did: s0' = factor s0 with factor = sqrt(G0 / G_ref).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -262,12 +231,5 @@ mod tests {
         }
         let direct = 2.0 * gamma(m).unwrap() / (m as f64).powi(4) * s;
         assert!((direct - grid_energy_ratio(m).unwrap()).abs() < 1e-12);
-    }
-
-    #[test]
-    fn names_round_trip() {
-        for n in crate::problem::schema::S0_CALIBRATIONS {
-            assert_eq!(S0Calibration::from_name(n).name(), n);
-        }
     }
 }

@@ -9,7 +9,7 @@
 use super::bonds::Bond;
 use super::partial_volume::family_stencil;
 use crate::error::{check_positive, Error, Result};
-use crate::fe::material::{Elastic, Plane};
+use crate::problem::{Elastic, Plane};
 use std::f64::consts::PI;
 
 /// gamma = [integral over the disc of xi1^4/|xi|^3 dA] / [sum_j xi1^4/|xi|^3 beta_j dx^2]

@@ -9,9 +9,8 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 use super::parse::crack_name;
-use super::{Boundary, LoadKind, Method, ProbeKind, Problem, Region, Shape};
+use super::{Boundary, LoadKind, Method, ProbeKind, Problem, Region, Shape, Side, MAX_ELEMENTS};
 use crate::error::{Error, Result};
-use crate::fe::mesh::Side;
 
 /// Samples per direction of the test that a domain keeps material.
 const MATERIAL_SAMPLES: usize = 64;
@@ -272,10 +271,10 @@ fn grid_lines(p: &Problem) -> Result<()> {
             ));
         }
     }
-    if grid.nx.saturating_mul(grid.ny) > crate::fe::mesh::MAX_ELEMENTS {
+    if grid.nx.saturating_mul(grid.ny) > MAX_ELEMENTS {
         return Err(Error::invalid(
             "mesh.xs",
-            &format!("at most {} elements", crate::fe::mesh::MAX_ELEMENTS),
+            &format!("at most {} elements", MAX_ELEMENTS),
             format!("{} x {}", grid.nx, grid.ny),
         ));
     }

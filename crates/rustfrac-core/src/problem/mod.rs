@@ -14,19 +14,30 @@
 //! loaded through its top and bottom edges (eq. 61).
 
 pub mod general;
+pub mod grading;
+pub mod grid;
+pub mod grips;
+pub mod kink_rule;
+pub mod material;
 pub mod parse;
 pub mod pd_region;
+mod read;
 pub mod regions;
+pub mod s0_calibration;
 pub mod schema;
+pub mod side;
 pub mod validate;
 pub mod value;
 
-use crate::fe::loading::{Grip, PlateLoad};
-use crate::fe::material::Elastic;
-use crate::fe::mesh::Side;
 use std::path::PathBuf;
 
+pub use grid::{FeGrid, MAX_ELEMENTS};
+pub use grips::{Grip, PlateLoad};
+pub use kink_rule::KinkRule;
+pub use material::{Elastic, Plane};
 pub use regions::{Hole, LoadKind, Probe, ProbeKind, Region, RegionLoad, Shape, Support};
+pub use s0_calibration::S0Calibration;
+pub use side::Side;
 
 /// The material: isotropic linear elasticity and the fracture energy.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -248,64 +259,6 @@ impl Default for XfemOptions {
     }
 }
 
-impl XfemOptions {
-    /// The scene's ranges of these options ([`validate::xfem_options`]).
-    pub fn validate(&self) -> crate::Result<()> {
-        validate::xfem_options(self)
-    }
-}
-
-/// A structured tensor grid of Q4 elements over the domain: uniform (`xs`, `ys` empty) or on the
-/// given grid lines (then `nx`, `ny` are their counts - 1).
-#[derive(Debug, Clone, PartialEq)]
-pub struct FeGrid {
-    pub nx: usize,
-    pub ny: usize,
-    /// vertical grid lines (empty: uniform)
-    pub xs: Vec<f64>,
-    /// horizontal grid lines (empty: uniform)
-    pub ys: Vec<f64>,
-}
-
-impl FeGrid {
-    /// The uniform nx x ny grid.
-    pub fn uniform(nx: usize, ny: usize) -> Self {
-        Self {
-            nx,
-            ny,
-            xs: Vec::new(),
-            ys: Vec::new(),
-        }
-    }
-
-    /// The mesh of this grid over the domain's rectangle.
-    pub fn mesh(&self, d: &Domain) -> crate::Result<crate::fe::Mesh> {
-        let uniform = crate::fe::Mesh::uniform(0.0, 0.0, d.width, d.height, self.nx, self.ny);
-        if self.xs.is_empty() && self.ys.is_empty() {
-            return uniform;
-        }
-        let lines = |v: &Vec<f64>, len: f64, n: usize| {
-            if v.is_empty() {
-                (0..=n)
-                    .map(|i| {
-                        if i == n {
-                            len
-                        } else {
-                            len * i as f64 / n as f64
-                        }
-                    })
-                    .collect()
-            } else {
-                v.clone()
-            }
-        };
-        crate::fe::Mesh::from_lines(
-            lines(&self.xs, d.width, self.nx),
-            lines(&self.ys, d.height, self.ny),
-        )
-    }
-}
-
 /// Plain Q4 FEM.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FemMethod {
@@ -326,7 +279,7 @@ pub struct Growth {
     /// stop once a crack length would exceed this
     pub a_stop: f64,
     /// the direction rule of each extension (`xfem.kink_rule`)
-    pub kink_rule: crate::xfem::KinkRule,
+    pub kink_rule: KinkRule,
 }
 
 /// XFEM (section 2.1).
@@ -358,7 +311,7 @@ pub struct PdMethod {
     pub regions: Vec<[f64; 4]>,
     /// CCM-PD with `pd.region = "adaptive"`: `regions` is where the run starts and grows by
     /// this rule ([`pd_region`]); None: the rectangles stay fixed
-    pub adaptive: Option<pd_region::AdaptiveRegion>,
+    pub adaptive: Option<AdaptiveRegion>,
     /// CCM-PD: ratio of neighbouring FEM element sizes away from the PD rectangles (1: one
     /// uniform dx grid, the paper's; > 1: a graded FEM grid, `pd::splice::graded`)
     pub fem_grading: f64,
@@ -370,7 +323,16 @@ pub struct PdMethod {
     /// the PD surface correction (`pd.surface_correction`, [`SurfaceCorrection`])
     pub surface_correction: SurfaceCorrection,
     /// the critical stretch's rule (`pd.s0_calibration`, [`crate::pd::calibration`])
-    pub s0_calibration: crate::pd::calibration::S0Calibration,
+    pub s0_calibration: S0Calibration,
+}
+
+/// Options of the adaptive region (scene keys `pd.adapt_margin`, `pd.adapt_size`; in horizons).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AdaptiveRegion {
+    /// no bond breaks within this many horizons of a FEM node (the trigger distance)
+    pub margin: f64,
+    /// half-side of the squares the region starts with and grows by, in horizons
+    pub size: f64,
 }
 
 /// The PD surface correction (scene key `pd.surface_correction`,
@@ -455,7 +417,7 @@ pub struct SlaParams {
     /// break together every bond with load factor <= lambda (1 + tie_tol); 0 = one bond per step
     pub tie_tol: f64,
     /// fast solver: re-condense after this many low-rank updates (0 = automatic,
-    /// [`crate::pd::sla::auto_refactor_every`])
+    /// [`crate::pd::cost::auto_refactor_every`])
     pub refactor_every: usize,
     /// condensation + Sherman-Morrison-Woodbury (true) or refactorise every step (false, oracle)
     pub fast: bool,
@@ -532,29 +494,6 @@ pub struct Problem {
 }
 
 impl Problem {
-    /// Reads and validates a scene tree (see [`parse`]).
-    pub fn from_scene(scene: &value::Table) -> crate::Result<Self> {
-        Ok(Self::checked(scene)?.0)
-    }
-
-    /// [`Problem::from_scene`], with the checked scene tree (every key of every section the
-    /// method reads, defaults filled in, the cracks as a list).
-    pub fn checked(scene: &value::Table) -> crate::Result<(Self, value::Table)> {
-        let c = parse::check(scene)?;
-        let p = parse::from_checked(&c);
-        validate::problem(&p)?;
-        Ok((p, c.to_tree()))
-    }
-
-    /// The paper's case (section 3; every default of [`schema`]) solved by `method` ("fem",
-    /// "xfem", "pd" or "ccm_pd"): the starting point of Rust tests and examples, which then
-    /// change what they need (`p.xfem_mut().grid.nx = 88`).
-    pub fn paper(method: &str) -> Self {
-        let mut t = value::Table::new();
-        t.insert("method".into(), value::Value::Str(method.into()));
-        Self::from_scene(&t).expect("the paper's case is valid for every method")
-    }
-
     /// The same problem under other grips (the reference load stays).
     pub fn with_grip(mut self, grip: Grip) -> Self {
         self.load_mut().grip = grip;

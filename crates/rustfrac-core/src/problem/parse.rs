@@ -6,19 +6,17 @@
 // the negated comparisons are deliberate: they refuse NaN too
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-use super::pd_region::{self, AdaptiveRegion};
+use super::grading::graded_lines;
+use super::pd_region;
 use super::schema::{self, Kind, Val};
 use super::value::{Table, Value};
+use super::{AdaptiveRegion, Elastic, Grip, KinkRule, Plane, PlateLoad, S0Calibration, Side};
 use super::{
     Boundary, CrackKind, CrackSpec, Domain, FeGrid, FemMethod, Growth, Hole, HoleVolumes, LoadKind,
     Material, Method, PdMethod, Probe, ProbeKind, Problem, Region, RegionLoad, Shape, SlaParams,
     Support, XfemMethod, XfemOptions,
 };
 use crate::error::{Error, Result};
-use crate::fe::grading::graded_lines;
-use crate::fe::loading::{Grip, PlateLoad};
-use crate::fe::material::{Elastic, Plane};
-use crate::fe::mesh::Side;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
@@ -751,7 +749,7 @@ fn xfem_method(mesh: &Section, x: &Section, domain: &Domain) -> XfemMethod {
                 schema::DEFAULT_A_STOP_FRACTION * domain.width
             },
             // the schema admits only its names
-            kink_rule: crate::xfem::KinkRule::from_name(x["kink_rule"].s()).unwrap_or_default(),
+            kink_rule: KinkRule::from_name(x["kink_rule"].s()).unwrap_or_default(),
         }),
         tip_tie_tol: x["tip_tie_tol"].f(),
         condition: true,
@@ -770,7 +768,7 @@ fn pd_method(pd: &Section, ccm: bool) -> PdMethod {
             HoleVolumes::Centre
         },
         surface_correction: super::SurfaceCorrection::from_name(pd["surface_correction"].s()),
-        s0_calibration: crate::pd::calibration::S0Calibration::from_name(pd["s0_calibration"].s()),
+        s0_calibration: S0Calibration::from_name(pd["s0_calibration"].s()),
         regions: ccm
             .then_some([cx - sx / 2.0, cy - sy / 2.0, cx + sx / 2.0, cy + sy / 2.0])
             .into_iter()

@@ -16,16 +16,7 @@
 //!   interface, or inside one PD rectangle (a PD hole, [`crate::pd::splice`]'s rule).
 //! * A square inside another rectangle adds nothing and is dropped.
 
-use super::{Domain, Problem};
-
-/// Options of the adaptive region (scene keys `pd.adapt_margin`, `pd.adapt_size`; in horizons).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct AdaptiveRegion {
-    /// no bond breaks within this many horizons of a FEM node (the trigger distance)
-    pub margin: f64,
-    /// half-side of the squares the region starts with and grows by, in horizons
-    pub size: f64,
-}
+use super::{AdaptiveRegion, Domain, Problem};
 
 /// The square of half-side `size` horizons around `c`, snapped outwards to the grid lines,
 /// clipped to the plate and widened over the holes near it.

@@ -5,7 +5,7 @@
 //! Each part keeps its scene name (`hole[1]`, `notch[0]`, `support[2]`, `load[0]`, `probe[3]`)
 //! so that a refusal made while building a model names the entry to change.
 
-use crate::fe::mesh::Side;
+use super::side::Side;
 use crate::geometry;
 
 /// A hole's shape; its level set ([`Shape::level_set`]) is negative inside.

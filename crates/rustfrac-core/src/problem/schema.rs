@@ -5,9 +5,9 @@
 //!
 //! Units are consistent and up to the user; the paper's case uses N, mm and MPa (E = 10000).
 
+use super::grid::MAX_ELEMENTS;
 use super::value::Value;
 use crate::error::{MAG_MAX, MAG_MIN};
-use crate::fe::mesh::MAX_ELEMENTS;
 use std::sync::OnceLock;
 
 /// Default of the small-area rule's threshold (`xfem.area_threshold`; see
@@ -85,7 +85,7 @@ pub const LIST_SECTIONS: [(&str, &str); 5] = [
 pub const SHAPES: [&str; 3] = ["circle", "rect", "polygon"];
 /// `pd.hole_volumes`: the volume of a PD node whose cell a hole cuts ([`super::HoleVolumes`]).
 pub const HOLE_VOLUMES: [&str; 2] = ["centre", "exact"];
-/// `xfem.kink_rule`: the direction rule of XFEM growth ([`crate::xfem::KinkRule`]).
+/// `xfem.kink_rule`: the direction rule of XFEM growth ([`super::KinkRule`]).
 pub const KINK_RULES: [&str; 2] = ["hoop", "predictor_corrector"];
 /// `pd.engine`: the SLA solver ([`super::SlaEngine`]).
 pub const SLA_ENGINES: [&str; 4] = ["auto", "dense", "sparse", "oracle"];

@@ -13,10 +13,8 @@ use super::schema::{self, Val, PD_NU};
 use super::{
     Boundary, CrackKind, CrackSpec, Domain, Method, PdMethod, Problem, XfemMethod, XfemOptions,
 };
+use super::{Grip, Plane, Side};
 use crate::error::{Error, Result};
-use crate::fe::loading::Grip;
-use crate::fe::material::Plane;
-use crate::fe::mesh::Side;
 use crate::geometry::segment_distance;
 
 /// Every cross-parameter rule of a problem.

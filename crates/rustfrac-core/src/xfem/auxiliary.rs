@@ -5,7 +5,7 @@
 //! times it ([`crate::xfem::interaction_integral`]), so the auxiliary state is exactly compatible
 //! and in equilibrium for both plane strain and plane stress.
 
-use crate::fe::material::Elastic;
+use crate::problem::Elastic;
 use std::f64::consts::PI;
 
 /// Williams near-tip displacement (tip frame) for given K_I, K_II at tip-frame position `x`.
@@ -53,7 +53,7 @@ fn polar(x: [f64; 2]) -> (f64, f64) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fe::material::Plane;
+    use crate::problem::Plane;
 
     #[test]
     fn williams_gradient_matches_finite_differences() {

@@ -11,6 +11,7 @@ use super::patch::DeformedPatch;
 use super::plate::{check_tip_clearance, PlateProblem, PlateSolve};
 use crate::error::{Error, Result};
 use crate::fe::loading::PlateEdges;
+use crate::fe::mesh::Mesh;
 use crate::fe::regions::SceneResponses;
 use crate::la::{condition_warning, ConditionEstimate};
 use crate::problem::{validate, Method, Problem, XfemMethod};
@@ -104,7 +105,7 @@ pub struct XfemResult {
     /// not computed ([`XfemMethod::condition`] false)
     pub condition: Option<ConditionEstimate>,
     /// numerical and accuracy warnings (a condition estimate above [`crate::la::COND_WARN`],
-    /// volumetric locking near nu = 0.5, [`crate::fe::material::Elastic::locking_warning`])
+    /// volumetric locking near nu = 0.5, [`crate::problem::Elastic::locking_warning`])
     pub warnings: Vec<Warning>,
 }
 
@@ -205,7 +206,7 @@ fn build(p: &Problem) -> Result<(&XfemMethod, XfemModel, PlateProblem)> {
         &format!("the XFEM plate of {n} standard unknowns"),
         n as f64 * crate::memory::BYTES_PER_DOF,
     )?;
-    let mesh = Arc::new(x.grid.mesh(d)?);
+    let mesh = Arc::new(Mesh::of_grid(&x.grid, d)?);
     let edges = PlateEdges::of_mesh(&mesh);
     let model = XfemModel::new_in_domain(
         mesh.clone(),

@@ -473,11 +473,7 @@ fn crossed_elements(cells: &Cells, crack: &Crack) -> HashMap<usize, (usize, f64)
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fe::material::Elastic;
-    use crate::fe::material::Plane;
     use crate::geometry::unit;
-    use crate::xfem::{XfemModel, XfemOptions};
-    use std::sync::Arc;
 
     #[test]
     fn branch_gradients_match_finite_differences() {
@@ -504,46 +500,6 @@ mod tests {
                     );
                 }
             }
-        }
-    }
-
-    #[test]
-    fn level_set_and_enrichment_sets() {
-        let mesh = Arc::new(Mesh::uniform(0.0, 0.0, 4.0, 3.0, 8, 7).unwrap());
-        let mat = Elastic::new(1.0, 0.3, Plane::Strain, 1.0).unwrap();
-        let m = XfemModel::new(
-            mesh.clone(),
-            mat,
-            vec![[0.0, 1.5], [1.75, 1.5]],
-            XfemOptions::default(),
-        )
-        .unwrap();
-        assert!(m.cracks[0].mouth);
-        assert_eq!(m.cracks[0].tips.len(), 1);
-        assert!(m.cracks[0].level_set([1.0, 2.0]) > 0.0 && m.cracks[0].level_set([1.0, 1.0]) < 0.0);
-        // tip at x = 1.75 (mid element 3), split elements 0..=2 in row 3
-        assert_eq!(m.tip_elements[0], vec![mesh.element(3, 3)]);
-        assert_eq!(m.split_elements[0].len(), 3);
-        assert_eq!(m.tip_nodes[0].len(), 4);
-        assert_eq!(m.heaviside_nodes[0].len(), 6); // x = 0, 0.5, 1.0 on two rows
-        assert_eq!(m.n_dofs, m.n_std + 6 * 2 + 4 * 8);
-        // reversed polyline is re-oriented so the mouth comes first
-        let r = Crack::new(vec![[1.75, 1.5], [0.0, 1.5]], &mesh).unwrap();
-        assert_eq!(r.points[0], [0.0, 1.5]);
-        assert!(Crack::new(vec![[0.0, 1.5], [4.0, 1.5]], &mesh).is_err());
-        assert!(Crack::new(vec![[0.0, 1.5]], &mesh).is_err());
-        assert!(Crack::new(vec![[0.0, 1.5], [5.0, 1.5]], &mesh).is_err());
-        // crack along a grid line: the off-line nodes are dropped by the area rule
-        let g = XfemModel::new(
-            mesh.clone(),
-            mat,
-            vec![[0.0, 1.5 + 3.0 / 14.0], [1.75, 1.5 + 3.0 / 14.0]],
-            XfemOptions::default(),
-        )
-        .unwrap();
-        assert!(!g.dropped_nodes[0].is_empty());
-        for &n in &g.heaviside_nodes[0] {
-            assert!((mesh.coords[n][1] - (1.5 + 3.0 / 14.0)).abs() < 1e-12);
         }
     }
 }

@@ -22,11 +22,11 @@
 //! it is exact either way). The enriched blocks themselves (eqs. 25-26, 34) are assembled by
 //! [`crate::xfem::XfemModel::element_block`].
 
-use crate::fe::material::Elastic;
 use crate::fe::mesh::Mesh;
 use crate::fe::q4::element_stiffness;
 use crate::fe::quadrature::{subquad_rule, QPoint};
 use crate::geometry::sub;
+use crate::problem::Elastic;
 use std::collections::HashMap;
 
 /// Standard element stiffness blocks, one per distinct element shape (dx, dy).

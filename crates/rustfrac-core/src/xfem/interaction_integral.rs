@@ -45,10 +45,10 @@ use super::crack::{on_face, Crack, Tip};
 use super::integration::RuleKind;
 use super::model::{BasisBuf, EnrElement, XfemModel};
 use crate::error::{check_positive, Error, Result};
-use crate::fe::material::Elastic;
 use crate::fe::q4::stress;
 use crate::geometry::{cross, norm, point_segment_distance, polyline_distance, seg_box, sub};
 use crate::problem::parse::crack_name;
+use crate::problem::Elastic;
 
 /// The smallest q-radius, in tip-element sizes, that [`XfemModel::sifs_clear_of_holes`] shrinks
 /// a SIF domain to so that no hole enters it. Measured on an edge crack (a = 1.1, h = 0.25;

@@ -1,15 +1,15 @@
 //! The direction rule of XFEM growth (scene key `xfem.kink_rule`): in which direction a critical
 //! tip advances by `da`.
 //!
-//! * `hoop` (the default, [`KinkRule::Hoop`]): the maximum circumferential stress criterion
-//!   (Erdogan and Sih, [`crate::xfem::kink_angle`]) at the current tip, theta_0; one solve per
-//!   step. On a curving path the SIFs of a tip one `da` past a kink are taken with a straight-
+//! * `hoop` (the default, [`crate::problem::KinkRule::Hoop`]): the maximum circumferential
+//!   stress criterion (Erdogan and Sih, [`crate::xfem::kink_angle`]) at the current tip,
+//!   theta_0; one solve per step. On a curving path the SIFs of a tip one `da` past a kink are taken with a straight-
 //!   crack auxiliary field over a domain (r_I = 2.5 element lengths) that contains the kink, and
 //!   the path zig-zags: the 30-degree edge crack of the paper's plate under tension turns by
 //!   -32.1, +7.7, -6.9, +2.7, -2.1 degrees on the 44 x 83 mesh with da = h, and the zig-zag stays
 //!   under mesh refinement at fixed da / h (benches/RESULTS.md, "XFEM mixed-mode paths").
-//! * `predictor_corrector` ([`KinkRule::PredictorCorrector`]): a trial extension by `da` at
-//!   theta_0 (predictor), one more solve of the same plate with the trial cracks, the criterion's
+//! * `predictor_corrector` ([`crate::problem::KinkRule::PredictorCorrector`]): a trial
+//!   extension by `da` at theta_0 (predictor), one more solve of the same plate with the trial cracks, the criterion's
 //!   angle theta_1 at the trial tip (relative to the trial segment), and the extension at
 //!   theta = theta_0 + theta_1 / 2 (corrector, [`corrected_angle`]): the new segment bisects the
 //!   predicted segment and the direction the trial tip would take, the chord of a path whose
@@ -26,53 +26,9 @@
 //! grown tips drops 2.7-5.5x (edge crack under shear: 1.6-1.8x), and both rules converge to the
 //! same path (mesh h0 / 4, da = h / 2: 0.0026 apart at most, 0.04 h).
 
-use super::growth::kink_angle;
+use super::criterion::kink_angle;
 use super::interaction_integral::MIN_HOLE_FREE_RADIUS;
 use super::model::XfemModel;
-use crate::error::{Error, Result};
-use crate::problem::schema::KINK_RULES;
-
-/// How the growth loop chooses the direction of an extension (scene key `xfem.kink_rule`; see
-/// the module documentation).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum KinkRule {
-    /// the maximum circumferential stress criterion at the current tip
-    #[default]
-    Hoop,
-    /// a trial extension, the criterion at the trial tip, and the bisector
-    PredictorCorrector,
-}
-
-impl KinkRule {
-    /// The scene name (one of [`KINK_RULES`]).
-    pub fn name(&self) -> &'static str {
-        match self {
-            KinkRule::Hoop => KINK_RULES[0],
-            KinkRule::PredictorCorrector => KINK_RULES[1],
-        }
-    }
-
-    /// The rule of a scene name, or an error naming `xfem.kink_rule`.
-    pub fn from_name(s: &str) -> Result<Self> {
-        match s {
-            _ if s == KINK_RULES[0] => Ok(KinkRule::Hoop),
-            _ if s == KINK_RULES[1] => Ok(KinkRule::PredictorCorrector),
-            _ => Err(Error::invalid(
-                "xfem.kink_rule",
-                &crate::problem::schema::choice(&KINK_RULES),
-                format!("{s:?}"),
-            )),
-        }
-    }
-
-    /// Linear solves per growth step (the critical state, plus the trial of the corrector).
-    pub fn solves_per_step(&self) -> usize {
-        match self {
-            KinkRule::Hoop => 1,
-            KinkRule::PredictorCorrector => 2,
-        }
-    }
-}
 
 /// The corrector: the extension's angle (relative to the current tip direction) from the
 /// predicted angle `theta_0` and the criterion's angle `theta_1` at the trial tip (relative to
@@ -112,16 +68,6 @@ pub fn trial_angles(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn names_round_trip_and_bad_names_name_the_key() {
-        for r in [KinkRule::Hoop, KinkRule::PredictorCorrector] {
-            assert_eq!(KinkRule::from_name(r.name()).unwrap(), r);
-        }
-        assert_eq!(KinkRule::default(), KinkRule::Hoop);
-        let e = KinkRule::from_name("bisector").unwrap_err();
-        assert!(e.to_string().contains("xfem.kink_rule"), "{e}");
-    }
 
     #[test]
     fn corrector_bisects() {

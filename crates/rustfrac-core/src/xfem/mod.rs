@@ -16,10 +16,10 @@
 //! * [`auxiliary`]: the Williams auxiliary fields.
 //! * [`interaction_integral`]: SIFs and J by the domain interaction integral (eqs. 27-33, 36),
 //!   the q-function (eq. 29) and the boundary term of a clipped domain.
-//! * [`growth`]: the maximum circumferential stress criterion (kink angle, K_eq), the growth loop
-//!   and its stop statuses.
-//! * [`kink`]: the direction rule of growth (`xfem.kink_rule`): the criterion at the tip, or a
-//!   predictor-corrector that removes the zig-zag of curving paths.
+//! * [`criterion`]: the maximum circumferential stress criterion (kink angle, K_eq).
+//! * [`growth`]: the growth loop and its stop statuses.
+//! * [`kink`]: the direction rules of growth (`xfem.kink_rule`, [`crate::problem::KinkRule`]):
+//!   the criterion at the tip, or a predictor-corrector that removes the zig-zag of curving paths.
 //! * [`paths`]: comparing grown paths (turning angles, deviation over a common length).
 //! * [`plate`]: the plate problem of the driver: the solve at the reference load, the smallest
 //!   tip clearance.
@@ -81,6 +81,7 @@
 pub mod auxiliary;
 pub mod condensed;
 pub mod crack;
+pub mod criterion;
 pub mod driver;
 pub mod enrichment;
 pub mod growth;
@@ -95,11 +96,11 @@ pub mod plate;
 
 pub use auxiliary::{williams_displacement, williams_gradient};
 pub use crack::{Crack, Tip, SNAP_REL};
+pub use criterion::{k_equivalent, kink_angle};
 pub use driver::{run, run_reference, RadiusSifs, XfemResult};
 pub use enrichment::{branch_functions, branch_functions_snapped, DEFAULT_AREA_THRESHOLD};
-pub use growth::{k_equivalent, kink_angle, GrowthStatus, GrowthStep, TipStep};
+pub use growth::{GrowthStatus, GrowthStep, TipStep};
 pub use interaction_integral::{DomainIntegral, DomainSifs, MIN_HOLE_FREE_RADIUS};
-pub use kink::KinkRule;
 pub use model::{XfemModel, XfemOptions};
 pub use patch::{CutCells, DeformedPatch};
 pub use plate::MIN_TIP_CLEARANCE;

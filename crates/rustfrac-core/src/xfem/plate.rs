@@ -4,12 +4,12 @@
 
 use super::model::XfemModel;
 use crate::error::{Error, Result};
-use crate::fe::loading::{plate_conditions, sigma22, PlateEdges, PlateLoad};
+use crate::fe::loading::{plate_conditions, sigma22, PlateEdges};
 use crate::fe::regions::{region_conditions, SceneResponses};
 use crate::fe::LinearSystem;
 use crate::la::ConditionEstimate;
 use crate::problem::parse::crack_name;
-use crate::problem::{Boundary, Domain, Probe, ProbeKind};
+use crate::problem::{Boundary, Domain, PlateLoad, Probe, ProbeKind};
 
 /// The loaded plate [0, width] x [0, height] around a model (the cracks vary, the plate stays).
 pub(super) struct PlateProblem {

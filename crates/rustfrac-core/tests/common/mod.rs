@@ -4,11 +4,12 @@
 //! a plate under the paper's grips. Each test binary uses only some of them.
 #![allow(dead_code)]
 
-use rustfrac_core::fe::loading::{plate_conditions, Grip, PlateEdges, PlateLoad};
-use rustfrac_core::fe::material::{Elastic, Plane};
-use rustfrac_core::fe::mesh::Side;
+use rustfrac_core::fe::loading::{plate_conditions, PlateEdges};
 use rustfrac_core::fe::{FemModel, LinearSystem, Solution};
+use rustfrac_core::problem::Side;
 use rustfrac_core::problem::{Boundary, CrackKind, CrackSpec, Domain, Growth, Problem, SlaParams};
+use rustfrac_core::problem::{Elastic, Plane};
+use rustfrac_core::problem::{Grip, PlateLoad};
 use rustfrac_core::xfem::DEFAULT_AREA_THRESHOLD;
 use std::f64::consts::PI;
 
@@ -52,7 +53,7 @@ pub fn same_sla_history(
 
 /// `p` with an adaptive PD region of `margin` and `size` horizons, starting around the tip.
 pub fn with_adaptive(mut p: Problem, margin: f64, size: f64) -> Problem {
-    let a = rustfrac_core::problem::pd_region::AdaptiveRegion { margin, size };
+    let a = rustfrac_core::problem::AdaptiveRegion { margin, size };
     p.pd_mut().adaptive = Some(a);
     let (dx, m) = (p.pd().unwrap().dx, p.pd().unwrap().m);
     p.pd_mut().regions = rustfrac_core::problem::pd_region::initial(&p, dx, m, &a);
@@ -249,7 +250,7 @@ impl XfemCase {
             max_steps: g.max_steps,
             da: g.da,
             a_stop: g.a_stop,
-            kink_rule: rustfrac_core::xfem::KinkRule::Hoop,
+            kink_rule: rustfrac_core::problem::KinkRule::Hoop,
         });
         x.condition = self.condition;
         p

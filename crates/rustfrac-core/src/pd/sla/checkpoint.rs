@@ -26,7 +26,7 @@
 
 use super::result::SlaStep;
 use crate::error::{Error, Result};
-use crate::fe::loading::Grip;
+use crate::problem::Grip;
 use crate::problem::Problem;
 use std::io::{Read, Write};
 use std::path::Path;
@@ -147,7 +147,7 @@ pub fn fingerprint(p: &Problem, precrack: &[[f64; 2]], n_dofs: usize, n_bonds: u
     }
     // the critical stretch's rule (nothing is hashed for the default "continuum": the same
     // bonds break under every rule, but the recorded loads differ)
-    if pd.s0_calibration != crate::pd::calibration::S0Calibration::Continuum {
+    if pd.s0_calibration != crate::problem::S0Calibration::Continuum {
         h.str(pd.s0_calibration.name());
     }
     h.finish()

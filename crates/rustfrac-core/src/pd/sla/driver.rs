@@ -14,7 +14,6 @@ use super::adaptive::{
     bond_interface_distance, bond_key, bond_midpoint, node_key, Index, Keys, NodeKey, StepKeys,
 };
 use super::checkpoint;
-use super::cost::{CostEstimate, EngineKind};
 use super::engine::{timing, Engine, Update};
 use super::fast::{
     bordered_analysis, dense_lead, schur_pattern, Fast, FemPart, SchurKind, SparseFactor,
@@ -26,6 +25,7 @@ use super::progress::SlaProgress;
 use super::result::{CcmPdResult, RegionSwitch, SlaStatus, SlaStep};
 use crate::error::{Error, Result};
 use crate::la::{Cholesky, CscMatrix};
+use crate::pd::cost::{CostEstimate, EngineKind};
 use crate::pd::splice::{ProbeFunctional, SpliceModel, Spring, StaticSolution};
 use crate::pd::{damage, BYTES_PER_BOND};
 use crate::problem::{pd_region, validate, Problem, SlaEngine, SlaParams};

@@ -14,10 +14,10 @@
 //!   for CCM-PD the Cholesky of K_PP bordered by the FEM coupling (Woodbury), or the sparse LU
 //!   of S when K_PP is not symmetric positive definite); the columns of S_0^{-1} the breaks
 //!   need are kept
-//!   (`fast/columns.rs`). `"auto"` takes the form the cost model (`cost.rs`: dense O(n_P^3) per
+//!   (`fast/columns.rs`). `"auto"` takes the form the cost model ([`crate::pd::cost`]: dense O(n_P^3) per
 //!   condensation vs sparse factorisation + solves, for 500 steps) estimates cheaper; the choice
 //!   and both estimates are in the result's `solver`. Periodic re-condensation
-//!   ([`auto_refactor_every`] dense, the cost model's interval sparse) bounds the stored update
+//!   ([`crate::pd::cost::auto_refactor_every`] dense, the cost model's interval sparse) bounds the stored update
 //!   vectors, so a run of any length keeps its memory bounded: per step only the history row
 //!   (about 100 bytes) is kept (`memory.rs`).
 //!
@@ -45,24 +45,19 @@
 
 mod adaptive;
 pub mod checkpoint;
-mod cost;
 mod driver;
 mod engine;
 mod fast;
 mod grounding;
 mod memory;
 mod oracle;
-mod params;
 mod progress;
 mod result;
 
-pub use cost::{factor_nnz_guess, CostEstimate, EngineKind, HORIZON_STEPS};
 pub use driver::{run, run_model, run_reporting};
-use fast::SCREEN_MIN_UNKNOWNS;
 #[doc(hidden)]
 pub use fast::{force_lu_form, force_screening};
 pub use grounding::DEBRIS_LIMIT;
 pub use memory::peak_memory_bytes;
-pub use params::auto_refactor_every;
 pub use progress::SlaProgress;
 pub use result::{CcmPdResult, RegionSwitch, SlaStatus, SlaStep};

@@ -9,11 +9,11 @@
 use super::regions::region_loading;
 use super::response::Response;
 use crate::error::Result;
-use crate::fe::loading::{plate_conditions, tributary_lengths, Grip, PlateEdges};
+use crate::fe::loading::{plate_conditions, tributary_lengths, PlateEdges};
 use crate::fe::regions::RegionConditions;
 use crate::fe::Dirichlet;
 use crate::pd::Grid;
-use crate::problem::{Boundary, Problem};
+use crate::problem::{Boundary, Grip, Problem};
 
 /// The loading of a model: the loaded node rows, the displacement conditions, the external forces
 /// (traction grip), the anchor node and the constrained dofs with their reference values.

@@ -16,13 +16,13 @@ use crate::fe::q4::element_stiffness;
 use crate::fe::quadrature::{subquad_rule, QPoint};
 use crate::la::Pattern;
 use crate::memory;
-use crate::pd::calibration::{calibration, S0Calibration};
-use crate::pd::sla::{factor_nnz_guess, CostEstimate};
+use crate::pd::calibration::calibration;
+use crate::pd::cost::{factor_nnz_guess, CostEstimate};
 use crate::pd::surface_correction::energy_factors;
 use crate::pd::{
     family_stencil, find_bonds, find_bonds_where, Bond, Grid, PdConstants, BYTES_PER_BOND,
 };
-use crate::problem::{validate, Method, PdMethod, Problem, SurfaceCorrection};
+use crate::problem::{validate, Method, PdMethod, Problem, S0Calibration, SurfaceCorrection};
 use crate::warning::{Warning, WarningKind};
 
 impl SpliceModel {

@@ -3,7 +3,7 @@
 //! The grid lines are uniform, spacing dx, over the bounding box of the PD rectangles plus a
 //! band of m + 1 elements around it (clipped to the plate), and grow geometrically beyond it
 //! (ratio `pd.fem_grading`, element sizes capped at `pd.fem_coarse` dx) with
-//! [`crate::fe::grading::graded_lines`], the FEM/XFEM graded grids' rule. So every PD node, its
+//! [`crate::problem::grading::graded_lines`], the FEM/XFEM graded grids' rule. So every PD node, its
 //! whole family (|xi| <= m dx) and every hybrid element see the uniform PD spacing: bonds, node
 //! volumes, partial volumes and the shared element matrix are those of the uniform model, and
 //! only whole FEM elements away from the PD part differ (their own matrices,
@@ -14,8 +14,8 @@
 //! end nodes' positions' difference).
 
 use crate::error::{Error, Result};
-use crate::fe::grading::graded_lines;
 use crate::pd::{Bond, Grid};
+use crate::problem::grading::graded_lines;
 use crate::problem::PdMethod;
 
 /// The grid of a CCM-PD model with grading: uniform `dx` (nx x ny cells on the plate) near the

@@ -21,11 +21,10 @@
 //!   the applied force exactly (up to round-off).
 
 use crate::error::{Error, Result};
-use crate::fe::mesh::Side;
 use crate::fe::regions::{region_conditions, RegionConditions};
 use crate::fe::Dirichlet;
 use crate::pd::Grid;
-use crate::problem::{Domain, Region, RegionLoad, Support};
+use crate::problem::{Domain, Region, RegionLoad, Side, Support};
 
 /// The nodes behind edge node `n` of `side`, `layers` deep (n first), material ones only.
 fn column(grid: &Grid, material: &[bool], n: usize, side: Side, layers: usize) -> Vec<usize> {

@@ -1,5 +1,5 @@
 //! The base condensed system S_0 of the low-rank updates, in one of two forms
-//! ([`super::super::cost`] chooses):
+//! ([`crate::pd::cost`] chooses):
 //! * **dense**: a dense LU of S_0 (n_P x n_P, in place: [`DenseLu`]), O(n_P^3) per
 //!   condensation, O(n_P^2) memory; the columns of S_0^{-1} the updates need are solved with it
 //!   (`columns.rs`), never the whole inverse.

@@ -7,7 +7,7 @@
 //! gives it from the factor's dense trailing block ([`crate::la::InterfaceCholesky`]). S is factorised
 //! once, dense LU in place in two stages, the PD block away from the FEM coupling first (beside the
 //! FEM factorisation; [`crate::la::LeadingLu`]), or, for large PD regions, sparse (`base.rs`, chosen
-//! by `super::cost`), and
+//! by `crate::pd::cost`), and
 //! the columns of S^{-1} the breaks need are solved with it (`columns.rs`); a broken bond is a rank-1
 //! change of S and g (a on the PD rows of its ends), handled by Sherman-Morrison-Woodbury with the
 //! capacitance inverse grown by bordering (O(k^2) per break): `smw.rs`. The Schur pivot of the
@@ -26,7 +26,6 @@ pub use base::force_lu_form;
 pub(super) use base::SparseFactor;
 pub(super) use condensation::{bordered_analysis, dense_lead, schur_pattern, FemPart};
 pub use screening::force_screening;
-pub(super) use screening::SCREEN_MIN_UNKNOWNS;
 
 use super::engine::{all_stretches, separated, Engine, State, Update};
 use crate::error::Result;

@@ -29,6 +29,7 @@ use rayon::prelude::*;
 
 use super::{Fast, CLS_F, CLS_P};
 use crate::pd::bonds::Bond;
+use crate::pd::cost::SCREEN_MIN_UNKNOWNS;
 
 /// Bonds above which the screening's passes over them run on all threads.
 const PARALLEL_BONDS: usize = 1 << 15;
@@ -48,12 +49,6 @@ const BOUND_SLACK: f64 = 1e-9;
 const CUT_MARGIN: f64 = 1e-8;
 /// Bonds of the largest exact stretches kept as the next step's seeds.
 const SEEDS: usize = 8;
-/// PD unknowns from which a condensation is screened. Below, the full x = v + W y is cheap and
-/// the bonds the bound cannot clear (1 000-3 000 near the tip, each needing rows of W) cost as
-/// much: on the paper's case (2 080 unknowns) a version that turned it on at k = 400 made the
-/// 500 steps 1.085x slower (10 alternating pairs); on
-/// the adaptive run (to 8 748 unknowns) and pure PD (103 583) it is faster (benches/RESULTS.md).
-pub(in crate::pd::sla) const SCREEN_MIN_UNKNOWNS: usize = 4096;
 
 thread_local! {
     /// Screens every condensation made on this thread, whatever its size (tests: the small

@@ -1,21 +1,23 @@
-//! The engine's cost model: which form of the condensed PD system (dense LU or sparse
-//! factor, `fast/base.rs`) runs the SLA, from estimated times, and the re-factorisation interval
-//! of the sparse form.
+//! The cost model of the SLA's engines ([`crate::pd::sla`]): which form of the condensed PD
+//! system (dense LU or sparse factor, `sla/fast/base.rs`) runs the SLA, from estimated times, the
+//! re-condensation interval of each form ([`auto_refactor_every`] for the dense one), and the
+//! bytes each needs, which the splice model's memory bound reads before the model is built
+//! ([`crate::pd::splice`]). Below both, so neither imports the other for it.
 //!
 //! With n = n_P condensed unknowns, N the re-condensation interval and k <= N stored updates, the
-//! SLA costs per step O(k n) for the updates (`fast/smw.rs`: x = v + W y) plus:
+//! SLA costs per step O(k n) for the updates (`sla/fast/smw.rs`: x = v + W y) plus:
 //! * dense: one condensation = an LU in place, 2 n^3 / 3 flops at [`DENSE_FLOPS`]; N = n / 2
-//!   ([`super::auto_refactor_every`]); per step [`COLUMNS_PER_STEP`] columns of S^{-1}
-//!   (`fast/columns.rs`), 2 n^2 flops each at [`BATCH_SOLVE_FLOPS`].
+//!   ([`auto_refactor_every`]); per step [`COLUMNS_PER_STEP`] columns of S^{-1}
+//!   (`sla/fast/columns.rs`), 2 n^2 flops each at [`BATCH_SOLVE_FLOPS`].
 //! * sparse: one factorisation, about nnz(L)^2 / n flops (exact for a dense band; the supernodal
 //!   factor of the 2D grids here measured within a factor 2 of it) at [`SPARSE_FLOPS`], and
-//!   per step [`COLUMNS_PER_STEP`] columns of S^{-1} (`fast/columns.rs`), 4 nnz(L) flops each in
+//!   per step [`COLUMNS_PER_STEP`] columns of S^{-1} (`sla/fast/columns.rs`), 4 nnz(L) flops each in
 //!   multi-column solves at [`BATCH_SOLVE_FLOPS`] (the sparse Cholesky's columns now cost about
 //!   half of it, their forward halves running along the elimination-tree paths only: the
 //!   estimate is kept, conservative for pure PD, whose choice it does not change). nnz(L) comes
 //!   from the symbolic Cholesky analysis of the pattern of S (for the non-symmetric CCM-PD S, of
 //!   its symmetrised pattern: LU stores L and U, so twice that; the engine takes the cheaper
-//!   bordered Cholesky of K_PP when it can, `fast/base.rs`, so this estimate is an upper bound
+//!   bordered Cholesky of K_PP when it can, `sla/fast/base.rs`, so this estimate is an upper bound
 //!   there: on the paper's case that form measured no faster than the dense one, whose choice it
 //!   keeps). The interval minimising
 //!   t_fact / N + t_solve + N n / [`UPDATE_FLOPS`] is N = sqrt(t_fact [`UPDATE_FLOPS`] / n).
@@ -26,25 +28,42 @@
 //! matter for the choice.
 
 /// Dense LU rate (flop/s).
-pub(super) const DENSE_FLOPS: f64 = 2.0e10;
+const DENSE_FLOPS: f64 = 2.0e10;
 /// Sparse supernodal factorisation rate (flop/s).
-pub(super) const SPARSE_FLOPS: f64 = 8.0e9;
+const SPARSE_FLOPS: f64 = 8.0e9;
 /// Sparse triangular solve rate with a batch of right-hand sides (flop/s): 128 columns of the
 /// pure PD paper grid's factor in 3.8 s on the loaded development machine, 1.2e10 (one
 /// right-hand side alone: 2e9, memory bound).
-pub(super) const BATCH_SOLVE_FLOPS: f64 = 1.2e10;
+const BATCH_SOLVE_FLOPS: f64 = 1.2e10;
 /// Columns of S^{-1} computed per SLA step, refills after re-factorisations included: measured
 /// 1.2 (pure PD paper grid, 500 steps: 600 columns) and 1.5 (coarse CCM-PD, 150 steps).
-pub(super) const COLUMNS_PER_STEP: f64 = 1.5;
+const COLUMNS_PER_STEP: f64 = 1.5;
 /// Rate of the O(k n) update work per step (flop/s; memory bound).
-pub(super) const UPDATE_FLOPS: f64 = 2.0e9;
-/// Unknowns whose x a screened step evaluates (`fast/screening.rs`, from
-/// [`super::SCREEN_MIN_UNKNOWNS`] on): the ends of the 1 000-3 000 bonds near the tip whose
+const UPDATE_FLOPS: f64 = 2.0e9;
+/// Unknowns whose x a screened step evaluates (`sla/fast/screening.rs`, from
+/// [`SCREEN_MIN_UNKNOWNS`] on): the ends of the 1 000-3 000 bonds near the tip whose
 /// bound reaches the tie window. Its O(bonds) passes do not grow with k.
-pub(super) const SCREENED_UNKNOWNS: f64 = 4096.0;
+const SCREENED_UNKNOWNS: f64 = 4096.0;
 /// Bytes the stored update vectors (n x N) may take when the interval is chosen for a screened
 /// step, whose cost hardly grows with N.
 const UPDATE_BYTES: f64 = 5.12e8;
+/// PD unknowns from which a condensation is screened. Below, the full x = v + W y is cheap and
+/// the bonds the bound cannot clear (1 000-3 000 near the tip, each needing rows of W) cost as
+/// much: on the paper's case (2 080 unknowns) a version that turned it on at k = 400 made the
+/// 500 steps 1.085x slower (10 alternating pairs); on
+/// the adaptive run (to 8 748 unknowns) and pure PD (103 583) it is faster (benches/RESULTS.md;
+/// `sla/fast/screening.rs`).
+pub const SCREEN_MIN_UNKNOWNS: usize = 4096;
+/// The automatic re-condensation interval of the fast solver for `n_p` condensed unknowns:
+/// max(64, n_p / 2), at most 4096. Re-condensing costs O(n_p^3), a step with k stored updates
+/// O(k n_p), so intervals of order n_p balance the two; n_p / 2 keeps the update vectors (k n_p)
+/// and the capacitance inverse (k^2) below 3/4 of the condensed inverse (n_p^2), so the solver's
+/// memory does not grow with the number of steps. The paper's case (n_p = 2080) never reaches it
+/// in 500 steps.
+pub fn auto_refactor_every(n_p: usize) -> usize {
+    (n_p / 2).clamp(64, 4096)
+}
+
 /// Steps the estimates are made for.
 pub const HORIZON_STEPS: usize = 500;
 /// Bounds of the sparse re-factorisation interval.
@@ -75,7 +94,7 @@ impl CostEstimate {
         let n = n_p.max(1) as f64;
         let steps = HORIZON_STEPS as f64;
         // the O(k) work per step: x at every unknown, or at those a screened step evaluates
-        let screened = n_p >= super::SCREEN_MIN_UNKNOWNS;
+        let screened = n_p >= SCREEN_MIN_UNKNOWNS;
         let per_update = if screened {
             SCREENED_UNKNOWNS.min(n)
         } else {
@@ -84,7 +103,7 @@ impl CostEstimate {
         let dense_interval = if refactor_every > 0 {
             refactor_every
         } else {
-            super::auto_refactor_every(n_p)
+            auto_refactor_every(n_p)
         };
         let t_cond = 2.0 * n * n * n / 3.0 / DENSE_FLOPS;
         let t_cols = COLUMNS_PER_STEP * 2.0 * n * n / BATCH_SOLVE_FLOPS;

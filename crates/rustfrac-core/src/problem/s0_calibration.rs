@@ -1,0 +1,46 @@
+//! The rule of the critical stretch s0 (scene key `pd.s0_calibration`): eq. 48 (the paper's),
+//! the grid stencil's fracture energy, or the SLA's release in a reference strip
+//! ([`crate::pd::calibration`] computes the factors).
+
+/// The rule of `pd.s0_calibration` (values: [`super::schema::S0_CALIBRATIONS`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum S0Calibration {
+    /// eq. 48 (the paper's)
+    #[default]
+    Continuum,
+    /// the grid stencil's discrete fracture energy equals G0
+    Grid,
+    /// the SLA's release in the reference strip equals G0
+    Sla,
+}
+
+impl S0Calibration {
+    /// From the scene key's value (one of the schema's choices; anything else is `Continuum`).
+    pub fn from_name(s: &str) -> Self {
+        match s {
+            "grid" => Self::Grid,
+            "sla" => Self::Sla,
+            _ => Self::Continuum,
+        }
+    }
+    /// The scene key's value.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Continuum => "continuum",
+            Self::Grid => "grid",
+            Self::Sla => "sla",
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_round_trip() {
+        for n in super::super::schema::S0_CALIBRATIONS {
+            assert_eq!(S0Calibration::from_name(n).name(), n);
+        }
+    }
+}

@@ -1,0 +1,26 @@
+//! The sides of the rectangular domain [0, W] x [0, L] (edge cracks, supports and loads on
+//! regions, the mesh's boundary node sets).
+
+use crate::error::{Error, Result};
+
+/// A boundary side of the rectangle.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Side {
+    Left,
+    Right,
+    Bottom,
+    Top,
+}
+
+impl Side {
+    /// Parses "left" | "right" | "bottom" | "top".
+    pub fn parse(s: &str) -> Result<Self> {
+        match s {
+            "left" => Ok(Side::Left),
+            "right" => Ok(Side::Right),
+            "bottom" => Ok(Side::Bottom),
+            "top" => Ok(Side::Top),
+            _ => Err(Error::invalid("side", "one of left, right, bottom, top", s)),
+        }
+    }
+}
