@@ -2,7 +2,10 @@
 //! plate, and the driver the Python bindings call ([`run`]).
 //!
 //! Each step solves the current (linear) model once at the reference load, breaks the bond with
-//! the smallest load factor lambda = s0 / s and records the response at that load (`driver.rs`).
+//! the smallest load factor lambda = s0 / s and records the response at that load. The run
+//! (`run.rs`) builds the model and its solver (`choice.rs`), replays a checkpoint (`resume.rs`),
+//! takes the steps (`steps.rs`, on the state `state.rs`; the critical bonds: `critical.rs`),
+//! grows an adaptive region between them (`switch.rs`) and collects the result (`collect.rs`).
 //! Two solvers behind one interface (`engine.rs`):
 //! * **oracle** (`fast = false` or `pd.engine = "oracle"`, `oracle.rs`): reassemble the splice
 //!   matrix and refactorise it (sparse LU, symbolic analysis reused) at every step.
@@ -41,12 +44,14 @@
 //! ([`crate::pd::splice::SpliceModel::with_precrack`]).
 //!
 //! The records (`result.rs`: [`SlaStep`], [`SlaStatus`], [`CcmPdResult`]) are a leaf module, so
-//! the checkpoint format depends on them and not on the driver.
+//! the checkpoint format depends on them and not on the run.
 
 mod adaptive;
 pub mod checkpoint;
+mod choice;
+mod collect;
 mod cost;
-mod driver;
+mod critical;
 mod engine;
 mod fast;
 mod grounding;
@@ -55,9 +60,14 @@ mod oracle;
 mod params;
 mod progress;
 mod result;
+mod resume;
+mod run;
+mod state;
+mod steps;
+mod switch;
 
 pub use cost::{factor_nnz_guess, CostEstimate, EngineKind, HORIZON_STEPS};
-pub use driver::{run, run_model, run_reporting};
+pub use run::{run, run_model, run_reporting};
 use fast::SCREEN_MIN_UNKNOWNS;
 #[doc(hidden)]
 pub use fast::{force_lu_form, force_screening};
