@@ -325,11 +325,11 @@ def test_ctrl_c_while_plotting_lists_the_missing_files(
 def test_out_naming_a_file_fails_before_the_runs(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    from rustfrac import fig7 as fig7_mod
+    from rustfrac import study
     from rustfrac.cli import main
 
     calls: list[object] = []
-    monkeypatch.setattr(fig7_mod, "run", lambda *a, **k: calls.append(a))
+    monkeypatch.setattr(study, "run", lambda *a, **k: calls.append(a))
     f = tmp_path / "file"
     f.write_text("x")
     with pytest.raises(rf.OutputError, match="it is a file, not a folder"):
