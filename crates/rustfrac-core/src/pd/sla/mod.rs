@@ -67,7 +67,6 @@ mod steps;
 mod switch;
 
 pub use cost::{factor_nnz_guess, CostEstimate, EngineKind, HORIZON_STEPS};
-pub use run::{run, run_model, run_reporting};
 use fast::SCREEN_MIN_UNKNOWNS;
 #[doc(hidden)]
 pub use fast::{force_lu_form, force_screening};
@@ -76,3 +75,4 @@ pub use memory::peak_memory_bytes;
 pub use params::auto_refactor_every;
 pub use progress::SlaProgress;
 pub use result::{CcmPdResult, RegionSwitch, SlaStatus, SlaStep};
+pub use run::{run, run_model, run_reporting};

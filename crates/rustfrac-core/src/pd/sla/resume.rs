@@ -13,7 +13,10 @@ use crate::problem::SlaParams;
 
 /// The bounds a checkpoint of this run is read with (bonds, nodes, probes): the model's, or for
 /// an adaptive region the whole plate's (its region grows).
-pub(super) fn checkpoint_sizes(model: &SpliceModel, adaptive: bool) -> Result<(usize, usize, usize)> {
+pub(super) fn checkpoint_sizes(
+    model: &SpliceModel,
+    adaptive: bool,
+) -> Result<(usize, usize, usize)> {
     let n_probes = model.probe_functionals()?.len();
     if !adaptive {
         return Ok((model.bonds.len(), model.grid.n_nodes(), n_probes));

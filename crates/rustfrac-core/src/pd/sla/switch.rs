@@ -125,7 +125,11 @@ pub(super) fn damage_keys(model: &SpliceModel, d: &[f64]) -> Vec<(NodeKey, f64)>
 }
 
 /// The records of a run whose region switched, in the final model's numbering (by key).
-pub(super) fn in_final_numbering(model: &SpliceModel, st: &mut RunState, keys: &Keys) -> Result<()> {
+pub(super) fn in_final_numbering(
+    model: &SpliceModel,
+    st: &mut RunState,
+    keys: &Keys,
+) -> Result<()> {
     let index = Index::new(model);
     for (row, k) in st.history.iter_mut().zip(&keys.steps) {
         row.bonds = k
