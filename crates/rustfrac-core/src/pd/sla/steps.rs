@@ -200,7 +200,7 @@ fn crack_extent(model: &SpliceModel) -> (f64, impl Fn(usize) -> f64 + '_) {
 }
 
 /// The probes at the step's load lambda (the engine's u is at the reference load; it holds every
-/// probe dof, [`Fast`] keeps them in its ring).
+/// probe dof, [`Fast`](super::fast::Fast) keeps them in its ring).
 fn st_probes(probes: &[ProbeFunctional], u: &[f64], lambda: f64) -> Vec<[f64; 2]> {
     probes
         .iter()
