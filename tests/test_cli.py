@@ -292,7 +292,7 @@ def test_job_console_lines_stay_whole_beside_a_bar_and_another_thread(
 
     monkeypatch.setattr(sys, "stdout", Recorded())
     bars: list[ProgressBar] = []
-    log, progress = cli._job_console(bars, quiet=False)
+    log, progress = cli.job_console(bars, quiet=False)
     assert log is not None
     bar = progress("ccm_pd")
     assert bar is not None
@@ -317,5 +317,5 @@ def test_job_console_lines_stay_whole_beside_a_bar_and_another_thread(
         assert [ln for ln in lines if ln.startswith(f"run     {name} ")] == [
             f"run     {name} {i}" for i in range(200)
         ]
-    quiet_log, quiet_progress = cli._job_console([], quiet=True)
+    quiet_log, quiet_progress = cli.job_console([], quiet=True)
     assert quiet_log is None and quiet_progress("x") is None

@@ -152,9 +152,9 @@ def test_ctrl_c_in_an_xfem_run_cancels_the_ccm_pd_run_beside_it(tmp_path: Path) 
 def test_an_error_of_the_ccm_pd_run_beside_reaches_the_caller(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    from rustfrac import fig7 as fig7_mod
+    from rustfrac import study
 
-    real = fig7_mod.run
+    real = study.run
     failed = threading.Event()
     xfem_runs: list[str] = []
 
@@ -166,7 +166,7 @@ def test_an_error_of_the_ccm_pd_run_beside_reaches_the_caller(
         xfem_runs.append(scene.name)
         return real(scene, **k)
 
-    monkeypatch.setattr(fig7_mod, "run", failing)
+    monkeypatch.setattr(study, "run", failing)
     with pytest.raises(rf.InvalidParameterError, match="injected"):
         fig7(tmp_path, preset="fast", log=None)
     assert len(xfem_runs) <= 1  # no XFEM run started after the failure
@@ -325,11 +325,11 @@ def test_ctrl_c_while_plotting_lists_the_missing_files(
 def test_out_naming_a_file_fails_before_the_runs(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    from rustfrac import fig7 as fig7_mod
+    from rustfrac import study
     from rustfrac.cli import main
 
     calls: list[object] = []
-    monkeypatch.setattr(fig7_mod, "run", lambda *a, **k: calls.append(a))
+    monkeypatch.setattr(study, "run", lambda *a, **k: calls.append(a))
     f = tmp_path / "file"
     f.write_text("x")
     with pytest.raises(rf.OutputError, match="it is a file, not a folder"):

@@ -36,10 +36,7 @@ Compared (written into ``out`` as one unit, ``rustfrac._folder``):
 
 from __future__ import annotations
 
-import csv
 import functools
-import io
-import json
 import math
 import secrets
 import time
@@ -53,15 +50,16 @@ from matplotlib.collections import PolyCollection
 from matplotlib.figure import Figure
 from matplotlib.patches import Circle, Polygon, Rectangle
 
-from . import agreement, energy, figures, paths
+from . import agreement, figures, paths, study
 from ._folder import check_writable, with_fallback, writing
 from ._log import logger
 from .errors import InvalidParameterError, PlotDataError
-from .fig7 import _json_default, _machine, _write_text, run_logged
 from .pd_region import DEFAULT_MARGIN_HORIZONS, Box, held_sides, pd_dofs, pd_region
 from .result import OWNED_NAMES, Result
-from .scene import _CONST, METHODS, PdOptions, Scene
-from .specimens import _pd_layout
+from .runner import as_scene
+from .scene import MAX_STEPS, METHODS, PD_NU, PdOptions, Scene
+from .specimens import pd_layout
+from .study import Log, ProgressFactory, run_logged
 
 __all__ = [
     "DEFAULT_GROWTH_STEPS",
@@ -102,9 +100,6 @@ FILES = ("compare.png", "curves.png", "curves.csv", "path.csv", "summary.md", "s
 #: folder name of each run saved as a result folder
 PARTS = {"xfem": "xfem", "ccm_pd": "ccm_pd"}
 
-Log = Callable[[str], None]
-
-
 # ----------------------------------------------------------------------------------------------
 # the two scenes
 
@@ -132,14 +127,6 @@ class Plan:
     @property
     def delta(self) -> float:
         return self.m * self.dx
-
-
-def _as_scene(scene: Scene | Mapping[str, Any] | str | Path) -> Scene:
-    if isinstance(scene, Scene):
-        return scene
-    if isinstance(scene, Mapping):
-        return Scene.from_dict(scene)
-    return Scene.from_toml(scene)
 
 
 def _element_size(d: dict[str, Any], width: float, height: float) -> float | None:
@@ -199,7 +186,7 @@ def plan(
     (:func:`~rustfrac.pd_region.pd_region`, also for a CCM-PD scene that states a rectangle)
     or None (a CCM-PD scene's own rectangle, else "auto"); ``surface_correction`` the CCM-PD
     scene's ``pd.surface_correction`` (None: a PD scene's, else the default)."""
-    src = _as_scene(scene)
+    src = as_scene(scene)
     if src.method not in METHODS:  # pragma: no cover (Scene checks it)
         raise InvalidParameterError(f"invalid method {src.method!r}", "method")
     if src.extra_cracks:
@@ -247,9 +234,9 @@ def plan(
     if crack.get("kind") == "seam":
         crack["kind"] = "edge"
     mat = dict(common.get("material", {}))
-    if mat.get("nu") != _CONST["PD_NU"] or mat.get("plane", "strain") != "strain":
+    if mat.get("nu") != PD_NU or mat.get("plane", "strain") != "strain":
         notes.append(
-            f"material: nu = {_CONST['PD_NU']:g}, plane strain for both methods (bond-based PD "
+            f"material: nu = {PD_NU:g}, plane strain for both methods (bond-based PD "
             f"represents no other; the scene had nu = {mat.get('nu')}, plane "
             f"{mat.get('plane', 'strain')})"
         )
@@ -260,7 +247,7 @@ def plan(
          "crack": {"kind": "none"}}
     )  # fmt: skip
     tmp = {"method": "pd", "pd": {"dx": dx, "m": m}, "material": dict(mat), "crack": dict(crack)}
-    _pd_layout(tmp)  # nu, plane, and the crack moved off a PD node row (specimens' rule)
+    pd_layout(tmp)  # nu, plane, and the crack moved off a PD node row (specimens' rule)
     if tmp["crack"] != crack:
         notes.append(f"crack moved by dx/2 = {dx / 2:g} off a PD node row (both methods)")
     common["material"], common["crack"] = tmp["material"], tmp["crack"]
@@ -377,7 +364,7 @@ def place(p: Plan, xfem_path: np.ndarray, final_tip: Sequence[float] | None) -> 
         p.dx = dx
         p.pd["pd"]["dx"] = dx
         tmp = {"method": "pd", "pd": {"dx": dx, "m": p.m}, "crack": dict(p.xfem.crack.to_dict())}
-        _pd_layout(tmp)
+        pd_layout(tmp)
         if tmp["crack"] != p.xfem.crack.to_dict():
             p.pd["crack"] = tmp["crack"]
             p.notes.append(f"PD pre-crack moved by dx/2 = {dx / 2:g} off a node row (XFEM's not)")
@@ -428,9 +415,7 @@ def _with_sla_length(p: Plan, dx: float, final_tip: Sequence[float] | None) -> S
         opts["sla_steps"] = int(p.sla_steps)
     elif "sla_steps" not in opts:  # a PD scene's own sla_steps stays the limit
         cells = max(advance / dx, 1.0)
-        opts["sla_steps"] = int(
-            min(SLA_STEPS_PER_SPACING_M3 * p.m**3 * cells + 50, _CONST["MAX_STEPS"])
-        )
+        opts["sla_steps"] = int(min(SLA_STEPS_PER_SPACING_M3 * p.m**3 * cells + 50, MAX_STEPS))
     return Scene.from_dict(p.pd)
 
 
@@ -549,7 +534,7 @@ def compare(
     allow_slow: bool = False,
     vtu: bool = False,
     log: Log | None = logger.info,
-    progress: Callable[[str], Callable[[int, int, str], Any] | None] | None = None,
+    progress: ProgressFactory | None = None,
 ) -> dict[str, Any]:
     """Runs XFEM growth and CCM-PD on ``scene`` (a Scene, dict or TOML path) and writes the
     comparison into ``out``; returns the summary (also ``summary.json``).
@@ -662,14 +647,9 @@ class _Job:
             s["total_s"] = time.perf_counter() - self.t_all
             s["files"] = [*files, "summary.md", "summary.json"]
             s["parts"] = parts
-            s["missing"] = (
-                [f"run {n}" for n in PARTS if n not in self.results]
-                + [f"{part}/" for n, part in PARTS.items() if n not in self.results]
-                + [f for f in FILES if f not in s["files"]]
-            )
+            s["missing"] = study.missing(PARTS, PARTS, FILES, self.results, s["files"])
             s["complete"] = not interrupted and not s["missing"]
-            _write_text(w.stage("summary.md"), _markdown(s))
-            _write_text(w.stage("summary.json"), json.dumps(s, indent=2, default=_json_default))
+            study.write_summary(w, s, _markdown(s))
         return s
 
     # -- numbers ----------------------------------------------------------------------------
@@ -690,7 +670,7 @@ class _Job:
             "version": __version__,
             "scene": p.source.to_dict(),
             "scenes": {k: v.to_dict() for k, v in self.scenes.items()},
-            "machine": _machine(),
+            "machine": study.machine(),
             "notes": list(p.notes),
             "discretisation": {"xfem_h": p.h, "pd_dx": p.dx, "pd_m": p.m, "delta": p.delta},
         }
@@ -712,8 +692,7 @@ class _Job:
         s["energy"] = {}
         for k, r in res.items():
             try:
-                au = energy.audit(r)
-                s["energy"][k] = {q: au[q] for q in ("G0", "energy", "crack_area", "ratio")}
+                s["energy"][k] = study.audit(r)
             except PlotDataError as e:
                 s["energy"][k] = {"not_available": str(e)}
         s["cost"] = {}
@@ -744,23 +723,23 @@ class _Job:
         )
         if "curves" in s:
             out.append(("curves.png", lambda f: figures.save_figure(self._curves_figure(s), f)))
-            out.append(("curves.csv", lambda f: _write_text(f, self._curves_csv(s))))
+            out.append(("curves.csv", lambda f: study.write_text(f, self._curves_csv(s))))
         if ridge is not None:
             out.append(
-                ("path.csv", lambda f: _write_text(f, _path_csv(ridge, self.results["xfem"])))
+                ("path.csv", lambda f: study.write_text(f, _path_csv(ridge, self.results["xfem"])))
             )
         return out
 
     def _curves_csv(self, s: dict[str, Any]) -> str:
         xk, yk = s["curves"]["x"], s["curves"]["y"]
-        buf = io.StringIO()
-        wr = csv.writer(buf)
-        wr.writerow(["method", "point", xk, yk])
-        for k in PARTS:
-            h = self.results[k].history
-            for i, (a, b) in enumerate(zip(h[xk], h[yk])):
-                wr.writerow([k, i, repr(float(a)), repr(float(b))])
-        return buf.getvalue()
+        rows = (
+            [k, i, float(a), float(b)]
+            for k in PARTS
+            for i, (a, b) in enumerate(
+                zip(self.results[k].history[xk], self.results[k].history[yk])
+            )
+        )
+        return study.csv_text(["method", "point", xk, yk], rows)
 
     def _curves_figure(self, s: dict[str, Any]) -> Figure:
         xk, yk = s["curves"]["x"], s["curves"]["y"]
@@ -913,37 +892,32 @@ def _path_csv(ridge: paths.Ridge, xr: Result) -> str:
     d = np.full(len(ridge.s), np.nan)
     if ridge.covered.any():
         d[ridge.covered] = paths.distance_to_polyline(ridge.xy[ridge.covered], grown_path(xr))
-    buf = io.StringIO()
-    wr = csv.writer(buf)
-    wr.writerow(
-        ["s", "station_x1", "station_x2", "bonds", "ridge_x1", "ridge_x2", "offset", "distance"]
+    rows = (
+        [float(v) for v in (ridge.s[k], *ridge.station_xy[k])]
+        + [int(ridge.n_bonds[k])]
+        + [float(v) for v in (*ridge.xy[k], ridge.offset[k], d[k])]
+        for k in range(len(ridge.s))
     )
-    for k in range(len(ridge.s)):
-        wr.writerow(
-            [repr(float(v)) for v in (ridge.s[k], *ridge.station_xy[k])]
-            + [int(ridge.n_bonds[k])]
-            + [repr(float(v)) for v in (*ridge.xy[k], ridge.offset[k], d[k])]
-        )
-    return buf.getvalue()
+    header = [
+        "s",
+        "station_x1",
+        "station_x2",
+        "bonds",
+        "ridge_x1",
+        "ridge_x2",
+        "offset",
+        "distance",
+    ]
+    return study.csv_text(header, rows)
 
 
 def _f(v: Any, spec: str = ".4g") -> str:
-    return (
-        "n/a" if v is None or (isinstance(v, float) and not math.isfinite(v)) else format(v, spec)
-    )
+    return study.fmt(v, spec, finite=True)
 
 
 def _markdown(s: dict[str, Any]) -> str:
     d = s["discretisation"]
     lines = [
-        f"# rustfrac compare: {s['scene'].get('name', 'scene')}",
-        "",
-        f"rustfrac {s['version']}; XFEM element size h = {_f(d['xfem_h'])}, PD dx = "
-        f"{_f(d['pd_dx'])}, m = {d['pd_m']} (horizon delta = {_f(d['delta'])})"
-        + (" -- **interrupted: partial results**" if s.get("interrupted") else ""),
-        *([f"**Missing:** {', '.join(s['missing'])}"] if s.get("missing") else []),
-        f"Machine: {s['machine']['cpu']}, {s['machine']['cores']} cores",
-        "",
         "## Choices made",
         "",
         *(f"- {n}" for n in s["notes"]),
@@ -958,12 +932,12 @@ def _markdown(s: dict[str, Any]) -> str:
             f"SLA broke, in strips {RIDGE_WINDOW_SPACINGS:g} dx long every dx) against the grown "
             "XFEM path:",
             "",
-            "| distance | length | horizons | XFEM elements |",
-            "|---|---|---|---|",
-            *(
-                f"| {k} | {_f(st[k])} | {_f(st[k + '_horizons'], '.3f')} | "
-                f"{_f(st[k + '_elements'], '.3f')} |"
-                for k in ("mean", "max")
+            *study.table(
+                ["distance", "length", "horizons", "XFEM elements"],
+                (
+                    [k, _f(st[k]), _f(st[k + "_horizons"], ".3f"), _f(st[k + "_elements"], ".3f")]
+                    for k in ("mean", "max")
+                ),
             ),
             "",
             f"Stations: {st['n_stations']}, covered by broken bonds: {st['covered']:.0%} (up to "
@@ -980,11 +954,18 @@ def _markdown(s: dict[str, Any]) -> str:
         pk = cur.get("peak")
         if pk:
             lines += [
-                "| | XFEM | CCM-PD | CCM-PD / XFEM - 1 |",
-                "|---|---|---|---|",
-                f"| peak {cur['y']} | {_f(pk['xfem'][1])} | {_f(pk['ccm_pd'][1])} | "
-                f"{_f(pk['rel_diff'], '+.2%')} |",
-                f"| {cur['x']} at the peak | {_f(pk['xfem'][0])} | {_f(pk['ccm_pd'][0])} | |",
+                *study.table(
+                    [None, "XFEM", "CCM-PD", "CCM-PD / XFEM - 1"],
+                    [
+                        [
+                            f"peak {cur['y']}",
+                            _f(pk["xfem"][1]),
+                            _f(pk["ccm_pd"][1]),
+                            _f(pk["rel_diff"], "+.2%"),
+                        ],
+                        [f"{cur['x']} at the peak", _f(pk["xfem"][0]), _f(pk["ccm_pd"][0]), None],
+                    ],
+                ),
                 "",
             ]
         ag = cur.get("agreement")
@@ -993,43 +974,36 @@ def _markdown(s: dict[str, Any]) -> str:
                 f"Along the curve, at equal {cur['x']} (XFEM interpolated; the SLA saw-tooth read "
                 f"three ways, running mean over {ag['window']} steps): PD / XFEM - 1",
                 "",
-                "| CCM-PD reading | points | mean | RMS | min | max |",
-                "|---|---|---|---|---|---|",
+                *study.agreement_table(ag),
+                "",
             ]
-            for k in agreement.READINGS:
-                v = ag[k]
-                if not v["n"]:
-                    lines.append(f"| {k} | 0 | | | | |")
-                    continue
-                lines.append(
-                    f"| {k} | {v['n']} | {v['mean_rel_diff']:+.2%} | {v['rms_rel_diff']:.2%} | "
-                    f"{v['min_rel_diff']:+.2%} | {v['max_rel_diff']:+.2%} |"
-                )
-            lines.append("")
     lines += [
         "## Energy audit (rustfrac.energy)",
         "",
-        "| method | dissipated | new crack area | G / G0 |",
-        "|---|---|---|---|",
-    ]
-    for k, v in s.get("energy", {}).items():
-        if "not_available" in v:
-            lines.append(f"| {k} | n/a: {v['not_available']} | | |")
-        else:
-            lines.append(
-                f"| {k} | {_f(v['energy'])} | {_f(v['crack_area'])} | {_f(v['ratio'], '.4f')} |"
-            )
-    lines += [
+        *study.energy_table(s.get("energy", {})),
         "",
         "## Cost",
         "",
-        "| method | wall time (s) | unknowns | steps | status | PD nodes | solver |",
-        "|---|---|---|---|---|---|---|",
+        *study.table(
+            ["method", "wall time (s)", "unknowns", "steps", "status", "PD nodes", "solver"],
+            (
+                [
+                    k,
+                    f"{v['wall_time_s']:.3f}",
+                    f"{v['unknowns']}",
+                    f"{v.get('steps')}",
+                    f"{v.get('status')}",
+                    f"{v.get('pd_nodes', '')}",
+                    f"{v.get('solver', '')}",
+                ]
+                for k, v in s.get("cost", {}).items()
+            ),
+        ),
     ]
-    for k, v in s.get("cost", {}).items():
-        lines.append(
-            f"| {k} | {v['wall_time_s']:.3f} | {v['unknowns']} | {v.get('steps')} | "
-            f"{v.get('status')} | {v.get('pd_nodes', '')} | {v.get('solver', '')} |"
-        )
     lines += ["", f"Whole job: {s.get('total_s', 0):.1f} s. Scenes: `summary.json` (`scenes`).", ""]
-    return "\n".join(lines)
+    lead = (
+        f"rustfrac {s['version']}; XFEM element size h = {_f(d['xfem_h'])}, PD dx = "
+        f"{_f(d['pd_dx'])}, m = {d['pd_m']} (horizon delta = {_f(d['delta'])})"
+    )
+    title = f"rustfrac compare: {s['scene'].get('name', 'scene')}"
+    return study.summary_markdown(s, title, lead, lines)

@@ -26,12 +26,7 @@ lists the runs, result folders and files that are not there).
 
 from __future__ import annotations
 
-import csv
 import importlib
-import io
-import json
-import os
-import platform
 import secrets
 import threading
 import time
@@ -43,15 +38,15 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from . import _core, agreement, energy, handbook
+from . import _core, agreement, handbook, study
 from ._folder import FolderWriter, check_writable, locked, why, with_fallback, writing
 from ._forked import Forked
 from ._log import logger
 from .errors import InvalidResultError, OutputError, ResultNotFoundError
-from .result import JSON_NAME, OWNED_NAMES, Result, _atomic, _read_json
-from .runner import run
+from .result import JSON_NAME, OWNED_NAMES, Result, read_json
 from .scene import Scene
 from .scenes import edge_crack_plate
+from .study import Log, ProgressFactory, run_logged
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -103,8 +98,6 @@ PRESETS: dict[str, Preset] = {
     ),
 }
 
-Log = Callable[[str], None]
-
 
 def _scenes(
     p: Preset, bc: str, s0_calibration: str | None = None, surface_correction: str | None = None
@@ -143,23 +136,6 @@ def _full_pd(p: Preset) -> dict[str, Any]:
     return dict(region="adaptive", stop_crack_length=stop)
 
 
-def _machine() -> dict[str, Any]:
-    cpu = platform.processor() or ""
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                cpu = line.split(":", 1)[1].strip()
-                break
-    except OSError:
-        pass
-    return {
-        "cpu": cpu,
-        "cores": os.cpu_count(),
-        "platform": platform.platform(),
-        "python": platform.python_version(),
-    }
-
-
 def _peak(res: Result) -> tuple[float, float]:
     """(peak sigma22, CMOD at the peak) of a load path."""
     s, c = res.history["sigma22"], res.history["cmod"]
@@ -167,35 +143,29 @@ def _peak(res: Result) -> tuple[float, float]:
     return float(s[i]), float(c[i])
 
 
-def _write_text(path: Path, text: str) -> None:
-    with _atomic(path, "w") as f:
-        f.write(text)
-
-
 def _write_csv(path: Path, results: dict[str, Result], hb: tuple[np.ndarray, np.ndarray]) -> None:
-    buf = io.StringIO()
-    w = csv.writer(buf)
-    w.writerow(["method", "point", "crack_length", "load_factor", "u0", "sigma22", "cmod"])
+    rows: list[list[Any]] = []
     for name in ("xfem_growth", "ccm_pd"):
         if name not in results:
             continue
         h = results[name].history
         a = h.get("a", h.get("crack_length"))
         for i in range(len(h["sigma22"])):
-            w.writerow(
+            rows.append(
                 [
                     "xfem" if name == "xfem_growth" else "ccm_pd",
                     i,
-                    "" if a is None else repr(float(a[i])),
-                    repr(float(h["load_factor"][i])),
-                    repr(float(h["u0"][i])),
-                    repr(float(h["sigma22"][i])),
-                    repr(float(h["cmod"][i])),
+                    None if a is None else float(a[i]),
+                    float(h["load_factor"][i]),
+                    float(h["u0"][i]),
+                    float(h["sigma22"][i]),
+                    float(h["cmod"][i]),
                 ]
             )
     for i, (c, s) in enumerate(zip(*hb)):
-        w.writerow(["handbook", i, "", "", "", repr(float(s)), repr(float(c))])
-    _write_text(path, buf.getvalue())
+        rows.append(["handbook", i, None, None, None, float(s), float(c)])
+    header = ["method", "point", "crack_length", "load_factor", "u0", "sigma22", "cmod"]
+    study.write_text(path, study.csv_text(header, rows))
 
 
 def fig7(
@@ -206,7 +176,7 @@ def fig7(
     s0_calibration: str | None = None,
     surface_correction: str | None = None,
     log: Log | None = logger.info,
-    progress: Callable[[str], Callable[[int, int, str], Any] | None] | None = None,
+    progress: ProgressFactory | None = None,
 ) -> dict[str, Any]:
     """Runs the Fig. 7 job into ``out`` and returns the summary dict (also written as JSON).
 
@@ -282,24 +252,6 @@ def _import_in_background(module: str) -> None:
     threading.Thread(target=load, name=f"import {module}", daemon=True).start()
 
 
-def run_logged(
-    name: str,
-    scene: Scene,
-    progress: Callable[[str], Callable[[int, int, str], Any] | None] | None,
-    say: Log,
-    built: Callable[[Result], str],
-) -> tuple[Result, float]:
-    """One run of a job (fig7, compare): logged before and after (``built`` describes the
-    result), with its progress callback from the factory ``progress(name)``; returns the result
-    and its wall time."""
-    say(f"run     {name}: {scene.describe()}")
-    t0 = time.perf_counter()
-    res = run(scene, progress=progress(name) if progress else None)
-    seconds = time.perf_counter() - t0
-    say(f"        {built(res)}; {seconds:.2f} s")
-    return res, seconds
-
-
 class _Runs:
     """The runs of a fig7 job. The CCM-PD run (the longest: its set-up and SLA) goes to a worker
     thread and the XFEM runs follow here beside it: the core releases the GIL, so they share the
@@ -317,7 +269,7 @@ class _Runs:
     def __init__(
         self,
         scenes: dict[str, Scene],
-        progress: Callable[[str], Callable[[int, int, str], Any] | None] | None,
+        progress: ProgressFactory | None,
         say: Log,
         outdir: Path,
     ) -> None:
@@ -512,16 +464,11 @@ class _Job:
             )
             summary["files"] = [*files, "summary.md", "summary.json"]
             summary["parts"] = {part.d.name: part.save_id for part in staged}
-            summary["missing"] = (
-                [f"run {n}" for n in self.scenes if n not in self.results]
-                + [f"{part}/" for n, part in PARTS.items() if n not in self.results]
-                + [f for f in FILES if f not in summary["files"]]
+            summary["missing"] = study.missing(
+                self.scenes, PARTS, FILES, self.results, summary["files"]
             )
             summary["complete"] = not interrupted and not summary["missing"]
-            _write_text(w.stage("summary.md"), _markdown(summary))
-            _write_text(
-                w.stage("summary.json"), json.dumps(summary, indent=2, default=_json_default)
-            )
+            study.write_summary(w, summary, _markdown(summary))
         return summary
 
     def _draw(
@@ -761,7 +708,7 @@ def load_summary(out: str | Path) -> dict[str, Any]:
             ids = {}
             for part in PARTS.values():
                 try:
-                    ids[part] = _read_json(
+                    ids[part] = read_json(
                         d / part / "result.json", (d / part / "result.json").read_bytes()
                     ).get("save_id")
                 except FileNotFoundError:
@@ -770,7 +717,7 @@ def load_summary(out: str | Path) -> dict[str, Any]:
         raise ResultNotFoundError(
             f"{e.filename}: no such file (not a fig7 folder?)", e.filename
         ) from e
-    summary = _read_json(path, data)
+    summary = read_json(path, data)
     parts = summary.get("parts")
     if not isinstance(parts, dict):
         raise InvalidResultError(
@@ -867,7 +814,7 @@ def _summary(
         "preset_description": p.description,
         "bc": bc,
         "interrupted": interrupted,
-        "machine": _machine(),
+        "machine": study.machine(),
         "paper": PAPER,
         "scenes": {k: v.to_dict() for k, v in scenes.items()},
         "times_s": times,
@@ -912,8 +859,7 @@ def _summary(
     audits = {}
     for part, key in (("xfem_growth", "xfem"), ("ccm_pd", "ccm_pd")):
         if part in results and results[part].meta.get("work_conjugate"):
-            au = energy.audit(results[part])
-            audits[key] = {k: au[k] for k in ("G0", "energy", "crack_area", "ratio")}
+            audits[key] = study.audit(results[part])
     if audits:
         s["energy"] = audits
     s["cost"] = {
@@ -926,33 +872,34 @@ def _summary(
 
 
 def _fmt(v: Any, spec: str = ".6g") -> str:
-    return "n/a" if v is None else format(v, spec)
+    return study.fmt(v, spec)
 
 
 def _markdown(s: dict[str, Any]) -> str:
     o, pa = s["ours"], s["paper"]
     lines = [
-        "# rustfrac Fig. 7 reproduction",
-        "",
-        f"rustfrac {s['version']}, preset `{s['preset']}` ({s['preset_description']}), grips "
-        f"`{s['bc']}`" + (" -- **interrupted: partial results**" if s["interrupted"] else ""),
-        *([f"**Missing:** {', '.join(s['missing'])}"] if s.get("missing") else []),
-        f"Machine: {s['machine']['cpu']}, {s['machine']['cores']} cores, "
-        f"{s['machine']['platform']}",
-        "",
         "## Paper values beside ours",
         "",
-        "| quantity | paper | rustfrac |",
-        "|---|---|---|",
-        f"| sigma22, XFEM, u0 = 0.01 | {pa['sigma22_xfem']} | {_fmt(o.get('sigma22_xfem'))} |",
-        f"| CMOD, XFEM | {pa['cmod_xfem']} | {_fmt(o.get('cmod_xfem'))} |",
-        f"| K_I, XFEM, displacement load | {pa['K_I_displacement']} | "
-        f"{_fmt(o.get('K_I_displacement'))} |",
-        f"| K_I, XFEM, traction 9.993 | {pa['K_I_traction']} | {_fmt(o.get('K_I_traction'))} |",
-        f"| sigma22, CCM-PD, before any break | {pa['sigma22_ccm_pd']} | "
-        f"{_fmt(o.get('sigma22_ccm_pd'))} |",
-        f"| CMOD, CCM-PD | {pa['cmod_ccm_pd']} | {_fmt(o.get('cmod_ccm_pd'))} |",
-        f"| gamma (m = 4) | 0.988895997195466 | {_fmt(o.get('gamma'), '.15g')} |",
+        *study.table(
+            ["quantity", "paper", "rustfrac"],
+            [
+                ["sigma22, XFEM, u0 = 0.01", pa["sigma22_xfem"], _fmt(o.get("sigma22_xfem"))],
+                ["CMOD, XFEM", pa["cmod_xfem"], _fmt(o.get("cmod_xfem"))],
+                [
+                    "K_I, XFEM, displacement load",
+                    pa["K_I_displacement"],
+                    _fmt(o.get("K_I_displacement")),
+                ],
+                ["K_I, XFEM, traction 9.993", pa["K_I_traction"], _fmt(o.get("K_I_traction"))],
+                [
+                    "sigma22, CCM-PD, before any break",
+                    pa["sigma22_ccm_pd"],
+                    _fmt(o.get("sigma22_ccm_pd")),
+                ],
+                ["CMOD, CCM-PD", pa["cmod_ccm_pd"], _fmt(o.get("cmod_ccm_pd"))],
+                ["gamma (m = 4)", "0.988895997195466", _fmt(o.get("gamma"), ".15g")],
+            ],
+        ),
         "",
         "The paper's values are a comparison, not the truth: its plate is loaded through grips and "
         "its 44 x 83 mesh is not converged (see the README's validation section).",
@@ -963,14 +910,29 @@ def _markdown(s: dict[str, Any]) -> str:
         lines += [
             "## Agreement between the two methods",
             "",
-            "| | XFEM | CCM-PD | relative difference |",
-            "|---|---|---|---|",
-            f"| peak sigma22 | {_fmt(o['peak_sigma22_xfem'])} | {_fmt(o['peak_sigma22_ccm_pd'])}"
-            f" | {ag['peak_sigma22_rel_diff']:+.2%} |",
-            f"| CMOD at the peak | {_fmt(o['cmod_at_peak_xfem'])} | "
-            f"{_fmt(o['cmod_at_peak_ccm_pd'])} | {ag['cmod_at_peak_rel_diff']:+.2%} |",
-            f"| initial CMOD (u0 = 0.01) | {_fmt(o['cmod_xfem'])} | {_fmt(o['cmod_ccm_pd'])} | "
-            f"{ag['initial_cmod_rel_diff']:+.2%} |",
+            *study.table(
+                [None, "XFEM", "CCM-PD", "relative difference"],
+                [
+                    [
+                        "peak sigma22",
+                        _fmt(o["peak_sigma22_xfem"]),
+                        _fmt(o["peak_sigma22_ccm_pd"]),
+                        f"{ag['peak_sigma22_rel_diff']:+.2%}",
+                    ],
+                    [
+                        "CMOD at the peak",
+                        _fmt(o["cmod_at_peak_xfem"]),
+                        _fmt(o["cmod_at_peak_ccm_pd"]),
+                        f"{ag['cmod_at_peak_rel_diff']:+.2%}",
+                    ],
+                    [
+                        "initial CMOD (u0 = 0.01)",
+                        _fmt(o["cmod_xfem"]),
+                        _fmt(o["cmod_ccm_pd"]),
+                        f"{ag['initial_cmod_rel_diff']:+.2%}",
+                    ],
+                ],
+            ),
             "",
         ]
         cur = ag.get("curve")
@@ -979,21 +941,9 @@ def _markdown(s: dict[str, Any]) -> str:
                 "Along the curve, at equal CMOD (the XFEM curve interpolated; CCM-PD read three "
                 f"ways, running mean over {cur['window']} steps): PD / XFEM - 1",
                 "",
-                "| CCM-PD reading | points | CMOD range | mean | RMS | min | max |",
-                "|---|---|---|---|---|---|---|",
+                *study.agreement_table(cur, "CMOD range"),
+                "",
             ]
-            for k in agreement.READINGS:
-                v = cur[k]
-                if not v["n"]:
-                    lines.append(f"| {k} | 0 | n/a | | | | |")
-                    continue
-                lo, hi = v["cmod_range"]
-                lines.append(
-                    f"| {k} | {v['n']} | {lo:.5g} .. {hi:.5g} | {v['mean_rel_diff']:+.2%} | "
-                    f"{v['rms_rel_diff']:.2%} | {v['min_rel_diff']:+.2%} | "
-                    f"{v['max_rel_diff']:+.2%} |"
-                )
-            lines.append("")
     if s.get("energy"):
         lines += [
             "## Energy audit (rustfrac.energy)",
@@ -1002,22 +952,20 @@ def _markdown(s: dict[str, Any]) -> str:
             "successive secants of the critical states; CCM-PD: released at each SLA break, over "
             "the damage front's advance), against G0:",
             "",
-            "| method | dissipated | new crack area | G / G0 |",
-            "|---|---|---|---|",
-            *(
-                f"| {k} | {v['energy']:.5g} | {v['crack_area']:.5g} | {v['ratio']:.4f} |"
-                for k, v in s["energy"].items()
-            ),
+            *study.energy_table(s["energy"], ".5g", finite=False),
             "",
         ]
     c = s["cost"]
     lines += [
         "## Cost",
         "",
-        "| method | paper (laptop, Mathematica / MATLAB) | rustfrac |",
-        "|---|---|---|",
-        f"| XFEM growth | {c['paper_xfem_s']} s | {_fmt(c['xfem_s'], '.3f')} s |",
-        f"| CCM-PD, SLA | {c['paper_ccm_pd_s']} s | {_fmt(c['ccm_pd_s'], '.3f')} s |",
+        *study.table(
+            ["method", "paper (laptop, Mathematica / MATLAB)", "rustfrac"],
+            [
+                ["XFEM growth", f"{c['paper_xfem_s']} s", f"{_fmt(c['xfem_s'], '.3f')} s"],
+                ["CCM-PD, SLA", f"{c['paper_ccm_pd_s']} s", f"{_fmt(c['ccm_pd_s'], '.3f')} s"],
+            ],
+        ),
         "",
         _split_line(s),
         f"Whole job: {s.get('total_s', 0):.1f} s. Growth status: XFEM "
@@ -1027,7 +975,11 @@ def _markdown(s: dict[str, Any]) -> str:
         "Scenes used: see `summary.json` (`scenes`).",
         "",
     ]
-    return "\n".join(lines)
+    lead = (
+        f"rustfrac {s['version']}, preset `{s['preset']}` ({s['preset_description']}), grips "
+        f"`{s['bc']}`"
+    )
+    return study.summary_markdown(s, "rustfrac Fig. 7 reproduction", lead, lines, platform=True)
 
 
 def _split_line(s: dict[str, Any]) -> str:
@@ -1043,11 +995,3 @@ def _split_line(s: dict[str, Any]) -> str:
         f"{t['total']:.2f} s; interpreter start-up, imports and the result folders' commit, "
         "after this summary, not included)."
     )
-
-
-def _json_default(v: Any) -> Any:
-    if isinstance(v, np.generic):
-        return v.item()
-    if isinstance(v, np.ndarray):
-        return v.tolist()
-    raise TypeError(f"not JSON serialisable: {type(v).__name__}")

@@ -25,7 +25,7 @@ from matplotlib.figure import Figure
 from matplotlib.image import imsave
 from matplotlib.patches import Rectangle
 
-from .result import _atomic
+from ._folder import atomic_file
 
 __all__ = [
     "Curve",
@@ -74,7 +74,7 @@ def save_figure(fig: Figure | Rendered, path: str | Path, dpi: int = 150) -> Pat
     (which only a larger canvas shows) goes through ``savefig(bbox_inches="tight")``."""
     p = Path(path)
     r = fig if isinstance(fig, Rendered) else render(fig, dpi)
-    with _atomic(p, "wb") as f:
+    with atomic_file(p, "wb") as f:
         if r.rgba is None:
             r.fig.savefig(f, format="png", dpi=r.dpi, bbox_inches="tight")
         else:

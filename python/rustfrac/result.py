@@ -38,7 +38,6 @@ import numpy as np
 
 from . import _vtk
 from ._folder import FolderWriter, locked, writing
-from ._folder import atomic_file as _atomic  # noqa: F401 (figures, fig7 and sweep use it)
 from .errors import InvalidParameterError, InvalidResultError, ResultNotFoundError
 
 __all__ = ["Result", "load"]
@@ -441,7 +440,7 @@ def load(directory: PathLike) -> Result:
         ) from e
     except OSError as e:
         raise InvalidResultError(f"cannot read result {d}: {e.strerror or e}", d) from e
-    doc = _read_json(jpath, jbytes)
+    doc = read_json(jpath, jbytes)
     version = _check_doc(jpath, doc)
     if version >= 2:
         _check_checksums(jpath, doc, NPZ_NAME, nbytes)
@@ -562,7 +561,7 @@ def _sha256(p: Path) -> str:
     return h.hexdigest()
 
 
-def _read_json(path: Path, data: bytes) -> dict[str, Any]:
+def read_json(path: Path, data: bytes) -> dict[str, Any]:
     """Strict JSON of a result / summary file: a dict, no NaN or infinite numbers (the writers
     store a non-finite float as null)."""
 

@@ -68,7 +68,7 @@ def run(
         raise InvalidTypeError(
             f"invalid condition: expected True or False, got {condition!r}", "condition"
         )
-    scene = _as_scene(scene)
+    scene = as_scene(scene)
     logger.debug("run %s", scene.describe())
     cb = _progress.callback(progress, desc=f"rustfrac {scene.method}")
     t0 = time.perf_counter()
@@ -88,7 +88,8 @@ def run(
     return res
 
 
-def _as_scene(scene: Scene | Mapping[str, Any] | str | Path) -> Scene:
+def as_scene(scene: Scene | Mapping[str, Any] | str | Path) -> Scene:
+    """A :class:`Scene` from a Scene, a scene dict or a TOML path (what :func:`run` takes)."""
     if isinstance(scene, Scene):
         return scene
     if isinstance(scene, Mapping):

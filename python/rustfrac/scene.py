@@ -112,6 +112,8 @@ METHOD_SECTIONS: dict[str, tuple[str, ...]] = {
 MAX_ELEMENTS: int = _CONST["MAX_ELEMENTS"]
 #: largest SLA step count, re-condensation period and damage snapshot step
 MAX_STEPS: int = _CONST["MAX_STEPS"]
+#: Poisson's ratio of bond-based PD (the only one it represents, in plane strain)
+PD_NU: float = _CONST["PD_NU"]
 #: largest scene file / TOML text (bytes): a scene holds a few kB; a bound keeps a runaway list
 #: from becoming gigabytes of memory and of result.json
 MAX_SCENE_BYTES: int = 1 << 20

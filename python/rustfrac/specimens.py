@@ -33,7 +33,7 @@ from typing import Any, Callable, ClassVar
 
 from ._log import logger
 from .errors import InvalidTypeError, UnknownParameterError
-from .scene import _CONST, METHODS, PdOptions, Scene
+from .scene import METHODS, PD_NU, PdOptions, Scene
 from .scenes import edge_crack_plate
 
 __all__ = [
@@ -85,7 +85,7 @@ def _finish(d: dict[str, Any], overrides: Mapping[str, Any]) -> Scene:
     # the method's own sections only (a PD scene has no [mesh]): the core refuses the others
     if d["method"] not in ("fem", "xfem"):
         d.pop("mesh", None)
-        _pd_layout(d)
+        pd_layout(d)
     if d["method"] != "xfem":
         d.pop("xfem", None)
     scene = Scene.from_dict(d)
@@ -99,24 +99,24 @@ def _finish(d: dict[str, Any], overrides: Mapping[str, Any]) -> Scene:
 _PD_REGION_HORIZONS = 6.0
 
 
-def _pd_layout(d: dict[str, Any]) -> None:
-    """A specimen for "pd" / "ccm_pd": Poisson's ratio the core's bond-based value (PD_NU, the
+def pd_layout(d: dict[str, Any]) -> None:
+    """Lays out a PD scene dict ``d`` in place (a "pd" / "ccm_pd" specimen, and the PD scene of
+    :func:`rustfrac.compare.plan`): Poisson's ratio the core's bond-based value (PD_NU, the
     literature's value cannot be represented) in plane strain (the PD methods' only plane), the
-    crack moved by half a grid spacing when it
-    would run along a node row (the core refuses a pre-crack through nodes), and for CCM-PD
-    a PD rectangle of ``_PD_REGION_HORIZONS`` horizons around the crack tip unless the
-    specimen sets one."""
+    crack moved by half a grid spacing when it would run along a node row (the core refuses a
+    pre-crack through nodes), and for CCM-PD a PD rectangle of ``_PD_REGION_HORIZONS`` horizons
+    around the crack tip unless the specimen sets one."""
     pd = d.setdefault("pd", {})
     dx = pd.get("dx", PdOptions().dx)
     m = pd.get("m", PdOptions().m)
     mat = d.setdefault("material", {})
-    if mat.get("nu", _CONST["PD_NU"]) != _CONST["PD_NU"]:
+    if mat.get("nu", PD_NU) != PD_NU:
         logger.info(
             "specimen: bond-based PD fixes nu = %s (the specimen's nu = %s is replaced)",
-            _CONST["PD_NU"],
+            PD_NU,
             mat["nu"],
         )
-    mat["nu"] = _CONST["PD_NU"]
+    mat["nu"] = PD_NU
     if mat.get("plane", "strain") != "strain":
         logger.info(
             "specimen: the PD methods are plane strain (the specimen's plane stress is replaced)"

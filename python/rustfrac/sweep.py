@@ -25,13 +25,10 @@ a status) of the three finest levels. Every point is timed ``repeats`` times, th
 
 from __future__ import annotations
 
-import csv
 import functools
-import io
 import json
 import math
 import os
-import platform
 import resource
 import sys
 import time
@@ -39,10 +36,11 @@ from collections.abc import Callable, Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from ._folder import with_fallback, writing
+from ._folder import atomic_file, with_fallback, writing
 from .errors import InvalidParameterError
 from .scene import Scene
 from .scenes import edge_crack_plate
+from .study import csv_text, fmt, machine, table
 
 __all__ = [
     "DEFAULT_REPEATS",
@@ -636,9 +634,9 @@ def scene_points(
         InvalidParameterError: an unknown parameter or one the scene's method does not have,
             fewer than one level, repeated levels, a bad level (``param`` names the culprit).
     """
-    from .runner import _as_scene
+    from .runner import as_scene
 
-    scene = _as_scene(scene)
+    scene = as_scene(scene)
     if not isinstance(param, str) or not (param in SCENE_PARAMS or "." in param.strip(".")):
         raise InvalidParameterError(f"invalid param {param!r}: expected {_params_help()}", "param")
     if param in SCENE_PARAMS and scene.method not in SCENE_PARAMS[param]:
@@ -894,16 +892,8 @@ CSV_KEYS: tuple[str, ...] = (
 )  # fmt: skip
 
 
-def _fmt(v: Any) -> str:
-    if v is None:
-        return ""
-    if isinstance(v, float):
-        return repr(v)
-    return str(v)
-
-
 def _g(v: Any, spec: str = ".4g") -> str:
-    return "-" if v is None else format(v, spec)
+    return fmt(v, spec, absent="-")
 
 
 def markdown(
@@ -919,23 +909,24 @@ def markdown(
         "steps), with its step. Time: wall time of the point in its worker (one thread). "
         "Memory: the worker's peak RSS (ru_maxrss).",
         "",
-        "| method | study | value | time (s) | peak RSS (MB) | unknowns | bonds | K_I | CMOD "
-        "| sigma22 | peak sigma22 (step) | err K_I | err CMOD | err sigma22 | err peak | err max |",
-        "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
     ]
+    rows = []
     for r in records:
         v = r["value"]
         val = f"1/{round(1 / v)}" if r["param"] == "dx" else str(v)
-        lines.append(
-            f"| {r['method']} | {r['study']} | {val} | {r['wall_time_s']:.3f} | "
-            f"{r['peak_rss_mb']:.0f} | {r['n_dofs']} | {_g(r['n_bonds'], 'd')} | "
-            f"{_g(r['K_I'], '.6g')} | {_g(r['cmod'], '.6g')} | {_g(r['sigma22'], '.6g')} | "
-            f"{_g(r['peak_sigma22'], '.6g')} ({_g(r['peak_step'], 'd')}/{r['n_steps']}) | "
-            + " | ".join(_g(r[f"err_{q}"], ".2e") for q in QUANTITIES)
-            + f" | {_g(r['err_max'], '.2e')} |"
-        )
-    lines += ["", "## References", "", "| method | quantity | reference | kind | observed rate "
-              "| finest level | levels |", "|---|---|---:|---|---:|---:|---:|"]  # fmt: skip
+        rows.append(
+            [r["method"], r["study"], val, f"{r['wall_time_s']:.3f}", f"{r['peak_rss_mb']:.0f}",
+             f"{r['n_dofs']}", _g(r["n_bonds"], "d"), _g(r["K_I"], ".6g"), _g(r["cmod"], ".6g"),
+             _g(r["sigma22"], ".6g"),
+             f"{_g(r['peak_sigma22'], '.6g')} ({_g(r['peak_step'], 'd')}/{r['n_steps']})",
+             *(_g(r[f"err_{q}"], ".2e") for q in QUANTITIES), _g(r["err_max"], ".2e")]
+        )  # fmt: skip
+    header = ["method", "study", "value", "time (s)", "peak RSS (MB)", "unknowns", "bonds", "K_I",
+              "CMOD", "sigma22", "peak sigma22 (step)", "err K_I", "err CMOD", "err sigma22",
+              "err peak", "err max"]  # fmt: skip
+    lines += table(header, rows, "lll" + "r" * 13)
+    lines += ["", "## References", ""]
+    rows = []
     for method, qs in refs.items():
         for q, ref in qs.items():
             kind = (
@@ -943,22 +934,25 @@ def markdown(
                 if ref["kind"] == "richardson"
                 else f"finest level ({ref['why']})"
             )
-            lines.append(
-                f"| {method} | {q} | {ref['value']:.8g} | {kind} | {_g(ref['rate'], '.3g')} | "
-                f"{ref['finest']:.8g} | {ref['levels']} |"
-            )
-    lines += ["", "## Presets (from the Pareto front of time against err max)", "",
-              "| method | preset | point | time (s) | err max | tolerance |",
-              "|---|---|---|---:|---:|---|"]  # fmt: skip
+            rows.append(
+                [method, q, f"{ref['value']:.8g}", kind, _g(ref["rate"], ".3g"),
+                 f"{ref['finest']:.8g}", f"{ref['levels']}"]
+            )  # fmt: skip
+    header = ["method", "quantity", "reference", "kind", "observed rate", "finest level", "levels"]
+    lines += table(header, rows, "llrlrrr")
+    lines += ["", "## Presets (from the Pareto front of time against err max)", ""]
+    rows = []
     for method, ps in presets.items():
         for name, p in ps.items():
             tol = f"<= {p['tolerance']:g}" + ("" if p["meets_tolerance"] else " (not met)")
             if p["is_reference"]:
                 tol += " (the reference level itself: error 0 by construction)"
-            lines.append(
-                f"| {method} | {name} | {p['point']} | {p['wall_time_s']:.3f} | "
-                f"{p['err_max']:.2e} | {tol} |"
-            )
+            rows.append(
+                [method, name, f"{p['point']}", f"{p['wall_time_s']:.3f}", f"{p['err_max']:.2e}",
+                 tol]
+            )  # fmt: skip
+    header = ["method", "preset", "point", "time (s)", "err max", "tolerance"]
+    lines += table(header, rows, "lllrrl")
     return "\n".join(lines) + "\n"
 
 
@@ -970,8 +964,6 @@ def plot(records: Sequence[dict[str, Any]], method: str, path: Path) -> None:
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-
-    from .result import _atomic
 
     rs = [r for r in records if r["method"] == method and r.get("err_max") is not None]
     fig, ax = plt.subplots(figsize=(6.4, 4.6))
@@ -1002,7 +994,7 @@ def plot(records: Sequence[dict[str, Any]], method: str, path: Path) -> None:
     ax.grid(True, which="both", alpha=0.3)
     if ax.get_legend_handles_labels()[0]:
         ax.legend(fontsize=8)
-    with _atomic(path, "wb") as f:
+    with atomic_file(path, "wb") as f:
         fig.savefig(f, format="png", dpi=120, bbox_inches="tight")
     plt.close(fig)
 
@@ -1052,7 +1044,7 @@ def _write(
     presets = choose_presets(recs, points)
     with writing(out, owned=FILES, last="sweep.json") as w:
         rows = ([r.get(k) for k in CSV_KEYS] for r in recs)
-        w.stage("sweep.csv").write_text(_csv_text(CSV_KEYS, rows), encoding="utf-8")
+        w.stage("sweep.csv").write_text(csv_text(CSV_KEYS, rows), encoding="utf-8")
         w.stage("sweep.md").write_text(markdown(recs, refs, presets), encoding="utf-8")
         plots = [
             (f"sweep_{m}.png", functools.partial(plot, recs, m))
@@ -1063,7 +1055,7 @@ def _write(
         interrupted = bool(extra.get("interrupted")) or stopped
         doc = {
             "version": __version__,
-            "machine": _machine(),
+            "machine": machine(cpu=False, load_average=True),
             **extra,
             "interrupted": interrupted,
             "complete": not interrupted and not missing_points and not missing_files,
@@ -1078,24 +1070,6 @@ def _write(
     if stopped:
         raise SweepInterrupted(records, doc)
     return doc
-
-
-def _machine() -> dict[str, Any]:
-    return {
-        "platform": platform.platform(),
-        "cores": os.cpu_count(),
-        "python": platform.python_version(),
-        "load_average": list(os.getloadavg()) if hasattr(os, "getloadavg") else None,
-    }
-
-
-def _csv_text(header: Sequence[str], rows: Iterable[Sequence[Any]]) -> str:
-    buf = io.StringIO()
-    w = csv.writer(buf)
-    w.writerow(header)
-    for row in rows:
-        w.writerow([_fmt(v) for v in row])
-    return buf.getvalue()
 
 
 #: columns of a scene sweep's ``sweep.csv`` (``q`` is written under the quantity's name)
@@ -1117,15 +1091,16 @@ def scene_markdown(study: dict[str, Any]) -> str:
         f"{q} in the scene's units; h: element size sqrt(hx hy) (mesh) or dx (pd.dx), length "
         "units; time: the minimum wall time of the repeats in one worker (one thread), with "
         "their spread; err est: the level's value minus the Richardson value.", "",
-        f"| level | point | h | unknowns | {q} | err est | rel. err est | time (s) | spread (s) |",
-        "|---|---|---:|---:|---:|---:|---:|---:|---:|",
     ]  # fmt: skip
-    for r in study["levels"]:
-        lines.append(
-            f"| {_cell(r['level'])} | {r['name']} | {_g(r['h'], '.5g')} | {r['n_dofs']} | "
-            f"{_g(r['q'], '.10g')} | {_g(r['err_est'], '.3e')} | {_g(r['rel_err_est'], '.2e')} "
-            f"| {r['wall_time_s']:.4f} | {r['wall_time_spread_s']:.4f} |"
-        )
+    rows = (
+        [f"{_cell(r['level'])}", f"{r['name']}", _g(r["h"], ".5g"), f"{r['n_dofs']}",
+         _g(r["q"], ".10g"), _g(r["err_est"], ".3e"), _g(r["rel_err_est"], ".2e"),
+         f"{r['wall_time_s']:.4f}", f"{r['wall_time_spread_s']:.4f}"]
+        for r in study["levels"]
+    )  # fmt: skip
+    header = ["level", "point", "h", "unknowns", q, "err est", "rel. err est", "time (s)",
+              "spread (s)"]  # fmt: skip
+    lines += table(header, rows, "ll" + "r" * 7)
     lines += ["", "## Richardson extrapolation (three finest levels)", ""]
     if rich["status"] == "ok":
         ratios = ", ".join(f"{x:.4g}" for x in rich["ratios"])
@@ -1136,14 +1111,14 @@ def scene_markdown(study: dict[str, Any]) -> str:
     else:
         lines.append(f"{rich['status']}: {rich['why']} (no extrapolated value).")
     if study["presets"]:
-        lines += ["", "## Presets (cheapest level within the estimated relative error)", "",
-                  "| preset | tolerance | point | time (s) | rel. err est |",
-                  "|---|---|---|---:|---:|"]  # fmt: skip
-        for name, pr in study["presets"].items():
-            lines.append(
-                f"| {name} | {pr['tolerance']:g} | {pr['point'] or '(none)'} | "
-                f"{_g(pr['wall_time_s'], '.4f')} | {_g(pr['rel_err_est'], '.2e')} |"
-            )
+        lines += ["", "## Presets (cheapest level within the estimated relative error)", ""]
+        rows = (
+            [name, f"{pr['tolerance']:g}", f"{pr['point'] or '(none)'}",
+             _g(pr["wall_time_s"], ".4f"), _g(pr["rel_err_est"], ".2e")]
+            for name, pr in study["presets"].items()
+        )  # fmt: skip
+        header = ["preset", "tolerance", "point", "time (s)", "rel. err est"]
+        lines += table(header, rows, "lllrr")
     return "\n".join(lines) + "\n"
 
 
@@ -1173,11 +1148,11 @@ def write_scene_outputs(
         header = [quantity if k == "q" else k for k in SCENE_CSV_KEYS]
         rows = ([_cell(r.get(k)) for k in SCENE_CSV_KEYS] for r in study["levels"])
         with writing(d, owned=FILES, last="sweep.json") as w:
-            w.stage("sweep.csv").write_text(_csv_text(header, rows), encoding="utf-8")
+            w.stage("sweep.csv").write_text(csv_text(header, rows), encoding="utf-8")
             w.stage("sweep.md").write_text(scene_markdown(study), encoding="utf-8")
             doc = {
                 "version": __version__,
-                "machine": _machine(),
+                "machine": machine(cpu=False, load_average=True),
                 **extra,
                 **study,
                 "interrupted": interrupted,

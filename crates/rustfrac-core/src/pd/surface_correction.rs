@@ -56,7 +56,7 @@
 //!   would multiply their critical energy by G and inflate the fracture energy at the tip.
 //!   Measured on the paper's case (`benches/RESULTS.md`, "Surface correction"): peak sigma22
 //!   +7.6 % against XFEM with s0 kept, +4.3 % with w_c kept (+5.2 % uncorrected). Both
-//!   engines read the critical stretch of a bond from here (`pd/sla/driver.rs`).
+//!   engines read the critical stretch of a bond from here (`pd/sla/critical.rs`).
 
 use crate::geometry::bond_crosses;
 use crate::pd::{family_stencil, Bond, Grid};

@@ -2,7 +2,10 @@
 //! plate, and the driver the Python bindings call ([`run`]).
 //!
 //! Each step solves the current (linear) model once at the reference load, breaks the bond with
-//! the smallest load factor lambda = s0 / s and records the response at that load (`driver.rs`).
+//! the smallest load factor lambda = s0 / s and records the response at that load. The run
+//! (`run.rs`) builds the model and its solver (`choice.rs`), replays a checkpoint (`resume.rs`),
+//! takes the steps (`steps.rs`, on the state `state.rs`; the critical bonds: `critical.rs`),
+//! grows an adaptive region between them (`switch.rs`) and collects the result (`collect.rs`).
 //! Two solvers behind one interface (`engine.rs`):
 //! * **oracle** (`fast = false` or `pd.engine = "oracle"`, `oracle.rs`): reassemble the splice
 //!   matrix and refactorise it (sparse LU, symbolic analysis reused) at every step.
@@ -41,11 +44,13 @@
 //! ([`crate::pd::splice::SpliceModel::with_precrack`]).
 //!
 //! The records (`result.rs`: [`SlaStep`], [`SlaStatus`], [`CcmPdResult`]) are a leaf module, so
-//! the checkpoint format depends on them and not on the driver.
+//! the checkpoint format depends on them and not on the run.
 
 mod adaptive;
 pub mod checkpoint;
-mod driver;
+mod choice;
+mod collect;
+mod critical;
 mod engine;
 mod fast;
 mod grounding;
@@ -53,11 +58,16 @@ mod memory;
 mod oracle;
 mod progress;
 mod result;
+mod resume;
+mod run;
+mod state;
+mod steps;
+mod switch;
 
-pub use driver::{run, run_model, run_reporting};
 #[doc(hidden)]
 pub use fast::{force_lu_form, force_screening};
 pub use grounding::DEBRIS_LIMIT;
 pub use memory::peak_memory_bytes;
 pub use progress::SlaProgress;
 pub use result::{CcmPdResult, RegionSwitch, SlaStatus, SlaStep};
+pub use run::{run, run_model, run_reporting};

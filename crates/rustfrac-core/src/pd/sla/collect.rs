@@ -1,0 +1,137 @@
+//! The result of a run ([`results`]): the model's counts and constants, the reference solution,
+//! the history and the damage gathered into a [`CcmPdResult`], with the run's warnings.
+
+use super::grounding::DEBRIS_LIMIT;
+use super::memory::peak_memory_bytes;
+use super::result::CcmPdResult;
+use super::state::RunState;
+use super::switch::in_final_numbering;
+use crate::error::Result;
+use crate::pd::splice::{SpliceModel, StaticSolution};
+use crate::pd::{damage, BYTES_PER_BOND};
+use crate::warning::{Warning, WarningKind};
+
+/// What the driver knows of a run besides its state: the solver, its counters and the timings.
+#[derive(Default)]
+pub(super) struct RunInfo {
+    pub(super) solver: String,
+    pub(super) refactor_interval: usize,
+    pub(super) n_refactorisations: usize,
+    pub(super) max_update_rank: usize,
+    pub(super) inverse_columns: usize,
+    /// models whose sparse form fell back from the bordered Cholesky to the LU of S (at the
+    /// condensation where K_PP was not symmetric positive definite, and from then on)
+    pub(super) lu_fallbacks: usize,
+    pub(super) screened_steps: usize,
+    pub(super) screened_bonds: usize,
+    pub(super) resumed_steps: usize,
+    pub(super) n_checkpoints: usize,
+    pub(super) setup_seconds: f64,
+    pub(super) sla_seconds: f64,
+}
+
+/// The result of a run: the model's counts and constants, the reference solution `sol0`, the
+/// final displacements, the history, the damage, and a warning when nodes were grounded.
+pub(super) fn results(
+    model: &SpliceModel,
+    st: RunState,
+    sol0: StaticSolution,
+    u_final: Vec<f64>,
+    info: RunInfo,
+) -> Result<CcmPdResult> {
+    let mut st = st;
+    if let Some(keys) = st.keys.take() {
+        in_final_numbering(model, &mut st, &keys)?;
+    }
+    let mut warnings = model.warnings.clone();
+    if st.margin_violated {
+        let a = model.pd_method().adaptive.map_or(0.0, |a| a.margin);
+        warnings.push(Warning::new(
+            WarningKind::Discretisation,
+            format!(
+                "the adaptive PD region could not grow (the plate's edge): bonds broke within \
+                 pd.adapt_margin = {a} horizons of the FEM part (closest approach: \
+                 interface_distance_min)"
+            ),
+        ));
+    }
+    let detached_nodes = st.detached_nodes;
+    if !detached_nodes.is_empty() {
+        let n_pre = detached_nodes.iter().filter(|d| d.0 == 0).count();
+        warnings.push(Warning::new(
+            WarningKind::Discretisation,
+            format!(
+                "{} PD node(s) lost all stiffness along some direction (every bond broken, the \
+             remaining ones parallel, or a loose fragment of at most {DEBRIS_LIMIT} nodes) and \
+             were grounded there ({n_pre} by the pre-crack, the others during the SLA); they \
+             carry no force along it (see detached_nodes)",
+                detached_nodes.len()
+            ),
+        ));
+    }
+    let broken = st.broken;
+    let nn = model.grid.n_nodes();
+    Ok(CcmPdResult {
+        method: model.problem.method.name().into(),
+        grip: model.problem.boundary.name().into(),
+        solver: if info.lu_fallbacks > 0 {
+            format!(
+                "{}; the LU of S in {} model(s), from the condensation where K_PP was not \
+                 symmetric positive definite",
+                info.solver, info.lu_fallbacks
+            )
+        } else {
+            info.solver
+        },
+        u: sol0.u,
+        u_final,
+        node_xy: (0..nn).map(|n| model.grid.xy(n)).collect(),
+        n_nodes: nn,
+        n_dofs: model.n_dofs(),
+        n_pd_nodes: model.pd_nodes.len(),
+        n_bonds: model.bonds.len(),
+        n_precrack_bonds: model.precrack_broken.iter().filter(|&&b| b).count(),
+        n_removed_elements: model.n_removed_elements,
+        bytes_per_bond: BYTES_PER_BOND,
+        gamma: model.pd.gamma,
+        c: model.pd.c,
+        s0: model.pd.s0,
+        delta: model.pd.delta,
+        sigma22: sol0.sigma22,
+        cmod: sol0.cmod,
+        out_of_balance: sol0.out_of_balance,
+        responses: Default::default(),
+        anchor_node: model.anchor,
+        anchor_xy: model.grid.xy(model.anchor),
+        history: st.history,
+        initial_crack_length: model.problem.cracks.first().map_or(0.0, |c| c.a0),
+        damage: damage(nn, &model.bonds, &broken, &model.pd_nodes),
+        damage_at: st.damage_at,
+        pd_node_xy: model.pd_nodes.iter().map(|&n| model.grid.xy(n)).collect(),
+        pd_nodes: model.pd_nodes.clone(),
+        bond_nodes: model
+            .bonds
+            .iter()
+            .map(|b| [b.i as usize, b.j as usize])
+            .collect(),
+        broken,
+        status: st.status,
+        n_refactorisations: info.n_refactorisations,
+        max_update_rank: info.max_update_rank,
+        inverse_columns: info.inverse_columns,
+        screened_steps: info.screened_steps,
+        screened_bonds: info.screened_bonds,
+        refactor_interval: info.refactor_interval,
+        detached_nodes,
+        warnings,
+        resumed_steps: info.resumed_steps,
+        n_checkpoints: info.n_checkpoints,
+        setup_seconds: info.setup_seconds,
+        sla_seconds: info.sla_seconds,
+        peak_memory_bytes: peak_memory_bytes(),
+        regions: model.pd_method().regions.clone(),
+        switches: st.switches,
+        interface_distance_min: st.closest.is_finite().then(|| st.closest / model.pd.delta),
+        surface_correction: model.surface.as_ref().map(|s| s.summary),
+    })
+}
