@@ -17,6 +17,7 @@
 //!   stores them so, with the table of region switches. When the region switched, the result's
 //!   history, detached nodes and damage snapshots are translated to the final model by the keys.
 
+use super::result::SlaStep;
 use crate::error::{Error, Result};
 use crate::pd::splice::SpliceModel;
 use std::collections::HashMap;
@@ -141,4 +142,24 @@ pub(super) struct Keys {
     pub detached: Vec<NodeKey>,
     /// per damage snapshot: the damaged PD nodes and their damage
     pub damage_at: Vec<Vec<(NodeKey, f64)>>,
+}
+
+/// The keys of a step's records on the model it ran on.
+pub(super) fn step_keys(model: &SpliceModel, st: &SlaStep) -> StepKeys {
+    StepKeys {
+        bonds: st.bonds.iter().map(|&b| bond_key(model, b)).collect(),
+        nodes: st.nodes.map(|n| node_key(model, n)),
+        detached: st.detached.iter().map(|&n| node_key(model, n)).collect(),
+    }
+}
+
+/// The damaged PD nodes of a damage field (order of the model's `pd_nodes`) by key.
+pub(super) fn damage_keys(model: &SpliceModel, d: &[f64]) -> Vec<(NodeKey, f64)> {
+    model
+        .pd_nodes
+        .iter()
+        .zip(d)
+        .filter(|(_, &v)| v != 0.0)
+        .map(|(&n, &v)| (node_key(model, n), v))
+        .collect()
 }

@@ -1,7 +1,6 @@
 //! The engine choice of a run ([`engine_for`]): the oracle, or the fast solver with the form of
 //! the condensed system the scene asks for or the cost model (`cost.rs`) estimates cheaper.
 
-use crate::pd::cost::{CostEstimate, EngineKind};
 use super::engine::{timing, Engine};
 use super::fast::{
     bordered_analysis, dense_lead, schur_pattern, Fast, FemPart, SchurKind, SparseFactor,
@@ -9,6 +8,7 @@ use super::fast::{
 use super::oracle::Oracle;
 use crate::error::{Error, Result};
 use crate::la::{Cholesky, CscMatrix};
+use crate::pd::cost::{CostEstimate, EngineKind};
 use crate::pd::splice::{SpliceModel, Spring};
 use crate::problem::{SlaEngine, SlaParams};
 use faer::Par;

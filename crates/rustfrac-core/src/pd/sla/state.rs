@@ -1,11 +1,10 @@
 //! The evolving state of an SLA run ([`RunState`]): the broken bonds, the groundings of the nodes
 //! they detach (`grounding.rs`), the history and what it records per step.
 
-use super::adaptive::{bond_interface_distance, node_key, Keys};
+use super::adaptive::{bond_interface_distance, damage_keys, node_key, step_keys, Keys};
 use super::checkpoint;
 use super::grounding::Grounding;
 use super::result::{RegionSwitch, SlaStatus, SlaStep};
-use super::switch::{damage_keys, step_keys};
 use crate::pd::damage;
 use crate::pd::splice::{ProbeFunctional, SpliceModel, Spring};
 use crate::problem::SlaParams;

@@ -3,10 +3,10 @@
 //! records of the run renumbered into the final model at the end.
 
 use super::adaptive::{
-    bond_interface_distance, bond_key, bond_midpoint, node_key, Index, Keys, NodeKey, StepKeys,
+    bond_interface_distance, bond_key, bond_midpoint, damage_keys, node_key, step_keys, Index, Keys,
 };
 use super::engine::timing;
-use super::result::{RegionSwitch, SlaStep};
+use super::result::RegionSwitch;
 use super::state::RunState;
 use crate::error::Result;
 use crate::pd::splice::SpliceModel;
@@ -102,26 +102,6 @@ impl RunState {
         }
         Some(centres)
     }
-}
-
-/// The keys of a step's records on the model it ran on.
-pub(super) fn step_keys(model: &SpliceModel, st: &SlaStep) -> StepKeys {
-    StepKeys {
-        bonds: st.bonds.iter().map(|&b| bond_key(model, b)).collect(),
-        nodes: st.nodes.map(|n| node_key(model, n)),
-        detached: st.detached.iter().map(|&n| node_key(model, n)).collect(),
-    }
-}
-
-/// The damaged PD nodes of a damage field (order of the model's `pd_nodes`) by key.
-pub(super) fn damage_keys(model: &SpliceModel, d: &[f64]) -> Vec<(NodeKey, f64)> {
-    model
-        .pd_nodes
-        .iter()
-        .zip(d)
-        .filter(|(_, &v)| v != 0.0)
-        .map(|(&n, &v)| (node_key(model, n), v))
-        .collect()
 }
 
 /// The records of a run whose region switched, in the final model's numbering (by key).
