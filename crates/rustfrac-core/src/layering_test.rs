@@ -595,7 +595,7 @@ fn module_path(rel: &str) -> Vec<&str> {
 }
 
 /// An edge between files as one between sibling modules: the children of the deepest module
-/// holding both (`pd/splice/build.rs -> pd/sla/cost.rs` is `pd::splice -> pd::sla`). None
+/// holding both (`pd/splice/build.rs -> pd/sla/driver.rs` is `pd::splice -> pd::sla`). None
 /// between a module and its own descendants (the file graph sees those).
 fn siblings(a: &str, b: &str) -> Option<(String, String)> {
     let (ma, mb) = (module_path(a), module_path(b));
