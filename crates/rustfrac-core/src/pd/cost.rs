@@ -28,18 +28,18 @@
 //! matter for the choice.
 
 /// Dense LU rate (flop/s).
-const DENSE_FLOPS: f64 = 2.0e10;
+pub const DENSE_FLOPS: f64 = 2.0e10;
 /// Sparse supernodal factorisation rate (flop/s).
-const SPARSE_FLOPS: f64 = 8.0e9;
+pub const SPARSE_FLOPS: f64 = 8.0e9;
 /// Sparse triangular solve rate with a batch of right-hand sides (flop/s): 128 columns of the
 /// pure PD paper grid's factor in 3.8 s on the loaded development machine, 1.2e10 (one
 /// right-hand side alone: 2e9, memory bound).
-const BATCH_SOLVE_FLOPS: f64 = 1.2e10;
+pub const BATCH_SOLVE_FLOPS: f64 = 1.2e10;
 /// Columns of S^{-1} computed per SLA step, refills after re-factorisations included: measured
 /// 1.2 (pure PD paper grid, 500 steps: 600 columns) and 1.5 (coarse CCM-PD, 150 steps).
-const COLUMNS_PER_STEP: f64 = 1.5;
+pub const COLUMNS_PER_STEP: f64 = 1.5;
 /// Rate of the O(k n) update work per step (flop/s; memory bound).
-const UPDATE_FLOPS: f64 = 2.0e9;
+pub const UPDATE_FLOPS: f64 = 2.0e9;
 /// Unknowns whose x a screened step evaluates (`sla/fast/screening.rs`, from
 /// [`SCREEN_MIN_UNKNOWNS`] on): the ends of the 1 000-3 000 bonds near the tip whose
 /// bound reaches the tie window. Its O(bonds) passes do not grow with k.

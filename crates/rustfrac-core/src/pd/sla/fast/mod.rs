@@ -19,8 +19,10 @@
 mod base;
 mod columns;
 mod condensation;
+mod screened_step;
 mod screening;
 mod smw;
+mod update_columns;
 
 pub use base::force_lu_form;
 pub(super) use base::SparseFactor;
@@ -99,7 +101,7 @@ pub(super) struct Fast<'a> {
     /// bond screening (`screening.rs`)
     scr: screening::Screening,
     // SMW state
-    w: smw::UpdateColumns,
+    w: update_columns::UpdateColumns,
     bt: Vec<Vec<(usize, f64)>>,
     /// capacitance inverse, k x k in row-major storage of row stride `cs` (updated in place, the
     /// storage grows by doubling: no allocation per step)
