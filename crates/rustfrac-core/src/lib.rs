@@ -9,7 +9,8 @@
 //! analysis of section 3, [`pd::sla`], with
 //! [`pd::sla::checkpoint`] for resumable runs), with [`la`] (sparse matrices, ordering, direct
 //! solvers, condition) and [`geometry`] (plane geometry: orientation, distances, clipping; one
-//! copy) underneath. No Python here: the `rustfrac-py` crate binds it.
+//! copy) underneath, and [`output`] (every result as a typed record, and the table of its
+//! names, kinds and units). No Python here: the `rustfrac-py` crate binds it.
 //!
 //! Units are consistent but unspecified; the paper's case uses N, mm, MPa.
 
@@ -19,6 +20,7 @@ pub mod fem_driver;
 pub mod geometry;
 pub mod la;
 pub mod memory;
+pub mod output;
 pub mod pd;
 pub mod problem;
 pub mod warning;

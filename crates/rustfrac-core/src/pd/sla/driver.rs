@@ -1042,6 +1042,10 @@ fn results(
         switches: st.switches,
         interface_distance_min: st.closest.is_finite().then(|| st.closest / model.pd.delta),
         surface_correction: model.surface.as_ref().map(|s| s.summary),
+        s0_calibration: {
+            let pm = model.pd_method();
+            crate::pd::calibration::calibration(pm.s0_calibration, pm.m)?
+        },
     })
 }
 
