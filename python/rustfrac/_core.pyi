@@ -45,6 +45,14 @@ def scene_schema() -> list[dict[str, Any]]:
     """Every scene key: dicts with section, key, kind ("float" | "int" | "str" | "bool" | "pair"
     | "intlist"), default, valid (the range in words) and doc."""
 
+def result_schema() -> dict[str, Any]:
+    """Every result entry and status: ``{"entries": [...], "statuses": {method: [...]}}``; an
+    entry is a dict with methods (list), group ("headline" | "fields" | "history" | "scalars" |
+    "meta"), name, kind ("float" | "int" | "bool" | "str" | "float array" | "int array" |
+    "bool array" | "float list" | "str list" | "table" | "table list"), shape (e.g.
+    "(n_nodes, 2)", or None), nullable, unit, presence ("always", "when ...", "python: ...")
+    and doc; a status a dict with name and doc."""
+
 def scene_constants() -> dict[str, Any]:
     """METHODS, BCS, SECTIONS, METHOD_SECTIONS (method -> sections), CRACK_KINDS (method ->
     kinds), DEFAULT_CRACK_KIND (method -> kind), MAX_ELEMENTS, MAX_STEPS,
@@ -66,7 +74,8 @@ def run(
     scene: Any, progress: _ProgressCallback | None = None, condition: bool = True
 ) -> dict[str, Any]:
     """Runs a scene dict without the GIL: ``{method, sigma22, cmod, n_dofs, wall_time_s, fields,
-    history, scalars, meta}`` (the fields of :class:`rustfrac.Result`). ``condition=False`` skips
+    history, scalars, meta}`` (the fields of :class:`rustfrac.Result`; every key is an entry of
+    :func:`result_schema`). ``condition=False`` skips
     the FEM/XFEM condition estimate. Raising from ``progress`` stops the run and re-raises."""
 
 def solve_fem_grid(
