@@ -1,7 +1,8 @@
 """Typed stubs of the native module ``rustfrac._core`` (PyO3). Prefer the Python API
 (:func:`rustfrac.run`, :class:`rustfrac.Scene`). Every scene rule (keys, kinds, defaults,
 ranges, cross-parameter checks) lives in the core: :func:`scene_schema` lists it, :func:`check_scene`
-applies it, :func:`run` runs a scene dict."""
+applies it, :func:`run` runs a scene dict; every result entry and status is in
+:func:`result_schema`."""
 
 from typing import Any, Callable
 
@@ -21,6 +22,7 @@ __all__ = [
     "check_scene",
     "check_section",
     "crack_polylines",
+    "result_schema",
     "run",
     "scene_constants",
     "scene_schema",
