@@ -558,8 +558,10 @@ def load(directory: PathLike) -> Result:
 
 
 #: scalars whose None means "not computed" (``run(..., condition=False)``), not a NaN saved as
-#: null: they are never NaN (a non-finite condition estimate is an error)
-_OPTIONAL_SCALARS = ("condition", "condition_pivot_ratio")
+#: null: the schema's nullable scalars (never NaN: a non-finite condition estimate is an error)
+_OPTIONAL_SCALARS = tuple(
+    sorted({e["name"] for e in result_schema() if e["group"] == "scalars" and e["nullable"]})
+)
 
 
 def _float(v: Any) -> float:
