@@ -24,7 +24,7 @@ from . import errors as _errors
 from . import examples, scenes, specimens
 from ._core import __version__
 from .errors import *  # noqa: F403 (the exception and warning classes, errors.__all__)
-from .result import Result, load
+from .result import STATUSES, Result, load, result_schema
 from .runner import run
 from .scene import METHODS, Scene
 
@@ -45,11 +45,13 @@ def __getattr__(name: str) -> Any:
 __all__ = [
     "METHODS",
     "Result",
+    "STATUSES",
     "Scene",
     "__version__",
     "examples",
     "load",
     "plotting",
+    "result_schema",
     "run",
     "scenes",
     "specimens",

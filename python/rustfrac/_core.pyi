@@ -1,7 +1,8 @@
 """Typed stubs of the native module ``rustfrac._core`` (PyO3). Prefer the Python API
 (:func:`rustfrac.run`, :class:`rustfrac.Scene`). Every scene rule (keys, kinds, defaults,
 ranges, cross-parameter checks) lives in the core: :func:`scene_schema` lists it, :func:`check_scene`
-applies it, :func:`run` runs a scene dict."""
+applies it, :func:`run` runs a scene dict; every result entry and status is in
+:func:`result_schema`."""
 
 from typing import Any, Callable
 
@@ -21,6 +22,7 @@ __all__ = [
     "check_scene",
     "check_section",
     "crack_polylines",
+    "result_schema",
     "run",
     "scene_constants",
     "scene_schema",
@@ -45,6 +47,14 @@ def scene_schema() -> list[dict[str, Any]]:
     """Every scene key: dicts with section, key, kind ("float" | "int" | "str" | "bool" | "pair"
     | "intlist"), default, valid (the range in words) and doc."""
 
+def result_schema() -> dict[str, Any]:
+    """Every result entry and status: ``{"entries": [...], "statuses": {method: [...]}}``; an
+    entry is a dict with methods (list), group ("headline" | "fields" | "history" | "scalars" |
+    "meta"), name, kind ("float" | "int" | "bool" | "str" | "float array" | "int array" |
+    "bool array" | "float list" | "str list" | "table" | "table list"), shape (e.g.
+    "(n_nodes, 2)", or None), nullable, unit, presence ("always", "when ...", "python: ...")
+    and doc; a status a dict with name and doc."""
+
 def scene_constants() -> dict[str, Any]:
     """METHODS, BCS, SECTIONS, METHOD_SECTIONS (method -> sections), CRACK_KINDS (method ->
     kinds), DEFAULT_CRACK_KIND (method -> kind), MAX_ELEMENTS, MAX_STEPS,
@@ -66,7 +76,8 @@ def run(
     scene: Any, progress: _ProgressCallback | None = None, condition: bool = True
 ) -> dict[str, Any]:
     """Runs a scene dict without the GIL: ``{method, sigma22, cmod, n_dofs, wall_time_s, fields,
-    history, scalars, meta}`` (the fields of :class:`rustfrac.Result`). ``condition=False`` skips
+    history, scalars, meta}`` (the fields of :class:`rustfrac.Result`; every key is an entry of
+    :func:`result_schema`). ``condition=False`` skips
     the FEM/XFEM condition estimate. Raising from ``progress`` stops the run and re-raises."""
 
 def solve_fem_grid(

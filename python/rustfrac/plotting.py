@@ -31,13 +31,11 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Rectangle
 
 from .errors import InvalidParameterError, PlotDataError
-from .result import Result
+from .result import Result, result_entry
 
 __all__ = [
     "COMPONENTS",
     "DEFAULT_UNITS",
-    "HISTORY_PREFIXES",
-    "HISTORY_QUANTITIES",
     "PAPER_UNITS",
     "NotebookFigure",
     "Units",
@@ -94,35 +92,22 @@ COMPONENTS: dict[str, str] = {
 }
 _STRESS_COLUMN = {"s11": 0, "s22": 1, "s12": 2}
 
-#: quantity kind of every history column (rustfrac.Result.history); others are labelled bare
-HISTORY_QUANTITIES: dict[str, str] = {
-    **dict.fromkeys(
-        ("u0", "cmod", "a", "crack_length", "tip_x", "tip_y", "r_I", "load_displacement"),
-        "length",
-    ),
-    **dict.fromkeys(("sigma22", "traction"), "stress"),
-    **dict.fromkeys(("K_I", "K_II"), "sif"),
-    "kink_angle": "rad",
-    **dict.fromkeys(
-        ("load_factor", "condition", "step", "bond", "n_broken", "node_i", "node_j", "n_detached"),
-        "1",
-    ),
+#: the quantity kind of a result unit of the schema (:func:`rustfrac.result.result_schema`)
+_UNIT_QUANTITY: dict[str, str] = {
+    "length": "length",
+    "force": "force",
+    "stress": "stress",
+    "stress sqrt(length)": "sif",
+    "1": "1",
+    "rad": "rad",
 }
 
 
-#: quantity kind of the per-name history columns of general scenes, by prefix:
-#: ``probe:<name>:<k>`` (a displacement or opening), ``force:<region>:<k>`` (a region's force,
-#: per thickness), ``mean_stress:<region>``
-HISTORY_PREFIXES: dict[str, str] = {"probe": "length", "force": "force", "mean_stress": "stress"}
-
-
 def history_quantity(key: str) -> str | None:
-    """The quantity kind of a history column (:data:`HISTORY_QUANTITIES`, or by the prefix of
-    a probe, force or mean-stress column), None when unknown."""
-    q = HISTORY_QUANTITIES.get(key)
-    if q is None and ":" in key:
-        q = HISTORY_PREFIXES.get(key.split(":", 1)[0])
-    return q
+    """The quantity kind of a history column, from its unit in the result schema (a probe,
+    force or mean-stress column of a general scene by its pattern), None when unknown."""
+    e = result_entry("history", key)
+    return None if e is None else _UNIT_QUANTITY.get(e["unit"])
 
 
 def _history_label(key: str, units: Units) -> str:

@@ -36,11 +36,11 @@ from typing import IO, Any, Union
 
 import numpy as np
 
-from . import _vtk
+from . import _core, _vtk
 from ._folder import FolderWriter, locked, writing
 from .errors import InvalidParameterError, InvalidResultError, ResultNotFoundError
 
-__all__ = ["Result", "load"]
+__all__ = ["STATUSES", "Result", "load", "result_entry", "result_schema"]
 
 PathLike = Union[str, Path]
 JSON_NAME = "result.json"
@@ -59,9 +59,52 @@ PLOT_NAMES = ("s22.png", "u2.png", "damage.png", "tip_x50.png", "load_path.png")
 OWNED_NAMES = (JSON_NAME, NPZ_NAME, VTU_NAME, PVD_NAME, SERIES_PATTERN, *PLOT_NAMES)
 
 
+#: the core's table of every result entry and status (``_core.result_schema()``)
+_SCHEMA: dict[str, Any] = _core.result_schema()
+#: each method's statuses (``meta["status"]``): method -> {name: meaning}; FEM has none
+STATUSES: dict[str, dict[str, str]] = {
+    m: {s["name"]: s["doc"] for s in rows} for m, rows in _SCHEMA["statuses"].items()
+}
+
+
+def result_schema(method: str | None = None) -> list[dict[str, Any]]:
+    """The table of result entries the core emits (``_core.result_schema()``), all or those of
+    ``method``: dicts with methods, group ("headline" | "fields" | "history" | "scalars" |
+    "meta"), name (``<region>`` / ``<name>`` stand for any region or probe name; ``table.key``
+    a nested table's key), kind, shape (e.g. "(n_nodes, 2)"), nullable, unit ("length",
+    "stress", "1", ...; "" for text, tables and indices), presence and doc."""
+    return [dict(e) for e in _SCHEMA["entries"] if method is None or method in e["methods"]]
+
+
+def _pattern(name: str) -> re.Pattern[str]:
+    return re.compile(
+        "".join(
+            "[^:]+" if p.startswith("<") else re.escape(p)
+            for p in re.split(r"(<[^>]*>)", name)
+            if p
+        )
+        + r"\Z"
+    )
+
+
+_PATTERNS: dict[str, re.Pattern[str]] = {e["name"]: _pattern(e["name"]) for e in _SCHEMA["entries"]}
+
+
+def result_entry(group: str, key: str, method: str | None = None) -> dict[str, Any] | None:
+    """The schema entry of the result key ``key`` of ``group`` (of ``method``, or of the first
+    method that has it), None when the table has none."""
+    for e in _SCHEMA["entries"]:
+        if e["group"] == group and (method is None or method in e["methods"]):
+            if _PATTERNS[e["name"]].match(key):
+                return dict(e)
+    return None
+
+
 @dataclass
 class Result:
-    """The outcome of :func:`rustfrac.run`.
+    """The outcome of :func:`rustfrac.run`. Every key of its groups is an entry of the core's
+    result schema (:func:`result_schema`: kind, shape, unit, meaning; :attr:`schema`,
+    :meth:`unit`), and ``meta["status"]`` one of :data:`STATUSES`.
 
     Attributes:
         method: "fem" | "xfem" | "pd" | "ccm_pd".
@@ -102,6 +145,24 @@ class Result:
         lengths = {k: len(v) for k, v in self.history.items()}
         if len(set(lengths.values())) > 1:
             raise ValueError(f"history arrays must have equal lengths, got {lengths}")
+
+    # -- the schema ----------------------------------------------------------------------------
+
+    @property
+    def schema(self) -> dict[tuple[str, str], dict[str, Any]]:
+        """This method's result entries (:func:`result_schema`) by (group, name)."""
+        return {(e["group"], e["name"]): e for e in result_schema(self.method)}
+
+    def unit(self, key: str, group: str = "history") -> str | None:
+        """The unit of the result key ``key`` of ``group`` ("length", "stress", "1", ...; ""
+        for text and indices), None when the schema has no such key."""
+        e = result_entry(group, key, self.method)
+        return None if e is None else str(e["unit"])
+
+    @property
+    def statuses(self) -> dict[str, str]:
+        """The statuses this method's run may end with (``meta["status"]``): name -> meaning."""
+        return dict(STATUSES.get(self.method, {}))
 
     # -- convenient views ---------------------------------------------------------------------
 
@@ -496,8 +557,10 @@ def load(directory: PathLike) -> Result:
 
 
 #: scalars whose None means "not computed" (``run(..., condition=False)``), not a NaN saved as
-#: null: they are never NaN (a non-finite condition estimate is an error)
-_OPTIONAL_SCALARS = ("condition", "condition_pivot_ratio")
+#: null: the schema's nullable scalars (never NaN: a non-finite condition estimate is an error)
+_OPTIONAL_SCALARS = tuple(
+    sorted({e["name"] for e in result_schema() if e["group"] == "scalars" and e["nullable"]})
+)
 
 
 def _float(v: Any) -> float:

@@ -576,6 +576,7 @@ fn layer(top: &str) -> Option<usize> {
         "fe" => 4,
         "xfem" | "pd" => 5,
         "fem_driver" => 6,
+        "output" => 7,
         other => panic!("the top-level module {other} has no layer: give it one here"),
     })
 }

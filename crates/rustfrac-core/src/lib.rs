@@ -9,7 +9,8 @@
 //! analysis of section 3, [`pd::sla`], with
 //! [`pd::sla::checkpoint`] for resumable runs), with [`la`] (sparse matrices, ordering, direct
 //! solvers, condition) and [`geometry`] (plane geometry: orientation, distances, clipping; one
-//! copy) underneath. No Python here: the `rustfrac-py` crate binds it.
+//! copy) underneath, and [`output`] (every result as a typed record, and the table of its
+//! names, kinds and units). No Python here: the `rustfrac-py` crate binds it.
 //!
 //! Units are consistent but unspecified; the paper's case uses N, mm, MPa.
 
@@ -21,6 +22,7 @@ pub mod la;
 #[cfg(test)]
 mod layering_test;
 pub mod memory;
+pub mod output;
 pub mod pd;
 pub mod problem;
 pub mod warning;

@@ -3,7 +3,6 @@
 use crate::arrays::{arr1, arr2, elements_i64};
 use crate::errors::detached;
 use crate::progress::Progress;
-use crate::shaped::Shaped;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use rustfrac_core::error::Error as CoreError;
@@ -13,9 +12,7 @@ use rustfrac_core::fem_driver;
 use rustfrac_core::problem::Problem;
 use rustfrac_core::problem::{Elastic, Plane};
 
-/// Runs the FEM plate of `p`: fields coords, elements, u, reactions, nodal_stress,
-/// gauss_points, gauss_stress; scalars energy, residual, condition, condition_pivot_ratio; meta
-/// anchor_node, seam_y, seam_length, timings.
+/// Runs the FEM plate of `p` and returns its record ([`rustfrac_core::output`]).
 pub fn run<'py>(py: Python<'py>, p: &Problem, prog: &Progress) -> PyResult<Bound<'py, PyDict>> {
     let r = detached(py, "fem plate", || {
         prog.report(0, 1, "fem: assemble + factorise + solve", true);
@@ -26,38 +23,7 @@ pub fn run<'py>(py: Python<'py>, p: &Problem, prog: &Progress) -> PyResult<Bound
     if let Some(err) = prog.take_error() {
         return Err(err);
     }
-    let r = r?;
-    let s = Shaped::new(
-        py,
-        p,
-        (r.sigma22, r.cmod, r.n_dofs, r.wall_time_s),
-        &r.warnings,
-    )?;
-    s.fields.set_item("coords", arr2(py, r.coords))?;
-    s.fields
-        .set_item("elements", elements_i64(py, &r.elements))?;
-    s.fields.set_item("u", arr1(py, r.u))?;
-    s.fields.set_item("reactions", arr1(py, r.reactions))?;
-    s.fields
-        .set_item("nodal_stress", arr2(py, r.nodal_stress))?;
-    s.fields
-        .set_item("gauss_points", arr2(py, r.gauss_points))?;
-    s.fields
-        .set_item("gauss_stress", arr2(py, r.gauss_stress))?;
-    s.scalars.set_item("energy", r.energy)?;
-    s.scalars.set_item("residual", r.residual)?;
-    s.scalars
-        .set_item("condition", r.condition.map(|c| c.value()))?;
-    s.scalars
-        .set_item("condition_pivot_ratio", r.condition.map(|c| c.pivot_ratio))?;
-    s.anchor(p, r.anchor_node)?;
-    s.responses(p, &r.responses)?;
-    s.meta.set_item("seam_y", r.seam_y)?;
-    s.meta.set_item("seam_length", r.seam_length)?;
-    let t = PyDict::new(py);
-    t.set_item("rust_s", r.wall_time_s)?;
-    s.meta.set_item("timings", t)?;
-    s.finish()
+    crate::record::to_dict(py, r?.into_record(p))
 }
 
 /// Solves a uniform rectangular Q4 grid (origin 0, size width x height, nx x ny elements) with

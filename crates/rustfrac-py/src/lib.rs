@@ -4,12 +4,13 @@
 //! crosses as a plain dict, turned into the core's scene tree without knowing any key
 //! ([`tree`]); the core reads it into a `Problem` and validates it ([`scene`]); [`run`] releases
 //! the GIL around the driver of the problem's method, catches panics at the boundary
-//! ([`errors`]) and returns the result in the one shape `rustfrac.Result` stores ([`shaped`]:
-//! fields, history, scalars, meta), one conversion per method ([`fem`], [`xfem`], [`pd`]).
+//! ([`errors`]) and returns the run's record (the core's `output`: every method's result as
+//! named values in groups, with their table) as the dict `rustfrac.Result` stores, by one
+//! generic conversion ([`record`]; the table is `result_schema`).
 //! Progress: an optional callable `progress(done, total, message)`, throttled ([`progress`]).
 //!
-//! Adding a method: a module with `run(py, &Problem, &Progress)` shaping its result, one arm in
-//! [`run`], and the Python docs.
+//! Adding a method: a module with `run(py, &Problem, &Progress)` returning its record, one arm
+//! in [`run`], and the Python docs. Adding a result key touches only the core.
 
 mod arrays;
 mod errors;
@@ -18,8 +19,8 @@ mod fem;
 mod hooks;
 mod pd;
 mod progress;
+mod record;
 mod scene;
-mod shaped;
 mod tree;
 mod xfem;
 
@@ -84,6 +85,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     )?;
     m.add_function(wrap_pyfunction!(run, m)?)?;
     m.add_function(wrap_pyfunction!(scene::scene_schema, m)?)?;
+    m.add_function(wrap_pyfunction!(record::result_schema, m)?)?;
     m.add_function(wrap_pyfunction!(scene::scene_constants, m)?)?;
     m.add_function(wrap_pyfunction!(scene::check_section, m)?)?;
     m.add_function(wrap_pyfunction!(scene::check_scene, m)?)?;

@@ -31,19 +31,10 @@ use crate::pd::family_stencil;
 use crate::pd::gamma;
 use crate::pd::sla::{self, SlaStatus};
 use crate::problem::value::{Table, Value};
+pub use crate::problem::Calibration;
 use crate::problem::{Problem, S0Calibration};
 use std::collections::HashMap;
 use std::sync::Mutex;
-
-/// What a calibration did: s0' = factor s0 with factor = sqrt(G0 / G_ref).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Calibration {
-    pub rule: S0Calibration,
-    /// s0' / s0 (1 for the continuum rule)
-    pub factor: f64,
-    /// G_ref / G0 with eq. 48's s0 (1 for the continuum rule)
-    pub g_ref_over_g0: f64,
-}
 
 /// The calibration of `rule` for horizon factor m (1..=12).
 pub fn calibration(rule: S0Calibration, m: usize) -> Result<Calibration> {

@@ -36,7 +36,7 @@ pub use grips::{Grip, PlateLoad};
 pub use kink_rule::KinkRule;
 pub use material::{Elastic, Plane};
 pub use regions::{Hole, LoadKind, Probe, ProbeKind, Region, RegionLoad, Shape, Support};
-pub use s0_calibration::S0Calibration;
+pub use s0_calibration::{Calibration, S0Calibration};
 pub use side::Side;
 
 /// The material: isotropic linear elasticity and the fracture energy.

@@ -33,6 +33,16 @@ impl S0Calibration {
     }
 }
 
+/// What a calibration did (computed by [`crate::pd::calibration`]): s0' = factor s0 with factor = sqrt(G0 / G_ref).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Calibration {
+    pub rule: S0Calibration,
+    /// s0' / s0 (1 for the continuum rule)
+    pub factor: f64,
+    /// G_ref / G0 with eq. 48's s0 (1 for the continuum rule)
+    pub g_ref_over_g0: f64,
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

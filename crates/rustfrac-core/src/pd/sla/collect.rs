@@ -133,5 +133,6 @@ pub(super) fn results(
         switches: st.switches,
         interface_distance_min: st.closest.is_finite().then(|| st.closest / model.pd.delta),
         surface_correction: model.surface.as_ref().map(|s| s.summary),
+        s0_calibration: model.s0_calibration,
     })
 }

@@ -181,6 +181,9 @@ pub struct CcmPdResult {
     /// the smallest distance, in horizons, from a bond the SLA broke to the nearest FEM node at
     /// the time of its break (None: pure PD, or no bond broke, or none within 10 horizons)
     pub interface_distance_min: Option<f64>,
+    /// the critical stretch's calibration that ran (`pd.s0_calibration`: s0 = factor x eq.
+    /// 48's; [`crate::pd::calibration`])
+    pub s0_calibration: crate::problem::Calibration,
     /// the surface correction's numbers (`pd.surface_correction = "energy"`, of the final
     /// model; [`crate::pd::surface_correction`]); None without it
     pub surface_correction: Option<crate::pd::surface_correction::SurfaceSummary>,

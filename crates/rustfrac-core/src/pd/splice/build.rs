@@ -22,6 +22,7 @@ use crate::pd::surface_correction::energy_factors;
 use crate::pd::{
     family_stencil, find_bonds, find_bonds_where, Bond, Grid, PdConstants, BYTES_PER_BOND,
 };
+use crate::problem::Calibration;
 use crate::problem::{validate, Method, PdMethod, Problem, S0Calibration, SurfaceCorrection};
 use crate::warning::{Warning, WarningKind};
 
@@ -49,7 +50,7 @@ impl SpliceModel {
             ));
         };
         let all_pd = matches!(p.method, Method::Pd(_));
-        let (grid, pd) = grid_and_constants(p, pm)?;
+        let (grid, pd, s0_calibration) = grid_and_constants(p, pm)?;
         let mut material = holes::material_nodes(&p.domain, &grid);
         let (is_pd, pd_nodes, warnings) = node_classes(pm, &grid, &material)?;
         let fd = holes::fem_domain(&p.domain, &grid, &pm.regions, all_pd)?;
@@ -135,6 +136,7 @@ impl SpliceModel {
             cmod_nodes,
             mouth,
             surface,
+            s0_calibration,
         })
     }
 
@@ -167,17 +169,18 @@ fn memory_estimate(n_nodes: usize, n_pd: usize, m: usize) -> f64 {
 /// The grid (its fit and node count are rules of the problem, [`validate::problem`]; graded
 /// away from the PD rectangles with `pd.fem_grading` > 1, `graded.rs`) and the PD constants on
 /// its uniform spacing, s0 calibrated by `pd.s0_calibration` ([`crate::pd::calibration`]).
-fn grid_and_constants(p: &Problem, pm: &PdMethod) -> Result<(Grid, PdConstants)> {
+fn grid_and_constants(p: &Problem, pm: &PdMethod) -> Result<(Grid, PdConstants, Calibration)> {
     let d = &p.domain;
     let fit = |len: f64| validate::grid_count(len, pm.dx).expect("checked by validate::problem");
     let (nx, ny) = (fit(d.width), fit(d.height));
     let dx = d.width / nx as f64;
     let mut pd = PdConstants::new(&p.material.elastic, p.material.g0, dx, pm.m)?;
+    let cal = calibration(pm.s0_calibration, pm.m)?;
     if pm.s0_calibration != S0Calibration::Continuum {
-        pd.s0 *= calibration(pm.s0_calibration, pm.m)?.factor;
+        pd.s0 *= cal.factor;
     }
     let grid = graded::grid(pm, nx, ny, dx);
-    Ok((grid, pd))
+    Ok((grid, pd, cal))
 }
 
 /// Node classes: every node PD (pure PD model, the plate at least two horizons wide and high), or

@@ -100,6 +100,8 @@ pub struct SpliceModel {
     /// the surface correction's bond factors (`pd.surface_correction = "energy"`,
     /// [`crate::pd::surface_correction`]); None: the paper's bonds
     pub surface: Option<SurfaceFactors>,
+    /// the critical stretch's calibration applied to `pd.s0` (`pd.s0_calibration`)
+    pub s0_calibration: crate::problem::Calibration,
 }
 
 /// The stiffness matrices of the FEM elements that are not the shared dx x dx square: cut by
