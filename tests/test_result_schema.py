@@ -84,7 +84,7 @@ def _aliases(tree: ast.AST) -> dict[str, str]:
 def _literal_reads() -> list[tuple[str, str, str, int]]:
     """(module, group, key, line) of every literal result key the package's modules read."""
     out = []
-    for path in sorted(PACKAGE.glob("*.py")):
+    for path in sorted(PACKAGE.rglob("*.py")):
         tree = ast.parse(path.read_text(encoding="utf-8"))
         scopes = [tree, *(n for n in ast.walk(tree) if isinstance(n, ast.FunctionDef))]
         seen = set()
@@ -92,7 +92,7 @@ def _literal_reads() -> list[tuple[str, str, str, int]]:
             for g, k, line in _reads(scope, _aliases(scope)):
                 if (g, k, line) not in seen:
                     seen.add((g, k, line))
-                    out.append((path.name, g, k, line))
+                    out.append((path.relative_to(PACKAGE).as_posix(), g, k, line))
     return out
 
 
@@ -118,7 +118,7 @@ def test_every_result_key_python_reads_is_in_the_schema() -> None:
         ("energy.py", "meta", "work_conjugate"),
         ("_vtk.py", "fields", "node_xy"),
         ("runner.py", "meta", "timings"),
-        ("cli.py", "meta", "enrichment"),
+        ("cli/run.py", "meta", "enrichment"),
     ):
         assert probe in found, probe
     unknown = [f"{m}:{line}: {g}[{k!r}]" for m, g, k, line in reads if not _known(g, k)]
@@ -131,7 +131,7 @@ def test_status_literals_are_statuses() -> None:
     """A status the package compares ``meta["status"]`` with is one of a method's statuses."""
     names = {n for st in rf.STATUSES.values() for n in st}
     bad, checked = [], 0
-    for path in sorted(PACKAGE.glob("*.py")):
+    for path in sorted(PACKAGE.rglob("*.py")):
         for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
             if not isinstance(node, ast.Compare):
                 continue
