@@ -193,7 +193,11 @@ class _Section:
         out = {k: v for k, v in values.items() if norm[k] != defaults[_attr(k)]}
         for s in keys(cls._name):
             req, key = s["required"], s["key"]
-            if req is not None and key in values and all(values.get(k) in v for k, v in req.items()):
+            if (
+                req is not None
+                and key in values
+                and all(values.get(k) in v for k, v in req.items())
+            ):
                 out[key] = values[key]
         return dict(sorted(out.items(), key=lambda kv: list(values).index(kv[0])))
 

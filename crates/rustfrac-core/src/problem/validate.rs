@@ -9,6 +9,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 use super::parse::crack_name;
+use super::scene_of::side_name;
 use super::schema::{self, Val, PD_NU};
 use super::{
     Boundary, CrackKind, CrackSpec, Domain, Method, PdMethod, Problem, XfemMethod, XfemOptions,
@@ -283,15 +284,6 @@ fn crack_kinds(p: &Problem) -> Result<()> {
         }
     }
     Ok(())
-}
-
-fn side_name(s: Side) -> &'static str {
-    match s {
-        Side::Left => "left",
-        Side::Right => "right",
-        Side::Bottom => "bottom",
-        Side::Top => "top",
-    }
 }
 
 /// Smallest (and, inverted, largest) magnitude of the reference load's products with the

@@ -399,9 +399,9 @@ pub(crate) fn read(
         return Err(bad(
             &format!(
                 "a checkpoint made for this model and solver (fingerprint {fingerprint:016x}); it \
-                 was made with other values of the scene's physics or solver keys (plate, \
-                 material, load, cracks, pd grid and region, holes, supports, probes' points, \
-                 engine, tie_tol, refactor_every)"
+                 was made for a different one: other values of the scene's physics or solver \
+                 keys (plate, material, load, cracks, pd grid and region, holes, supports, \
+                 probes' points, engine, tie_tol, refactor_every)"
             ),
             format!("fingerprint {fp:016x}"),
         ));
