@@ -21,7 +21,7 @@ pub enum Range {
     Any,
     /// a finite number of magnitude at most [`MAG_MAX`]
     Finite,
-    /// a number in [[`MAG_MIN`], [`MAG_MAX`]] (lengths, moduli, energies)
+    /// a number from [`MAG_MIN`] to [`MAG_MAX`] (lengths, moduli, energies)
     Positive,
     /// a number between two ends, in words with the key's name (`-1 < nu < 0.5`)
     Interval { lo: Bound, hi: Bound },
