@@ -53,7 +53,7 @@ BAD = [
     ("NaN E", _kw(E=math.nan), rf.InvalidParameterError, "material.E"),
     ("NaN u0 (toml)", _edit("u0 = 0.01", "u0 = nan"), rf.InvalidParameterError, "load.u0"),
     ("inf width", _kw(width=math.inf), rf.InvalidParameterError, "plate.width"),
-    ("missing method", _edit('method = "fem"', ""), rf.UnknownParameterError, "method"),
+    ("missing method", _edit('method = "fem"', ""), rf.MissingParameterError, "method"),
     ("unknown key", _edit("nx = 44", "nx = 44\nnz = 3"), rf.UnknownParameterError, "mesh.nz"),
     (
         "unknown top key",

@@ -88,7 +88,7 @@ class SceneKeys(SphinxDirective):
                     nodes.literal(text=s["key"]),
                     nodes.literal(text=repr(s["default"])),
                     _text(s["kind"] + ": " + s["valid"]),
-                    _text(s["doc"]),
+                    _text(s["doc"] + (f" ({s['required_words']})" if s["required_words"] else "")),
                 ]
                 for s in specs
             ]

@@ -45,7 +45,10 @@ _ProgressCallback = Callable[[int, int, str], Any]
 
 def scene_schema() -> list[dict[str, Any]]:
     """Every scene key: dicts with section, key, kind ("float" | "int" | "str" | "bool" | "pair"
-    | "intlist"), default, valid (the range in words) and doc."""
+    | "intlist" | "floatlist" | "pairlist"), default, valid (the range in words, made from the
+    range the core checks), role ("physics" | "solver" | "output"), required (None, or
+    {key: [values]}: required when each key has one of its values; {}: always),
+    required_words and doc."""
 
 def result_schema() -> dict[str, Any]:
     """Every result entry and status: ``{"entries": [...], "statuses": {method: [...]}}``; an

@@ -26,6 +26,7 @@ __all__ = [
     "InvalidTypeError",
     "LockingWarning",
     "MethodNotAvailableError",
+    "MissingParameterError",
     "OutOfMemoryError",
     "OutputError",
     "ResultNotFoundError",
@@ -52,7 +53,12 @@ class InvalidParameterError(RustfracError, ValueError):
 
 
 class UnknownParameterError(InvalidParameterError):
-    """A scene holds a key rustfrac does not know (a typo, most often), or lacks a required one."""
+    """A scene holds a key rustfrac does not know (a typo, most often)."""
+
+
+class MissingParameterError(InvalidParameterError):
+    """A scene lacks a key it must state (``method``; a circle hole's ``radius``: the keys the
+    schema marks ``required``)."""
 
 
 class InvalidTypeError(InvalidParameterError, TypeError):

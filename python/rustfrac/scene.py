@@ -8,7 +8,9 @@ when it is built, before anything runs. A bad value raises
 :class:`~rustfrac.errors.InvalidParameterError` (a ``ValueError``) whose ``param`` is the scene key
 (``section.key``, ``crack[k].key`` for the k-th further crack) and whose message states the valid
 range; unknown keys raise :class:`~rustfrac.errors.UnknownParameterError` listing the allowed ones;
-wrong types raise :class:`~rustfrac.errors.InvalidTypeError` (also a ``TypeError``).
+a missing required key (``method``, a circle hole's ``radius``: the schema's ``required``) raises
+:class:`~rustfrac.errors.MissingParameterError`; wrong types raise
+:class:`~rustfrac.errors.InvalidTypeError` (also a ``TypeError``).
 
 Units are consistent and up to the user; the paper's case uses N, mm and MPa (E = 10000 MPa).
 
@@ -132,7 +134,10 @@ _PY_TYPES = {
 
 def keys(section: str | None = None) -> list[dict[str, Any]]:
     """Every scene key (or those of one section): dicts with ``section``, ``key``, ``kind``,
-    ``default``, ``valid`` (the range in words) and ``doc``, as the core defines them."""
+    ``default``, ``valid`` (the range in words), ``role`` ("physics", "solver" or "output": what
+    the value changes), ``required`` (None, or ``{key: [values]}``: required when each key has
+    one of its values, ``{}``: always), ``required_words`` and ``doc``, as the core defines
+    them."""
     return [dict(k) for k in _SCHEMA if section is None or k["section"] == section]
 
 
@@ -183,24 +188,19 @@ class _Section:
     @classmethod
     def _stated(cls, values: Mapping[str, Any]) -> dict[str, Any]:
         """The keys of a list entry worth stating: those that differ from their default, and
-        those the core requires for the entry's shape or region (a polygon hole states no
-        radius; an edge support states its side even when it is the default one). The core
-        answers which keys are required (its "missing required key" error names them)."""
+        those the core's schema requires for the entry's shape or region (a polygon hole states
+        no radius; an edge support states its side even when it is the default one)."""
         defaults = {f.name: f.default for f in fields(cls)}  # type: ignore[arg-type]
         norm = _normalised(cls._kinds, values)
         out = {k: v for k, v in values.items() if norm[k] != defaults[_attr(k)]}
-        for _ in range(len(values)):
-            try:
-                _core.check_section(cls._name, out)
-            except UnknownParameterError as e:
-                key = str(e.param).rpartition(".")[2]
-                if e.param != f"{cls._name}.{key}" or key not in values or key in out:
-                    raise
+        for s in keys(cls._name):
+            req, key = s["required"], s["key"]
+            if (
+                req is not None
+                and key in values
+                and all(values.get(k) in v for k, v in req.items())
+            ):
                 out[key] = values[key]
-                continue
-            except InvalidParameterError:
-                pass  # a bad value: the caller's full check reports it
-            break
         return dict(sorted(out.items(), key=lambda kv: list(values).index(kv[0])))
 
     @classmethod
@@ -236,7 +236,9 @@ def _section_class(cls_name: str, section: str, doc: str, **methods: Any) -> Any
     lines = [
         f"- ``{s['key']}``"
         + (f" (attribute ``{_attr(s['key'])}``)" if _attr(s["key"]) != s["key"] else "")
-        + f" ({s['default']!r}; {s['valid']}): {s['doc']}"
+        + f" ({s['default']!r}; {s['valid']}"
+        + (f"; {s['required_words']}" if s["required_words"] else "")
+        + f"): {s['doc']}"
         for s in specs
     ]
     namespace = {

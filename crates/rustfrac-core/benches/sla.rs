@@ -46,7 +46,7 @@ fn main() {
         );
     }
     p.pd_mut().sla.max_steps = oracle_steps;
-    p.pd_mut().sla.fast = false;
+    p.pd_mut().sla.engine = rustfrac_core::problem::SlaEngine::Oracle;
     let t = Instant::now();
     let oracle = run(&p, &|_, _| true).expect("oracle run");
     let oracle_total = t.elapsed().as_secs_f64();

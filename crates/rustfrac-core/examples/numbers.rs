@@ -8,7 +8,7 @@
 use rustfrac_core::fem_driver;
 use rustfrac_core::pd::sla;
 use rustfrac_core::problem::Side;
-use rustfrac_core::problem::{CrackSpec, Growth, Problem, SlaParams};
+use rustfrac_core::problem::{CrackSpec, Growth, Problem, SlaEngine, SlaParams};
 use rustfrac_core::problem::{Grip, PlateLoad};
 use rustfrac_core::xfem;
 
@@ -183,7 +183,11 @@ fn sla_cases() {
         let mut p = coarse.clone();
         p.pd_mut().sla = SlaParams {
             max_steps: 60,
-            fast,
+            engine: if fast {
+                SlaEngine::Auto
+            } else {
+                SlaEngine::Oracle
+            },
             ..SlaParams::default()
         };
         sla_case(&format!("coarse fast={fast}"), &p);

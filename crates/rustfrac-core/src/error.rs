@@ -18,9 +18,12 @@ pub enum Error {
         expected: String,
         got: String,
     },
-    /// A scene holds a key the core does not know (most often a typo), or lacks a required one;
-    /// `param` is the key, `message` says which keys are allowed.
+    /// A scene holds a key the core does not know (most often a typo); `param` is the key,
+    /// `message` says which keys are allowed.
     UnknownKey { param: String, message: String },
+    /// A scene lacks a key it must state (`method`, a hole's radius: the schema's `required`);
+    /// `param` is the key, `message` says what needs it.
+    MissingKey { param: String, message: String },
     /// Array or matrix sizes do not match.
     SizeMismatch {
         what: String,
@@ -55,7 +58,8 @@ impl Error {
         match self {
             Error::InvalidInput { param, .. }
             | Error::InvalidType { param, .. }
-            | Error::UnknownKey { param, .. } => Some(param),
+            | Error::UnknownKey { param, .. }
+            | Error::MissingKey { param, .. } => Some(param),
             _ => None,
         }
     }
@@ -83,7 +87,9 @@ impl fmt::Display for Error {
                 expected,
                 got,
             } => write!(f, "{param} must be {expected}, got {got}"),
-            Error::UnknownKey { message, .. } => f.write_str(message),
+            Error::UnknownKey { message, .. } | Error::MissingKey { message, .. } => {
+                f.write_str(message)
+            }
             Error::SizeMismatch {
                 what,
                 expected,

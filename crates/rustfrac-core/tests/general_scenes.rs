@@ -256,7 +256,11 @@ fn graded_grid_reaches_the_uniform_k_i_with_fewer_unknowns() {
 #[test]
 fn bad_entries_are_refused_by_name() {
     let param = |t: &Table| match Problem::from_scene(t) {
-        Err(Error::InvalidInput { param, .. } | Error::UnknownKey { param, .. }) => param,
+        Err(
+            Error::InvalidInput { param, .. }
+            | Error::UnknownKey { param, .. }
+            | Error::MissingKey { param, .. },
+        ) => param,
         Err(e) => panic!("unexpected error {e}"),
         Ok(_) => panic!("accepted"),
     };

@@ -240,7 +240,7 @@ fn node_with_every_bond_broken_is_detached_not_singular() {
         p.load_mut().grip = Grip::Clamped;
         p.pd_mut().sla = SlaParams {
             max_steps: 30,
-            fast,
+            engine: common::engine(fast),
             ..SlaParams::default()
         };
         let model = SpliceModel::with_precrack(&p, square).unwrap();

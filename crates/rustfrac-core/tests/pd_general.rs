@@ -461,7 +461,7 @@ fn sla_on_region_scenes_fast_equals_oracle() {
             let mut p = pulled_strip(method);
             p.pd_mut().sla = SlaParams {
                 max_steps: 40,
-                fast,
+                engine: common::engine(fast),
                 ..SlaParams::default()
             };
             force_screening(screen);
@@ -529,7 +529,7 @@ fn sla_histories_carry_the_probes() {
             ];
             p.pd_mut().sla = SlaParams {
                 max_steps: 30,
-                fast,
+                engine: common::engine(fast),
                 ..SlaParams::default()
             };
             force_screening(screen);

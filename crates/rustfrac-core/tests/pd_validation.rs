@@ -129,8 +129,8 @@ fn bad_inputs_are_refused_with_reasons() {
     for (g0, dx, m, name) in [
         (0.0, 0.1, 4, "G0"),
         (0.3, -1.0, 4, "dx"),
-        (0.3, 0.1, 0, "m"),
-        (0.3, 0.1, 13, "m"),
+        (0.3, 0.1, 0, "pd.m"),
+        (0.3, 0.1, 13, "pd.m"),
         (f64::NAN, 0.1, 4, "G0"),
     ] {
         match PdConstants::new(&ok, g0, dx, m) {

@@ -203,7 +203,7 @@ fn kinds_and_unknown_keys_are_refused_by_name() {
     );
     let mut t = scene("fem", &[]);
     t.remove("method");
-    assert!(matches!(refused(&t), Error::UnknownKey { param, .. } if param == "method"));
+    assert!(matches!(refused(&t), Error::MissingKey { param, .. } if param == "method"));
     // [[crack]] tables: errors name crack[k]
     let mut t = scene("xfem", &[]);
     let crack = |a0: f64| {

@@ -267,15 +267,14 @@ fn foreign_or_corrupt_checkpoints_are_refused() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// The checkpoint fingerprint of the paper's parameters is pinned (FNV-1a of the field sequence
-/// documented in `checkpoint::fingerprint`, computed independently of the crate): checkpoints
-/// written before the parameters were regrouped into model + SLA options still resume. It follows
-/// the model and the solver options, not the step limit or the checkpoint options.
+/// The checkpoint fingerprint of the paper's parameters is pinned (a fixed byte sequence of the
+/// scene's physics and solver keys, floats by their bits: the same on every run and platform). It
+/// follows the model and the solver options, not the step limit or the checkpoint options.
 #[test]
 fn checkpoint_fingerprint_is_stable() {
     let p = Problem::paper("ccm_pd");
     let fp = |q: &Problem| checkpoint::fingerprint(q, &q.pd_precrack(), 1000, 2000);
-    assert_eq!(fp(&p), 0xa416_ee35_3015_db7f);
+    assert_eq!(fp(&p), PAPER_FINGERPRINT, "{:016x}", fp(&p));
     let mut q = p.clone();
     q.pd_mut().sla.max_steps = 7;
     q.pd_mut().sla.checkpoint_every = 3;
@@ -287,6 +286,9 @@ fn checkpoint_fingerprint_is_stable() {
     q.pd_mut().sla.tie_tol = 1e-9;
     assert_ne!(fp(&q), fp(&p));
 }
+
+/// [`checkpoint_fingerprint_is_stable`]'s pin.
+const PAPER_FINGERPRINT: u64 = 0x2a75_47c8_9dad_1a91;
 
 /// FNV-1a 64 of `b` (the checkpoint checksum, written out here independently of the crate).
 fn fnv(b: &[u8]) -> u64 {
@@ -406,57 +408,63 @@ fn hostile_checkpoints_are_refused() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// A version 1 checkpoint (before the probes were recorded) still resumes a scene without
-/// probes, bit for bit; a scene with probes refuses it by name. The version 1 file is made here
-/// from a version 3 one by dropping each step's probe count and the (empty) table of region
-/// switches (the documented layout).
+/// A checkpoint written with `pd.hole_volumes = "centre"` does not resume an `"exact"` run (a key
+/// the hand-made fingerprint once missed); a changed step limit (an output key) resumes.
 #[test]
-fn version_one_checkpoints_still_resume() {
-    let dir = tmpdir("ckpt-v1");
-    let path = dir.join("v2.ckpt");
+fn a_centre_checkpoint_does_not_resume_an_exact_run() {
+    let dir = tmpdir("ckpt-volumes");
+    let path = dir.join("centre.ckpt");
+    let mut p = coarse(true, 4);
+    p.pd_mut().sla.checkpoint_every = 4;
+    p.pd_mut().sla.checkpoint_path = Some(path.clone());
+    run(&p, &go_on).unwrap();
+    let mut q = coarse(true, 8);
+    q.pd_mut().sla.resume_from = Some(path.clone());
+    assert_eq!(run(&q, &go_on).unwrap().resumed_steps, 4);
+    q.pd_mut().hole_volumes = rustfrac_core::problem::HoleVolumes::Exact;
+    assert!(matches!(
+        run(&q, &go_on),
+        Err(Error::InvalidInput { param, expected, .. })
+            if param == "pd.resume_from" && expected.contains("fingerprint")
+    ));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Checkpoints of the format versions before the schema's fingerprint (1 to 3) are refused
+/// with a message saying why, not resumed and not mistaken for another model's. The old files
+/// are made here from a current one by changing its version word (the checksum recomputed).
+#[test]
+fn checkpoints_of_earlier_versions_are_refused() {
+    let dir = tmpdir("ckpt-old");
+    let path = dir.join("now.ckpt");
     let mut p = coarse(true, 6);
     p.pd_mut().sla.checkpoint_every = 6;
     p.pd_mut().sla.checkpoint_path = Some(path.clone());
     run(&p, &go_on).unwrap();
     let b = std::fs::read(&path).unwrap();
-    let word = |k: usize| u64::from_le_bytes(b[k..k + 8].try_into().unwrap());
-    let mut v1 = b[..8].to_vec();
-    v1.extend_from_slice(&1u32.to_le_bytes());
-    v1.extend_from_slice(&b[12..28]);
-    let mut pos = 28;
-    for _ in 0..word(20) {
-        let start = pos;
-        pos += 8 * 8; // step, 5 values, 2 nodes
-        for _ in 0..2 {
-            pos += 8 * (1 + word(pos) as usize); // bonds, then detached nodes
-        }
-        v1.extend_from_slice(&b[start..pos]);
-        assert_eq!(word(pos), 0, "no probes");
-        pos += 8;
-    }
-    assert_eq!(word(pos), 0, "no region switches");
-    assert_eq!(pos + 8, b.len() - 8);
-    v1.extend_from_slice(&fnv(&v1).to_le_bytes());
-    let old = dir.join("v1.ckpt");
-    std::fs::write(&old, &v1).unwrap();
-    let straight = run(&coarse(true, 10), &go_on).unwrap();
+    assert_eq!(
+        u32::from_le_bytes(b[8..12].try_into().unwrap()),
+        checkpoint::VERSION
+    );
     let mut q = coarse(true, 10);
-    q.pd_mut().sla.resume_from = Some(old.clone());
-    let resumed = run(&q, &go_on).unwrap();
-    assert_eq!(resumed.resumed_steps, 6);
-    same(&straight, &resumed);
-    q.probes = vec![Probe {
-        name: "corner".into(),
-        kind: ProbeKind::Displacement([11.0, 21.0]),
-    }];
-    match run(&q, &go_on) {
-        Err(Error::InvalidInput {
-            param, expected, ..
-        }) => {
-            assert_eq!(param, "pd.resume_from");
-            assert!(expected.contains("probes"), "{expected}");
+    q.pd_mut().sla.resume_from = Some(path.clone());
+    assert_eq!(run(&q, &go_on).unwrap().resumed_steps, 6);
+    for version in 1..checkpoint::VERSION {
+        let mut old = b[..b.len() - 8].to_vec();
+        old[8..12].copy_from_slice(&version.to_le_bytes());
+        old.extend_from_slice(&fnv(&old).to_le_bytes());
+        let file = dir.join(format!("v{version}.ckpt"));
+        std::fs::write(&file, &old).unwrap();
+        q.pd_mut().sla.resume_from = Some(file);
+        match run(&q, &go_on) {
+            Err(Error::InvalidInput {
+                param, expected, ..
+            }) => {
+                assert_eq!(param, "pd.resume_from");
+                assert!(expected.contains("earlier model fingerprint"), "{expected}");
+            }
+            other => panic!("version {version}: {:?}", other.map(|r| r.status)),
         }
-        other => panic!("{:?}", other.map(|r| r.status)),
     }
     let _ = std::fs::remove_dir_all(&dir);
 }

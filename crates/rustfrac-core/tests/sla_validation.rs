@@ -95,7 +95,7 @@ fn fast_sla_matches_oracle_paper_grid() {
     let mut p = Problem::paper("ccm_pd");
     p.pd_mut().sla.max_steps = n;
     let fast = run(&p, &go_on).unwrap();
-    p.pd_mut().sla.fast = false;
+    p.pd_mut().sla.engine = rustfrac_core::problem::SlaEngine::Oracle;
     let oracle = run(&p, &go_on).unwrap();
     let w = compare(&fast, &oracle, n);
     println!("paper grid, {n} steps: fast {:.3} s + setup {:.3} s, oracle {:.3} s + setup {:.3} s, speed-up {:.1}; worst relative difference {w:.2e}",

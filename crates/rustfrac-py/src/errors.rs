@@ -6,6 +6,7 @@
 //! | `InvalidInput` / `SizeMismatch`         | `InvalidParameterError` (a `ValueError`)      |
 //! | `InvalidType`                           | `InvalidTypeError` (also a `TypeError`)       |
 //! | `UnknownKey`                            | `UnknownParameterError`                       |
+//! | `MissingKey`                            | `MissingParameterError`                       |
 //! | `Singular` / `NotPositiveDefinite`      | `SingularSystemError`                         |
 //! | `Separated`                             | `SeparatedError` (a `SingularSystemError`)    |
 //! | `Internal`, caught panic                | `InternalError`                               |
@@ -47,6 +48,7 @@ pub fn core_err(py: Python<'_>, e: CoreError) -> PyErr {
         CoreError::InvalidInput { .. } | CoreError::SizeMismatch { .. } => "InvalidParameterError",
         CoreError::InvalidType { .. } => "InvalidTypeError",
         CoreError::UnknownKey { .. } => "UnknownParameterError",
+        CoreError::MissingKey { .. } => "MissingParameterError",
         CoreError::Singular { .. } | CoreError::NotPositiveDefinite { .. } => "SingularSystemError",
         CoreError::Separated { .. } => "SeparatedError",
         CoreError::Internal { .. } => "InternalError",

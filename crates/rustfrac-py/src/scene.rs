@@ -10,7 +10,11 @@ use rustfrac_core::problem::value::Value;
 use rustfrac_core::problem::{parse, schema, Problem};
 
 /// Every scene key: a list of dicts with section, key, kind ("float" | "int" | "str" | "bool" |
-/// "pair" | "intlist"), default, valid (the range in words) and doc.
+/// "pair" | "intlist" | "floatlist" | "pairlist"), default, valid (the range in words, made from
+/// the range the core checks), role ("physics" | "solver" | "output": what the value changes;
+/// a checkpoint resumes only the same physics and solver keys), required (None: optional; a
+/// dict {key: [values]}: required when each of those keys has one of the values, {} always),
+/// required_words (the same in words, "" when optional) and doc.
 #[pyfunction]
 pub fn scene_schema(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
     let rows = PyList::empty(py);
@@ -20,7 +24,19 @@ pub fn scene_schema(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
         d.set_item("key", k.key)?;
         d.set_item("kind", k.kind.name())?;
         d.set_item("default", to_py(py, &k.default.to_value())?)?;
-        d.set_item("valid", &k.valid)?;
+        d.set_item("valid", k.valid())?;
+        d.set_item("role", k.role.name())?;
+        let required = match k.required {
+            schema::Required::No => None,
+            schema::Required::Always => Some(PyDict::new(py)),
+            schema::Required::When { key, values } => {
+                let r = PyDict::new(py);
+                r.set_item(key, values.to_vec())?;
+                Some(r)
+            }
+        };
+        d.set_item("required", required)?;
+        d.set_item("required_words", k.required_words())?;
         d.set_item("doc", k.doc)?;
         rows.append(d)?;
     }

@@ -30,13 +30,14 @@ use crate::error::{Error, Result};
 use crate::pd::family_stencil;
 use crate::pd::gamma;
 use crate::pd::sla::{self, SlaStatus};
+use crate::problem::schema::check_horizon_factor;
 use crate::problem::value::{Table, Value};
 pub use crate::problem::Calibration;
 use crate::problem::{Problem, S0Calibration};
 use std::collections::HashMap;
 use std::sync::Mutex;
 
-/// The calibration of `rule` for horizon factor m (1..=12).
+/// The calibration of `rule` for horizon factor m (`pd.m`'s range).
 pub fn calibration(rule: S0Calibration, m: usize) -> Result<Calibration> {
     let g = match rule {
         S0Calibration::Continuum => 1.0,
@@ -54,17 +55,10 @@ pub fn calibration(rule: S0Calibration, m: usize) -> Result<Calibration> {
     })
 }
 
-fn check_m(m: usize) -> Result<()> {
-    if !(1..=12).contains(&m) {
-        return Err(Error::invalid("pd.m", "an integer horizon ratio 1..=12", m));
-    }
-    Ok(())
-}
-
 /// The grid's discrete fracture energy over G0 with eq. 48's s0 and eq. 47's c (with gamma):
 /// 2 gamma / m^4 sum_{dj > 0} dj |(di, dj)| beta over the family stencil (module docs).
 pub fn grid_energy_ratio(m: usize) -> Result<f64> {
-    check_m(m)?;
+    check_horizon_factor(m)?;
     let s: f64 = family_stencil(m)
         .iter()
         .filter(|e| e.dj > 0)
@@ -94,7 +88,7 @@ pub fn reference_strip(
     height: usize,
     precrack: usize,
 ) -> Result<Problem> {
-    check_m(m)?;
+    check_horizon_factor(m)?;
     let (nw, nh) = ((width * m) as f64, (height * m) as f64);
     let mut t = Table::new();
     let sec = |kv: &[(&str, Value)]| {
@@ -175,7 +169,7 @@ pub fn strip_release_ratio(p: &Problem) -> Result<f64> {
 /// G_ref / G0 of the `"sla"` rule for horizon factor m: [`strip_release_ratio`] of the
 /// [`reference_strip`] on dx = 1, computed once per m per process.
 pub fn sla_energy_ratio(m: usize) -> Result<f64> {
-    check_m(m)?;
+    check_horizon_factor(m)?;
     static MEMO: Mutex<Option<HashMap<usize, f64>>> = Mutex::new(None);
     let cached = |m| {
         MEMO.lock()

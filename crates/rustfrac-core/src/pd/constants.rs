@@ -9,6 +9,7 @@
 use super::bonds::Bond;
 use super::partial_volume::family_stencil;
 use crate::error::{check_positive, Error, Result};
+use crate::problem::schema::check_horizon_factor;
 use crate::problem::{Elastic, Plane};
 use std::f64::consts::PI;
 
@@ -16,9 +17,7 @@ use std::f64::consts::PI;
 /// (Ongaro et al. 2021; docs/design.md, "The bond-based PD model and gamma"), computed on the
 /// grid stencil of horizon m dx. It is independent of dx. The continuum integral is pi delta^3 / 4.
 pub fn gamma(m: usize) -> Result<f64> {
-    if m == 0 || m > 64 {
-        return Err(Error::invalid("m", "an integer horizon ratio 1..=64", m));
-    }
+    check_horizon_factor(m)?;
     let st = family_stencil(m);
     let mut sum = 0.0;
     for e in &st {
@@ -78,9 +77,7 @@ impl PdConstants {
         check_material(mat)?;
         check_positive("G0", g0)?;
         check_positive("dx", dx)?;
-        if !(1..=12).contains(&m) {
-            return Err(Error::invalid("m", "an integer horizon ratio 1..=12", m));
-        }
+        check_horizon_factor(m)?;
         let delta = m as f64 * dx;
         let gamma = gamma(m)?;
         let h = mat.thickness;

@@ -8,7 +8,7 @@
 // the negated comparisons are deliberate: they refuse NaN too
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-use super::parse::crack_name;
+use super::key_value::crack_name;
 use super::{Boundary, LoadKind, Method, ProbeKind, Problem, Region, Shape, Side, MAX_ELEMENTS};
 use crate::error::{Error, Result};
 

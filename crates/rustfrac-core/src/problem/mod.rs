@@ -17,13 +17,16 @@ pub mod general;
 pub mod grading;
 pub mod grid;
 pub mod grips;
+pub mod key_value;
 pub mod kink_rule;
 pub mod material;
 pub mod parse;
 pub mod pd_region;
+pub mod range;
 mod read;
 pub mod regions;
 pub mod s0_calibration;
+pub mod scene_of;
 pub mod schema;
 pub mod side;
 pub mod validate;
@@ -372,7 +375,9 @@ pub enum HoleVolumes {
     Exact,
 }
 
-/// The SLA solver (scene key `pd.engine`, [`schema::SLA_ENGINES`]; `crate::pd::sla`).
+/// The SLA solver (scene key `pd.engine`, whose names are [`schema::SLA_ENGINES`] in this
+/// order; `pd.fast = false` is another name of `Oracle`, [`schema::sla_engine`];
+/// `crate::pd::sla`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum SlaEngine {
     /// the cheaper of dense and sparse by the cost model
@@ -386,23 +391,14 @@ pub enum SlaEngine {
 }
 
 impl SlaEngine {
-    /// From the scene key's value (one of [`schema::SLA_ENGINES`]; anything else is `Auto`).
-    pub fn from_name(s: &str) -> Self {
-        match s {
-            "dense" => Self::Dense,
-            "sparse" => Self::Sparse,
-            "oracle" => Self::Oracle,
-            _ => Self::Auto,
-        }
+    const ALL: [SlaEngine; 4] = [Self::Auto, Self::Dense, Self::Sparse, Self::Oracle];
+    /// From the scene key's value (None: not one of [`schema::SLA_ENGINES`]).
+    pub fn from_name(s: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|e| e.name() == s)
     }
     /// The scene key's value.
     pub fn name(self) -> &'static str {
-        match self {
-            Self::Auto => "auto",
-            Self::Dense => "dense",
-            Self::Sparse => "sparse",
-            Self::Oracle => "oracle",
-        }
+        schema::SLA_ENGINES[self as usize]
     }
 }
 
@@ -419,9 +415,7 @@ pub struct SlaParams {
     /// fast solver: re-condense after this many low-rank updates (0 = automatic,
     /// [`crate::pd::cost::auto_refactor_every`])
     pub refactor_every: usize,
-    /// condensation + Sherman-Morrison-Woodbury (true) or refactorise every step (false, oracle)
-    pub fast: bool,
-    /// the solver when `fast` (`pd.engine`; `fast = false` is the oracle whatever this says)
+    /// the solver (`pd.engine`; a scene's `pd.fast = false` is [`SlaEngine::Oracle`])
     pub engine: SlaEngine,
     /// steps after which the damage field is stored (besides the final one)
     pub damage_at_steps: Vec<usize>,
@@ -445,8 +439,7 @@ impl Default for SlaParams {
             stop_crack_length: None,
             tie_tol: d("tie_tol").f(),
             refactor_every: d("refactor_every").i() as usize,
-            fast: d("fast").b(),
-            engine: SlaEngine::Auto,
+            engine: SlaEngine::from_name(d("engine").s()).expect("an engine name"),
             damage_at_steps: Vec::new(),
             checkpoint_every: d("checkpoint_every").i() as usize,
             checkpoint_path: None,

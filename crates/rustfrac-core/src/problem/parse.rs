@@ -7,6 +7,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 use super::grading::graded_lines;
+pub use super::key_value::{crack_name, Section};
 use super::pd_region;
 use super::schema::{self, Kind, Val};
 use super::value::{Table, Value};
@@ -19,18 +20,6 @@ use super::{
 use crate::error::{Error, Result};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
-
-/// The checked values of one section, every key present (defaults filled in).
-pub type Section = BTreeMap<&'static str, Val>;
-
-/// The scene name of crack `k`: "crack" for the first, "crack\[k\]" for the others.
-pub fn crack_name(k: usize) -> String {
-    if k == 0 {
-        "crack".into()
-    } else {
-        format!("crack[{k}]")
-    }
-}
 
 fn type_error(param: &str, kind: Kind, valid: &str, v: &Value) -> Error {
     let got = match kind {
@@ -50,10 +39,10 @@ fn numbers(list: &[Value]) -> Option<Vec<f64>> {
 
 /// Checks one value against its spec; `param` is the name errors carry (`crack[2].a0`).
 pub fn key_value(spec: &schema::KeySpec, param: &str, v: &Value) -> Result<Val> {
-    let bad_type = || type_error(param, spec.kind, &spec.valid, v);
+    let bad_type = || type_error(param, spec.kind, &spec.valid(), v);
     let out_of_range = |got: String| Error::InvalidInput {
         param: param.to_string(),
-        expected: spec.valid.clone(),
+        expected: spec.valid(),
         got,
     };
     // an integer beyond 64 bits is an integer of the right kind, out of every range
@@ -107,7 +96,7 @@ pub fn key_value(spec: &schema::KeySpec, param: &str, v: &Value) -> Result<Val> 
         }
         _ => return Err(bad_type()),
     };
-    if (spec.ok)(&val) {
+    if spec.ok(&val) {
         Ok(val)
     } else {
         Err(out_of_range(val.repr()))
@@ -172,55 +161,24 @@ pub fn section(section: &str, name: &str, t: &Value) -> Result<Section> {
     Ok(out)
 }
 
-/// The keys an entry of a general-scene list must state, given its shape, region or kind.
-fn required(section: &str, s: &Section) -> &'static [&'static str] {
-    match (
-        section,
-        s.get("shape")
-            .or(s.get("region"))
-            .or(s.get("kind"))
-            .map(Val::s),
-    ) {
-        ("hole", Some("circle")) => &["center", "radius"],
-        ("hole", Some("rect")) => &["min", "max"],
-        ("hole", Some("polygon")) => &["points"],
-        ("notch", _) => &["at", "width", "depth"],
-        ("support" | "region_load", Some("edge")) => &["side"],
-        ("support" | "region_load", Some("edge_part")) => &["side", "from", "to"],
-        ("support" | "region_load", Some("point")) => &["point"],
-        ("support", Some("box")) => &["box"],
-        ("probe", _) => &["point"],
-        _ => &[],
-    }
-}
-
-/// Refuses an entry of a general-scene list that omits a key its shape / region needs.
+/// Refuses an entry that omits a key the schema requires of it ([`schema::Required`]: always,
+/// or for its shape or region), as missing.
 fn required_keys(
     section: &str,
     name: &str,
     s: &Section,
     given: impl Fn(&str) -> bool,
 ) -> Result<()> {
-    let what = s
-        .get("shape")
-        .or(s.get("region"))
-        .map(|v| {
-            format!(
-                " for {} '{}'",
-                if s.contains_key("shape") {
-                    "shape"
-                } else {
-                    "region"
-                },
-                v.s()
-            )
-        })
-        .unwrap_or_default();
-    for key in required(section, s) {
-        if !given(key) {
-            return Err(Error::UnknownKey {
-                param: format!("{name}.{key}"),
-                message: format!("missing required key {name}.{key}{what}"),
+    let value = |k: &str| s.get(k).map(|v| v.s().to_string());
+    for spec in schema::section_keys(section) {
+        if spec.required_in(&value) && !given(spec.key) {
+            let why = match spec.required {
+                schema::Required::When { key, .. } => format!(" for {key} '{}'", s[key].s()),
+                _ => String::new(),
+            };
+            return Err(Error::MissingKey {
+                param: format!("{name}.{}", spec.key),
+                message: format!("missing required key {name}.{}{why}", spec.key),
             });
         }
     }
@@ -253,13 +211,19 @@ fn section_rules(section: &str, name: &str, s: &Section) -> Result<()> {
         }
         "xfem" => {
             let (nsub, tip) = (s["nsub"].i(), s["tip_nsub"].i());
-            if tip != 0 && tip < nsub {
-                return Err(Error::invalid(
-                    &format!("{name}.tip_nsub"),
-                    &format!("0 (= nsub) or an integer in nsub..64 = {nsub}..64"),
-                    tip,
-                ));
+            if tip != 0 {
+                super::validate::tip_nsub(&format!("{name}.tip_nsub"), nsub, tip)?;
             }
+        }
+        "pd" if schema::sla_engine(s["fast"].b(), s["engine"].s()).is_none() => {
+            return Err(Error::invalid(
+                &format!("{name}.engine"),
+                &format!(
+                    "'auto' or 'oracle' with {name}.fast = false (fast = false is another name \
+                     of engine = 'oracle')"
+                ),
+                format!("'{}'", s["engine"].s()),
+            ));
         }
         "hole" if s["shape"].s() == "rect" => {
             let (lo, hi) = (s["min"].pair(), s["max"].pair());
@@ -346,10 +310,9 @@ fn string(t: &Table, key: &str, valid: &str, ok: impl Fn(&str) -> bool) -> Resul
 
 /// The method of a scene tree (required).
 pub fn method(t: &Table) -> Result<&'static str> {
-    let q: Vec<String> = schema::METHODS.iter().map(|m| format!("'{m}'")).collect();
-    let valid = format!("one of {}", q.join(", "));
+    let valid = schema::choice(&schema::METHODS);
     match string(t, "method", &valid, |s| schema::METHODS.contains(&s))? {
-        None => Err(Error::UnknownKey {
+        None => Err(Error::MissingKey {
             param: "method".into(),
             message: format!("missing required key 'method' ({valid})"),
         }),
@@ -784,8 +747,11 @@ fn pd_method(pd: &Section, ccm: bool) -> PdMethod {
             stop_crack_length: positive_or_none(pd["stop_crack_length"].f()),
             tie_tol: pd["tie_tol"].f(),
             refactor_every: pd["refactor_every"].i() as usize,
-            fast: pd["fast"].b(),
-            engine: super::SlaEngine::from_name(pd["engine"].s()),
+            // `pd.fast = false` is `pd.engine = "oracle"` ([`schema::sla_engine`]); the schema
+            // admits only the engine names and `section_rules` refuses a contradiction
+            engine: schema::sla_engine(pd["fast"].b(), pd["engine"].s())
+                .and_then(super::SlaEngine::from_name)
+                .unwrap_or(super::SlaEngine::Oracle),
             damage_at_steps: pd["damage_at_steps"]
                 .ints()
                 .iter()

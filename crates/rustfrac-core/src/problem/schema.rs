@@ -1,13 +1,16 @@
-//! Every scene key: its section, kind, default, valid range and meaning. This table is the one
-//! place where a scene rule lives; the Python package reads it (`rustfrac._core.scene_schema()`)
-//! to build its section classes, so a new parameter is one entry here plus the line of
-//! [`super::parse`] that reads it into the [`super::Problem`].
+//! Every scene key: its section, kind, default, valid range ([`Range`]: the check and its
+//! words), role ([`Role`]: what its value changes), whether an entry must state it
+//! ([`Required`]) and meaning. This table is the one place where a scene rule lives; the Python
+//! package reads it (`rustfrac._core.scene_schema()`) to build its section classes and the docs
+//! their key tables, and the checkpoint fingerprint hashes its physics and solver keys. A new
+//! parameter is one entry here, the line of [`super::parse`] that reads it into the
+//! [`super::Problem`] and the line of [`super::scene_of`] that gives it back.
 //!
 //! Units are consistent and up to the user; the paper's case uses N, mm and MPa (E = 10000).
 
 use super::grid::MAX_ELEMENTS;
-use super::value::Value;
-use crate::error::{MAG_MAX, MAG_MIN};
+pub use super::key_value::{Kind, Val};
+pub use super::range::{choice, Bound, Range};
 use std::sync::OnceLock;
 
 /// Default of the small-area rule's threshold (`xfem.area_threshold`; see
@@ -92,11 +95,9 @@ pub const SLA_ENGINES: [&str; 4] = ["auto", "dense", "sparse", "oracle"];
 /// `pd.region`: the CCM-PD region fixed (`pd.center`, `pd.size`) or adaptive
 /// ([`super::pd_region`]).
 pub const PD_REGIONS: [&str; 2] = ["fixed", "adaptive"];
-// --- pd.surface_correction ---
 /// `pd.surface_correction`: the PD surface correction ([`super::SurfaceCorrection`],
 /// `crate::pd::surface_correction`).
 pub const SURFACE_CORRECTIONS: [&str; 2] = ["none", "energy"];
-// --- end pd.surface_correction ---
 /// `pd.s0_calibration`: the critical stretch's rule ([`crate::pd::calibration`]).
 pub const S0_CALIBRATIONS: [&str; 3] = ["continuum", "grid", "sla"];
 /// Largest `pd.adapt_margin` and `pd.adapt_size` (horizons).
@@ -112,133 +113,46 @@ pub const MAX_FEM_COARSE: f64 = 1000.0;
 /// Most vertices of a polygon hole.
 pub const MAX_POLYGON_VERTICES: usize = 10_000;
 
-/// The kind of a key's value.
+/// What a key's value changes. A checkpoint resumes only a run whose physics and solver keys
+/// all have the checkpoint's values (`crate::pd::sla::checkpoint`; `docs/design.md`,
+/// "Checkpoints").
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Kind {
-    Float,
-    Int,
-    Str,
-    Bool,
-    /// two floats
-    Pair,
-    /// a list of integers
-    IntList,
-    /// a list of numbers
-    FloatList,
-    /// a list of pairs of numbers
-    PairList,
+pub enum Role {
+    /// the model and what a step records on it (plate, material, load, cracks, grids, holes,
+    /// supports, probes' points)
+    Physics,
+    /// the solver's sequence of floating-point operations (engine, tie tolerance,
+    /// re-condensation period)
+    Solver,
+    /// neither the model nor any recorded value of a step: step limits, stop lengths, snapshots,
+    /// files, names
+    Output,
 }
 
-impl Kind {
-    /// Stable name (the Python side maps it to a type).
-    pub fn name(&self) -> &'static str {
+impl Role {
+    /// Stable name (the Python side and the docs show it).
+    pub fn name(self) -> &'static str {
         match self {
-            Kind::Float => "float",
-            Kind::Int => "int",
-            Kind::Str => "str",
-            Kind::Bool => "bool",
-            Kind::Pair => "pair",
-            Kind::IntList => "intlist",
-            Kind::FloatList => "floatlist",
-            Kind::PairList => "pairlist",
-        }
-    }
-    /// How messages say "a value of this kind".
-    pub fn phrase(&self) -> &'static str {
-        match self {
-            Kind::Float => "a number",
-            Kind::Int => "an integer",
-            Kind::Str => "a string",
-            Kind::Bool => "true or false",
-            Kind::Pair => "a pair of numbers",
-            Kind::IntList => "a list of integers",
-            Kind::FloatList => "a list of numbers",
-            Kind::PairList => "a list of pairs of numbers",
+            Role::Physics => "physics",
+            Role::Solver => "solver",
+            Role::Output => "output",
         }
     }
 }
 
-/// A key's value after its kind was checked.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Val {
-    Float(f64),
-    Int(i64),
-    Str(String),
-    Bool(bool),
-    Pair([f64; 2]),
-    IntList(Vec<i64>),
-    FloatList(Vec<f64>),
-    PairList(Vec<[f64; 2]>),
-}
-
-impl Val {
-    pub fn f(&self) -> f64 {
-        match self {
-            Val::Float(v) => *v,
-            Val::Int(v) => *v as f64,
-            _ => f64::NAN,
-        }
-    }
-    pub fn i(&self) -> i64 {
-        match self {
-            Val::Int(v) => *v,
-            _ => 0,
-        }
-    }
-    pub fn s(&self) -> &str {
-        match self {
-            Val::Str(v) => v,
-            _ => "",
-        }
-    }
-    pub fn b(&self) -> bool {
-        matches!(self, Val::Bool(true))
-    }
-    pub fn pair(&self) -> [f64; 2] {
-        match self {
-            Val::Pair(v) => *v,
-            _ => [f64::NAN; 2],
-        }
-    }
-    pub fn ints(&self) -> &[i64] {
-        match self {
-            Val::IntList(v) => v,
-            _ => &[],
-        }
-    }
-    pub fn floats(&self) -> &[f64] {
-        match self {
-            Val::FloatList(v) => v,
-            _ => &[],
-        }
-    }
-    pub fn pairs(&self) -> &[[f64; 2]] {
-        match self {
-            Val::PairList(v) => v,
-            _ => &[],
-        }
-    }
-    /// Back to the tree (defaults and normalised values for Python).
-    pub fn to_value(&self) -> Value {
-        match self {
-            Val::Float(v) => Value::Float(*v),
-            Val::Int(v) => Value::Int(*v),
-            Val::Str(v) => Value::Str(v.clone()),
-            Val::Bool(v) => Value::Bool(*v),
-            Val::Pair(v) => Value::List(v.iter().map(|&x| Value::Float(x)).collect()),
-            Val::IntList(v) => Value::List(v.iter().map(|&x| Value::Int(x)).collect()),
-            Val::FloatList(v) => Value::List(v.iter().map(|&x| Value::Float(x)).collect()),
-            Val::PairList(v) => Value::List(
-                v.iter()
-                    .map(|p| Value::List(p.iter().map(|&x| Value::Float(x)).collect()))
-                    .collect(),
-            ),
-        }
-    }
-    /// Python-style repr for messages.
-    pub fn repr(&self) -> String {
-        self.to_value().repr()
-    }
+/// Whether an entry of a section must state a key (a missing one is refused as missing:
+/// `Error::MissingKey`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Required {
+    /// the default applies when the key is absent
+    No,
+    /// every entry states it
+    Always,
+    /// the entries whose key `key` (with its default when absent) is one of `values`
+    When {
+        key: &'static str,
+        values: &'static [&'static str],
+    },
 }
 
 /// One scene key.
@@ -247,12 +161,16 @@ pub struct KeySpec {
     pub key: &'static str,
     pub kind: Kind,
     pub default: Val,
-    /// the valid range in words (messages and docs)
-    pub valid: String,
+    /// the valid values: the check and the words
+    pub range: Range,
+    /// words shown after the range (the meaning of a special value, a rule with another key)
+    pub note: &'static str,
+    /// what the key's value changes
+    pub role: Role,
+    /// whether an entry must state it
+    pub required: Required,
     /// what the key means, with units
     pub doc: &'static str,
-    /// the range check of a value of the right kind
-    pub ok: fn(&Val) -> bool,
 }
 
 impl KeySpec {
@@ -260,369 +178,355 @@ impl KeySpec {
     pub fn param(&self) -> String {
         format!("{}.{}", self.section, self.key)
     }
+    /// The valid values in words (messages and docs): the range's words and the note.
+    pub fn valid(&self) -> String {
+        let w = self.range.words(self.kind, self.key);
+        if self.note.is_empty() {
+            w
+        } else {
+            format!("{w} {}", self.note)
+        }
+    }
+    /// The check of a value of the right kind.
+    pub fn ok(&self, v: &Val) -> bool {
+        self.range.contains(v)
+    }
+    /// Whether an entry with the checked values `s` must state this key.
+    pub fn required_in(&self, s: &dyn Fn(&str) -> Option<String>) -> bool {
+        match self.required {
+            Required::No => false,
+            Required::Always => true,
+            Required::When { key, values } => s(key).is_some_and(|v| values.contains(&v.as_str())),
+        }
+    }
+    /// The condition of [`Required`] in words ("" when not required).
+    pub fn required_words(&self) -> String {
+        match self.required {
+            Required::No => String::new(),
+            Required::Always => "required".into(),
+            Required::When { key, values } => {
+                let q: Vec<String> = values.iter().map(|v| format!("'{v}'")).collect();
+                format!("required for {key} {}", q.join(" or "))
+            }
+        }
+    }
+    fn note(mut self, note: &'static str) -> Self {
+        self.note = note;
+        self
+    }
+    fn role(mut self, role: Role) -> Self {
+        self.role = role;
+        self
+    }
+    fn required(mut self, required: Required) -> Self {
+        self.required = required;
+        self
+    }
+    fn when(self, key: &'static str, values: &'static [&'static str]) -> Self {
+        self.required(Required::When { key, values })
+    }
 }
 
-fn finite(v: f64) -> bool {
-    v.is_finite() && v.abs() <= MAG_MAX
-}
-fn positive(v: f64) -> bool {
-    v.is_finite() && (MAG_MIN..=MAG_MAX).contains(&v)
-}
-fn nonneg(v: f64) -> bool {
-    v == 0.0 || positive(v)
-}
-
-const POS: &str = "a finite number in [1e-30, 1e30]";
-const FINITE: &str = "a finite number with |value| <= 1e30";
-
-/// "one of 'a', 'b'": the valid range in words of a key whose value is one of `opts`.
-pub fn choice(opts: &[&str]) -> String {
-    let q: Vec<String> = opts.iter().map(|o| format!("'{o}'")).collect();
-    format!("one of {}", q.join(", "))
-}
-
-#[allow(clippy::too_many_lines)]
-fn build() -> Vec<KeySpec> {
-    use Kind::*;
-    let k = |section, key, kind, default, valid: &str, doc, ok: fn(&Val) -> bool| KeySpec {
+/// A key of `section`: its default (which gives the kind), range and meaning; a physics key,
+/// never required, without a note (the builders above change these).
+fn k(
+    section: &'static str,
+    key: &'static str,
+    default: Val,
+    range: Range,
+    doc: &'static str,
+) -> KeySpec {
+    KeySpec {
         section,
         key,
-        kind,
+        kind: default.kind(),
         default,
-        valid: valid.to_string(),
+        range,
+        note: "",
+        role: Role::Physics,
+        required: Required::No,
         doc,
-        ok,
+    }
+}
+
+/// The PD horizon factor m = delta / dx (`pd.m`; every use of m meets it:
+/// [`check_horizon_factor`]). Bonds per node grow as m^2.
+pub const HORIZON_FACTOR: Range = Range::Int {
+    lo: 1,
+    hi: Some(MAX_HORIZON_FACTOR as i64),
+};
+
+/// Refuses a horizon factor outside [`HORIZON_FACTOR`], naming `pd.m`.
+pub fn check_horizon_factor(m: usize) -> crate::Result<()> {
+    let v = i64::try_from(m).unwrap_or(i64::MAX);
+    if HORIZON_FACTOR.contains_i(v) {
+        Ok(())
+    } else {
+        Err(crate::error::Error::invalid(
+            "pd.m",
+            &HORIZON_FACTOR.words(Kind::Int, "m"),
+            m,
+        ))
+    }
+}
+
+/// `pd.fast = false` is another name of `pd.engine = "oracle"` (the refactorise-every-step
+/// solver; one policy, two keys): the engine name the two keys select, or None when they
+/// contradict each other (`fast = false` beside `engine = "dense"` or `"sparse"`).
+pub fn sla_engine(fast: bool, engine: &str) -> Option<&str> {
+    match (fast, engine) {
+        (true, e) => Some(e),
+        (false, "auto" | "oracle") => Some("oracle"),
+        (false, _) => None,
+    }
+}
+
+/// The four sides of the plate.
+pub const SIDES: [&str; 4] = ["left", "right", "bottom", "top"];
+/// Crack kinds (each method accepts some: [`crack_kinds`]).
+pub const CRACK_KINDS: [&str; 4] = ["none", "seam", "edge", "center"];
+/// Most sub-quads per direction of split and branch-enriched elements (`xfem.nsub`).
+pub const MAX_NSUB: i64 = 32;
+/// Most sub-quads per direction of tip elements (`xfem.tip_nsub`).
+pub const MAX_TIP_NSUB: i64 = 64;
+
+const POS: Range = Range::Positive;
+const FIN: Range = Range::Finite;
+/// a length that may be left 0 (unset) in a list entry
+const UNSET_OR_POS: Range = Range::ZeroOr("unset", &Range::Positive);
+const PAIR_FIN: Range = Range::Each {
+    max: Some(2),
+    each: &Range::Finite,
+};
+const STEPS: Range = Range::Int {
+    lo: 0,
+    hi: Some(MAX_STEPS as i64),
+};
+const TOL: Range = Range::Interval {
+    lo: Bound::Closed(0.0),
+    hi: Bound::Open(1.0),
+};
+
+#[allow(clippy::too_many_lines)]
+#[rustfmt::skip]
+fn build() -> Vec<KeySpec> {
+    use Range::{Int, Interval, OneOf, ZeroOr};
+    use Role::{Output, Solver};
+    let (f, s) = (Val::Float, |v: &str| Val::Str(v.into()));
+    let at_least = |lo| Int { lo, hi: None };
+    let closed = |lo, hi| Interval {
+        lo: Bound::Closed(lo),
+        hi: Bound::Closed(hi),
     };
-    let pos = |v: &Val| positive(v.f());
-    let fin = |v: &Val| finite(v.f());
     let mut v = vec![
-        k("plate", "width", Float, Val::Float(11.0), POS,
-          "plate width W along x1 (length); the plate is [0, W] x [0, L]", pos),
-        k("plate", "height", Float, Val::Float(21.0), POS,
-          "plate height L along x2 (length)", pos),
-        k("material", "E", Float, Val::Float(10000.0), POS,
-          "Young's modulus (stress)", pos),
-        k("material", "nu", Float, Val::Float(0.25), "-1 < nu < 0.5",
-          "Poisson's ratio (bond-based PD fixes 0.25)",
-          |v| v.f().is_finite() && v.f() > -1.0 && v.f() < 0.5),
-        k("material", "plane", Str, Val::Str("strain".into()), &choice(&["strain", "stress"]),
-          "plane strain or plane stress", |v| matches!(v.s(), "strain" | "stress")),
-        k("material", "thickness", Float, Val::Float(1.0), POS,
-          "out-of-plane thickness h (length)", pos),
-        k("material", "G0", Float, Val::Float(0.367), POS,
-          "critical energy release rate (force / length): LEFM growth and PD bond strength", pos),
-        k("load", "bc", Str, Val::Str("free".into()), &choice(&BCS),
+        k("plate", "width", f(11.0), POS,
+          "plate width W along x1 (length); the plate is [0, W] x [0, L]"),
+        k("plate", "height", f(21.0), POS, "plate height L along x2 (length)"),
+        k("material", "E", f(10000.0), POS, "Young's modulus (stress)"),
+        k("material", "nu", f(0.25), Interval { lo: Bound::Open(-1.0), hi: Bound::Open(0.5) },
+          "Poisson's ratio (bond-based PD fixes 0.25)"),
+        k("material", "plane", s("strain"), OneOf(&["strain", "stress"]),
+          "plane strain or plane stress"),
+        k("material", "thickness", f(1.0), POS, "out-of-plane thickness h (length)"),
+        k("material", "G0", f(0.367), POS,
+          "critical energy release rate (force / length): LEFM growth and PD bond strength"),
+        k("load", "bc", s("free"), OneOf(&BCS),
           "grips on the top and bottom edges (eq. 61): 'free' (u2 = +-u0, u1 free, one anchor \
-           node), 'clamped' (u2 = +-u0, u1 = 0) or 'traction' (uniform normal stress)",
-          |v| BCS.contains(&v.s())),
-        k("load", "u0", Float, Val::Float(0.01), FINITE,
-          "reference grip displacement (length), non-zero under displacement grips", fin),
-        k("load", "traction", Float, Val::Float(9.993), FINITE,
-          "reference traction (stress) of bc = 'traction', non-zero there", fin),
-        k("crack", "kind", Str, Val::Str("seam".into()),
-          &choice(&["none", "seam", "edge", "center"]),
+           node), 'clamped' (u2 = +-u0, u1 = 0) or 'traction' (uniform normal stress)"),
+        k("load", "u0", f(0.01), FIN,
+          "reference grip displacement (length), non-zero under displacement grips"),
+        k("load", "traction", f(9.993), FIN,
+          "reference traction (stress) of bc = 'traction', non-zero there"),
+        k("crack", "kind", s("seam"), OneOf(&CRACK_KINDS),
           "'none', 'seam' (FEM: duplicated nodes on the grid line nearest y), 'edge' (XFEM level \
            set / PD pre-broken bonds) or 'center' (XFEM interior crack); without a [crack] \
-           section: 'seam' for FEM, else 'edge'",
-          |v| matches!(v.s(), "none" | "seam" | "edge" | "center")),
-        k("crack", "a0", Float, Val::Float(1.1), POS,
-          "crack length (length); the half-length of a 'center' crack", pos),
-        k("crack", "y", Float, Val::Float(10.5), POS,
-          "x2 of the crack mouth (left/right edge cracks) or centre", pos),
-        k("crack", "angle", Float, Val::Float(0.0), "-180 <= angle <= 180 degrees",
+           section: 'seam' for FEM, else 'edge'"),
+        k("crack", "a0", f(1.1), POS,
+          "crack length (length); the half-length of a 'center' crack"),
+        k("crack", "y", f(10.5), POS,
+          "x2 of the crack mouth (left/right edge cracks) or centre"),
+        k("crack", "angle", f(0.0), closed(-180.0, 180.0),
           "degrees counter-clockwise from x1 ('center'), or from the side's inward normal \
-           (edge cracks); XFEM only, 0 elsewhere",
-          |v| v.f().is_finite() && v.f().abs() <= 180.0),
-        k("crack", "x", Float, Val::Float(5.5), POS,
-          "x1 of a 'center' crack's centre, or of the mouth of a bottom/top edge crack", pos),
-        k("crack", "side", Str, Val::Str("left".into()),
-          &choice(&["left", "right", "bottom", "top"]),
-          "the edge an XFEM edge crack starts from (other methods: 'left')",
-          |v| matches!(v.s(), "left" | "right" | "bottom" | "top")),
-        k("mesh", "nx", Int, Val::Int(44), "an integer >= 1",
-          "Q4 elements along x1 (FEM, XFEM)", |v| v.i() >= 1),
-        k("mesh", "ny", Int, Val::Int(83), "an integer >= 1",
-          "Q4 elements along x2 (FEM, XFEM)", |v| v.i() >= 1),
-        k("mesh", "gauss", Int, Val::Int(2),
-          "an integer in 2..5 (1 point per direction leaves the Q4 element's hourglass modes: \
-           the stiffness is rank deficient)",
-          "Gauss points per direction of the standard elements (2 is exact for rectangles)",
-          |v| (2..=5).contains(&v.i())),
-        k("mesh", "xs", FloatList, Val::FloatList(Vec::new()),
-          "empty (uniform) or strictly increasing x1 grid lines from 0 to plate.width",
-          "the vertical grid lines of a tensor grid (then mesh.nx is their count - 1)",
-          |v| v.floats().iter().all(|&x| finite(x))),
-        k("mesh", "ys", FloatList, Val::FloatList(Vec::new()),
-          "empty (uniform) or strictly increasing x2 grid lines from 0 to plate.height",
-          "the horizontal grid lines of a tensor grid (then mesh.ny is their count - 1)",
-          |v| v.floats().iter().all(|&x| finite(x))),
-        k("mesh", "refine", FloatList, Val::FloatList(Vec::new()),
-          "empty (off) or a box [x0, y0, x1, y1] with x0 < x1, y0 < y1",
+           (edge cracks); XFEM only, 0 elsewhere").note("degrees"),
+        k("crack", "x", f(5.5), POS,
+          "x1 of a 'center' crack's centre, or of the mouth of a bottom/top edge crack"),
+        k("crack", "side", s("left"), OneOf(&SIDES),
+          "the edge an XFEM edge crack starts from (other methods: 'left')"),
+        k("mesh", "nx", Val::Int(44), at_least(1), "Q4 elements along x1 (FEM, XFEM)"),
+        k("mesh", "ny", Val::Int(83), at_least(1), "Q4 elements along x2 (FEM, XFEM)"),
+        k("mesh", "gauss", Val::Int(2), Int { lo: 2, hi: Some(5) },
+          "Gauss points per direction of the standard elements (2 is exact for rectangles)")
+          .note("(1 point per direction leaves the Q4 element's hourglass modes: the stiffness \
+                 is rank deficient)"),
+        k("mesh", "xs", Val::FloatList(Vec::new()), Range::Each { max: None, each: &FIN },
+          "the vertical grid lines of a tensor grid (then mesh.nx is their count - 1)")
+          .note("(empty: uniform; else strictly increasing x1 grid lines from 0 to plate.width)"),
+        k("mesh", "ys", Val::FloatList(Vec::new()), Range::Each { max: None, each: &FIN },
+          "the horizontal grid lines of a tensor grid (then mesh.ny is their count - 1)")
+          .note("(empty: uniform; else strictly increasing x2 grid lines from 0 to \
+                 plate.height)"),
+        k("mesh", "refine", Val::FloatList(Vec::new()), Range::BoxOrEmpty,
           "graded grid: elements of size mesh.refine_h in this box, growing by mesh.grading \
-           per element away from it up to the uniform grid's size (plate / mesh.nx, mesh.ny)",
-          |v| v.floats().is_empty() || (v.floats().len() == 4 && v.floats().iter().all(|&x| finite(x))
-              && v.floats()[0] < v.floats()[2] && v.floats()[1] < v.floats()[3])),
-        k("mesh", "refine_h", Float, Val::Float(0.0), "0 (off) or a length in [1e-30, 1e30]",
-          "element size in the refinement box", |v| nonneg(v.f())),
-        k("mesh", "grading", Float, Val::Float(1.2),
-          &format!("1 <= grading <= {MAX_GRADING}"),
-          "ratio of neighbouring element sizes outside the refinement box",
-          |v| v.f() >= 1.0 && v.f() <= MAX_GRADING),
-        k("xfem", "nsub", Int, Val::Int(4), "an integer in 1..32",
+           per element away from it up to the uniform grid's size (plate / mesh.nx, mesh.ny)")
+          .note("(empty: off)"),
+        k("mesh", "refine_h", f(0.0), ZeroOr("off", &POS),
+          "element size in the refinement box"),
+        k("mesh", "grading", f(1.2), closed(1.0, MAX_GRADING),
+          "ratio of neighbouring element sizes outside the refinement box"),
+        k("xfem", "nsub", Val::Int(4), Int { lo: 1, hi: Some(MAX_NSUB) },
           "sub-quads per direction of split and branch-enriched elements, 2 x 2 Gauss points \
-           each (eq. 35)", |v| (1..=32).contains(&v.i())),
-        k("xfem", "tip_nsub", Int, Val::Int(0), "0 (= nsub) or an integer in nsub..64",
-          "sub-quads per direction in tip elements", |v| (0..=64).contains(&v.i())),
-        k("xfem", "r_I", Float, Val::Float(2.5), "0.5 <= r_I <= 20 element lengths",
-          "radius of the interaction-integral domain, in tip-element lengths",
-          |v| v.f().is_finite() && (0.5..=20.0).contains(&v.f())),
-        k("xfem", "fixed_area_radius", Float, Val::Float(0.0),
-          "0 (off) or a length in [1e-30, 1e30]",
+           each (eq. 35)"),
+        k("xfem", "tip_nsub", Val::Int(0),
+          ZeroOr("= nsub", &Int { lo: 1, hi: Some(MAX_TIP_NSUB) }),
+          "sub-quads per direction in tip elements").note("(at least nsub)"),
+        k("xfem", "r_I", f(2.5), closed(0.5, 20.0),
+          "radius of the interaction-integral domain, in tip-element lengths")
+          .note("element lengths"),
+        k("xfem", "fixed_area_radius", f(0.0), ZeroOr("off", &POS),
           "enrich every node within this distance of a tip with the branch functions (Laborde \
-           et al. 2005); 0 = the tip element's nodes only", |v| nonneg(v.f())),
-        k("xfem", "area_threshold", Float, Val::Float(DEFAULT_AREA_THRESHOLD), "0 <= area_threshold < 0.5",
+           et al. 2005); 0 = the tip element's nodes only"),
+        k("xfem", "area_threshold", f(DEFAULT_AREA_THRESHOLD),
+          Interval { lo: Bound::Closed(0.0), hi: Bound::Open(0.5) },
           "small-area rule: a Heaviside node is dropped when the smaller part of its support \
-           cut by the crack is below this fraction of the support (0: only exactly zero parts)",
-          |v| v.f() >= 0.0 && v.f() < 0.5),
-        k("xfem", "growth_steps", Int, Val::Int(0),
-          &format!("an integer in 0..{MAX_GROWTH_STEPS}"),
+           cut by the crack is below this fraction of the support (0: only exactly zero parts)"),
+        k("xfem", "growth_steps", Val::Int(0), Int { lo: 0, hi: Some(MAX_GROWTH_STEPS as i64) },
           "0 = solve at the reference load only; else the most LEFM growth steps (critical \
-           states where G = G0)", |v| (0..=MAX_GROWTH_STEPS as i64).contains(&v.i())),
-        k("xfem", "tip_tie_tol", Float, Val::Float(1e-6), "0 <= tip_tie_tol < 1",
+           states where G = G0)").role(Output),
+        k("xfem", "tip_tie_tol", f(1e-6), TOL,
           "growth with several tips: every tip whose critical load factor is within this \
-           relative tolerance of the smallest grows in the same step (symmetric tips together)",
-          |v| v.f() >= 0.0 && v.f() < 1.0),
-        k("xfem", "da", Float, Val::Float(0.0),
-          "0 (one element length) or a length in [1e-30, 1e30]",
-          "crack extension per growth step", |v| nonneg(v.f())),
-        k("xfem", "kink_rule", Str, Val::Str(KINK_RULES[0].into()), &choice(&KINK_RULES),
+           relative tolerance of the smallest grows in the same step (symmetric tips together)")
+          .role(Solver),
+        k("xfem", "da", f(0.0), ZeroOr("one element length", &POS),
+          "crack extension per growth step"),
+        k("xfem", "kink_rule", s(KINK_RULES[0]), OneOf(&KINK_RULES),
           "growth direction: 'hoop' (maximum hoop stress at the tip, one solve per step) or \
            'predictor_corrector' (a trial extension, the hoop angle at the trial tip, the \
-           bisector: two solves per step; removes the zig-zag of curving paths)",
-          |v| KINK_RULES.contains(&v.s())),
-        k("xfem", "a_stop", Float, Val::Float(0.0),
-          "0 (0.7 plate.width) or 0 < a_stop < plate.width",
-          "growth stops once a crack length would exceed it (half-length for 'center')",
-          |v| nonneg(v.f())),
-        k("pd", "dx", Float, Val::Float(1.0 / 15.0), POS,
-          "PD grid spacing (length); the grid must fit the plate", pos),
-        k("pd", "m", Int, Val::Int(4), &format!("an integer in 1..{MAX_HORIZON_FACTOR}"),
-          "horizon factor: delta = m dx", |v| (1..=MAX_HORIZON_FACTOR as i64).contains(&v.i())),
-        k("pd", "center", Pair, Val::Pair([1.70, 10.5]), "two finite numbers, |x| <= 1e30",
-          "centre of the CCM-PD rectangle (pure PD covers the whole plate)",
-          |v| v.pair().iter().all(|&x| finite(x))),
-        k("pd", "size", Pair, Val::Pair([2.73, 1.67]), "two finite numbers in [1e-30, 1e30]",
-          "size of the CCM-PD rectangle along x1 and x2",
-          |v| v.pair().iter().all(|&x| positive(x))),
-        k("pd", "region", Str, Val::Str("fixed".into()), &choice(&PD_REGIONS),
+           bisector: two solves per step; removes the zig-zag of curving paths)"),
+        k("xfem", "a_stop", f(0.0), ZeroOr("0.7 plate.width", &POS),
+          "growth stops once a crack length would exceed it (half-length for 'center')")
+          .note("(less than plate.width)").role(Output),
+        k("pd", "dx", f(1.0 / 15.0), POS,
+          "PD grid spacing (length); the grid must fit the plate"),
+        k("pd", "m", Val::Int(4), HORIZON_FACTOR, "horizon factor: delta = m dx"),
+        k("pd", "center", Val::Pair([1.70, 10.5]), PAIR_FIN,
+          "centre of the CCM-PD rectangle (pure PD covers the whole plate)"),
+        k("pd", "size", Val::Pair([2.73, 1.67]), Range::Each { max: Some(2), each: &POS },
+          "size of the CCM-PD rectangle along x1 and x2"),
+        k("pd", "region", s("fixed"), OneOf(&PD_REGIONS),
           "CCM-PD: 'fixed' (the rectangle pd.center, pd.size) or 'adaptive' (squares of \
            pd.adapt_size horizons around the crack tips, grown before any bond within \
-           pd.adapt_margin horizons of the FEM part breaks; pd.center and pd.size unused)",
-          |v| PD_REGIONS.contains(&v.s())),
-        k("pd", "adapt_margin", Float, Val::Float(2.0),
-          &format!("0 < adapt_margin <= {MAX_ADAPT_HORIZONS}"),
+           pd.adapt_margin horizons of the FEM part breaks; pd.center and pd.size unused)"),
+        k("pd", "adapt_margin", f(2.0),
+          Interval { lo: Bound::Open(0.0), hi: Bound::Closed(MAX_ADAPT_HORIZONS) },
           "adaptive region: no bond breaks within this many horizons of a FEM node (the \
-           region grows first)", |v| v.f() > 0.0 && v.f() <= MAX_ADAPT_HORIZONS),
-        k("pd", "adapt_size", Float, Val::Float(4.0),
-          &format!("adapt_margin + 1 <= adapt_size <= {MAX_ADAPT_HORIZONS}"),
+           region grows first)"),
+        k("pd", "adapt_size", f(4.0), closed(1.0, MAX_ADAPT_HORIZONS),
           "adaptive region: half-side, in horizons, of the squares it starts with (around \
-           each crack tip) and grows by (around the bond about to break)",
-          |v| v.f() >= 1.0 && v.f() <= MAX_ADAPT_HORIZONS),
-        k("pd", "fem_grading", Float, Val::Float(1.0),
-          &format!("1 <= fem_grading <= {MAX_GRADING} (> 1 for method 'ccm_pd' only)"),
+           each crack tip) and grows by (around the bond about to break)")
+          .note("(and adapt_size >= adapt_margin + 1)"),
+        k("pd", "fem_grading", f(1.0), closed(1.0, MAX_GRADING),
           "CCM-PD: 1 = one uniform dx grid (the paper's); > 1 = a graded FEM grid: uniform dx \
            over the PD rectangles and a band of m + 1 elements around them, element sizes \
-           growing by this ratio beyond, up to pd.fem_coarse dx",
-          |v| v.f() >= 1.0 && v.f() <= MAX_GRADING),
-        k("pd", "fem_coarse", Float, Val::Float(8.0),
-          &format!("1 <= fem_coarse <= {MAX_FEM_COARSE}"),
-          "CCM-PD graded grid: the largest FEM element size, in units of pd.dx",
-          |v| v.f() >= 1.0 && v.f() <= MAX_FEM_COARSE),
-        k("pd", "sla_steps", Int, Val::Int(500),
-          &format!("an integer >= 0 (0 = the reference solution only; at most {MAX_STEPS})"),
-          "most SLA steps (bond-break events)", |v| (0..=MAX_STEPS as i64).contains(&v.i())),
-        k("pd", "tie_tol", Float, Val::Float(0.0), "0 <= tie_tol < 1",
+           growing by this ratio beyond, up to pd.fem_coarse dx")
+          .note("(> 1 for method 'ccm_pd' only)"),
+        k("pd", "fem_coarse", f(8.0), closed(1.0, MAX_FEM_COARSE),
+          "CCM-PD graded grid: the largest FEM element size, in units of pd.dx"),
+        k("pd", "sla_steps", Val::Int(500), STEPS, "most SLA steps (bond-break events)")
+          .note("(0 = the reference solution only)").role(Output),
+        k("pd", "tie_tol", f(0.0), TOL,
           "break together every bond within this relative tolerance of the step's load factor \
-           (0 = one bond per step)", |v| v.f() >= 0.0 && v.f() < 1.0),
-        k("pd", "refactor_every", Int, Val::Int(0),
-          &format!("an integer >= 0 (at most {MAX_STEPS})"),
+           (0 = one bond per step)").role(Solver),
+        k("pd", "refactor_every", Val::Int(0), STEPS,
           "fast solver: re-condense after this many breaks (0 = automatic: n_P / 2 dense, from \
-           the cost model sparse)",
-          |v| (0..=MAX_STEPS as i64).contains(&v.i())),
-        k("pd", "hole_volumes", Str, Val::Str("centre".into()), &choice(&HOLE_VOLUMES),
+           the cost model sparse)").role(Solver),
+        k("pd", "hole_volumes", s("centre"), OneOf(&HOLE_VOLUMES),
           "volume of a node whose cell a hole cuts: 'centre' (the full cell, the centre rule) \
-           or 'exact' (the cell's material part)", |v| HOLE_VOLUMES.contains(&v.s())),
-        // --- pd.surface_correction ---
-        k("pd", "surface_correction", Str, Val::Str("none".into()), &choice(&SURFACE_CORRECTIONS),
+           or 'exact' (the cell's material part)"),
+        k("pd", "surface_correction", s("none"), OneOf(&SURFACE_CORRECTIONS),
           "PD surface effect: 'none' (the paper's bonds) or 'energy' (Le & Bobaru 2018's \
            energy method: each bond's stiffness scaled so that a node near a hole or the \
            pre-crack has the bulk's strain energy density under uniform strain in x1 and x2, \
-           the plate's outline left uncorrected; computed once on the initial model; each bond keeps its critical energy: s0 / \
-           sqrt(G))",
-          |v| SURFACE_CORRECTIONS.contains(&v.s())),
-        // --- end pd.surface_correction ---
-        k("pd", "fast", Bool, Val::Bool(true), "true or false",
-          "condensation + Sherman-Morrison-Woodbury; false runs the refactorise-every-step \
-           oracle", |_| true),
-        k("pd", "engine", Str, Val::Str("auto".into()), &choice(&SLA_ENGINES),
-          "SLA solver when fast = true: 'auto' (the cheaper of dense and sparse by the cost \
-           model, reported in the result's solver), 'dense' (condensed PD system inverted), \
-           'sparse' (sparse factor of it + Sherman-Morrison-Woodbury) or 'oracle' (refactorise \
-           every step, as fast = false)", |v| SLA_ENGINES.contains(&v.s())),
-        k("pd", "s0_calibration", Str, Val::Str(S0_CALIBRATIONS[0].into()),
-          &choice(&S0_CALIBRATIONS),
+           the plate's outline left uncorrected; computed once on the initial model; each bond \
+           keeps its critical energy: s0 / sqrt(G))"),
+        k("pd", "fast", Val::Bool(true), Range::Any,
+          "condensation + Sherman-Morrison-Woodbury; false is another name of engine = \
+           'oracle' (refactorise every step)").role(Solver),
+        k("pd", "engine", s("auto"), OneOf(&SLA_ENGINES),
+          "SLA solver: 'auto' (the cheaper of dense and sparse by the cost model, reported in \
+           the result's solver), 'dense' (condensed PD system inverted), 'sparse' (sparse \
+           factor of it + Sherman-Morrison-Woodbury) or 'oracle' (refactorise every step; \
+           fast = false is another name of it)")
+          .note("('auto' or 'oracle' with fast = false)").role(Solver),
+        k("pd", "s0_calibration", s(S0_CALIBRATIONS[0]), OneOf(&S0_CALIBRATIONS),
           "critical stretch s0: 'continuum' (eq. 48, the paper's), 'grid' (rescaled so that the \
            energy of the grid's bonds crossing an x1-parallel line is G0 per unit area) or 'sla' \
            (rescaled so that a pure-PD reference strip of 6 x 8 horizons breaking across under \
            the SLA releases G0 per unit of new crack area; computed once per m per process: \
            about 1 s at m = 4, 20 s at m = 5, 90 s at m = 6); the factor is in the result's \
-           meta['s0_calibration']",
-          |v| S0_CALIBRATIONS.contains(&v.s())),
-        k("pd", "stop_crack_length", Float, Val::Float(0.0),
-          "a finite number >= 0 (0 = no stop; else in [1e-30, 1e30])",
-          "stop the SLA once the crack is this long", |v| nonneg(v.f())),
-        k("pd", "damage_at_steps", IntList, Val::IntList(Vec::new()),
-          &format!("a list of at most {MAX_SNAPSHOTS} integers >= 1 (at most {MAX_STEPS})"),
-          "steps after which the damage field is stored too",
-          |v| v.ints().len() <= MAX_SNAPSHOTS
-              && v.ints().iter().all(|&x| (1..=MAX_STEPS as i64).contains(&x))),
-        k("pd", "checkpoint_every", Int, Val::Int(0),
-          &format!("an integer >= 0 (at most {MAX_STEPS})"),
-          "write a checkpoint every this many steps (0 = never)",
-          |v| (0..=MAX_STEPS as i64).contains(&v.i())),
-        k("pd", "checkpoint_path", Str, Val::Str(String::new()), "a file path (empty: none)",
-          "checkpoint file, written atomically", |_| true),
-        k("pd", "resume_from", Str, Val::Str(String::new()),
-          "a checkpoint file path (empty: none)",
-          "continue from a checkpoint of the same model and solver options", |_| true),
-        k("hole", "shape", Str, Val::Str("circle".into()), &choice(&SHAPES),
-          "'circle' (center, radius), 'rect' (min, max corners) or 'polygon' (points)",
-          |v| SHAPES.contains(&v.s())),
-        k("hole", "center", Pair, Val::Pair([0.0, 0.0]), "two finite numbers, |x| <= 1e30",
-          "centre of a circle (length)", |v| v.pair().iter().all(|&x| finite(x))),
-        k("hole", "radius", Float, Val::Float(0.0), "a length in [1e-30, 1e30] (0: unset)",
-          "radius of a circle (length; required for circles)", |v| nonneg(v.f())),
-        k("hole", "min", Pair, Val::Pair([0.0, 0.0]), "two finite numbers, |x| <= 1e30",
-          "lower-left corner of a rect (length)", |v| v.pair().iter().all(|&x| finite(x))),
-        k("hole", "max", Pair, Val::Pair([0.0, 0.0]), "two finite numbers, |x| <= 1e30",
-          "upper-right corner of a rect (length)", |v| v.pair().iter().all(|&x| finite(x))),
-        k("hole", "points", PairList, Val::PairList(Vec::new()),
-          &format!("3 to {MAX_POLYGON_VERTICES} points [x1, x2] of a simple polygon"),
-          "vertices of a polygon, in order (not closed)",
-          |v| v.pairs().len() <= MAX_POLYGON_VERTICES
-              && v.pairs().iter().all(|p| p.iter().all(|&x| finite(x)))),
-        k("notch", "side", Str, Val::Str("bottom".into()),
-          &choice(&["left", "right", "bottom", "top"]), "the edge the slot is cut from",
-          |v| matches!(v.s(), "left" | "right" | "bottom" | "top")),
-        k("notch", "at", Float, Val::Float(0.0), FINITE,
+           meta['s0_calibration']"),
+        k("pd", "stop_crack_length", f(0.0), ZeroOr("no stop", &POS),
+          "stop the SLA once the crack is this long").role(Output),
+        k("pd", "damage_at_steps", Val::IntList(Vec::new()),
+          Range::Each {
+              max: Some(MAX_SNAPSHOTS),
+              each: &Int { lo: 1, hi: Some(MAX_STEPS as i64) },
+          },
+          "steps after which the damage field is stored too").role(Output),
+        k("pd", "checkpoint_every", Val::Int(0), STEPS,
+          "write a checkpoint every this many steps (0 = never)").role(Output),
+        k("pd", "checkpoint_path", s(""), Range::Any, "checkpoint file, written atomically")
+          .note("(a file path; empty: none)").role(Output),
+        k("pd", "resume_from", s(""), Range::Any,
+          "continue from a checkpoint of the same model and solver options (the same physics \
+           and solver keys)")
+          .note("(a checkpoint file path; empty: none)").role(Output),
+        k("hole", "shape", s("circle"), OneOf(&SHAPES),
+          "'circle' (center, radius), 'rect' (min, max corners) or 'polygon' (points)"),
+        k("hole", "center", Val::Pair([0.0, 0.0]), PAIR_FIN, "centre of a circle (length)")
+          .when("shape", &["circle"]),
+        k("hole", "radius", f(0.0), UNSET_OR_POS, "radius of a circle (length)")
+          .when("shape", &["circle"]),
+        k("hole", "min", Val::Pair([0.0, 0.0]), PAIR_FIN, "lower-left corner of a rect (length)")
+          .when("shape", &["rect"]),
+        k("hole", "max", Val::Pair([0.0, 0.0]), PAIR_FIN,
+          "upper-right corner of a rect (length)").when("shape", &["rect"]),
+        k("hole", "points", Val::PairList(Vec::new()),
+          Range::Each { max: Some(MAX_POLYGON_VERTICES), each: &FIN },
+          "vertices of a polygon, in order (not closed)")
+          .note("(at least 3, a simple polygon)").when("shape", &["polygon"]),
+        k("notch", "side", s("bottom"), OneOf(&SIDES), "the edge the slot is cut from"),
+        k("notch", "at", f(0.0), FIN,
           "position of the slot's centre line along its side (x1 on bottom/top, x2 on \
-           left/right; length; required)", fin),
-        k("notch", "width", Float, Val::Float(0.0), "a length in [1e-30, 1e30] (0: unset)",
-          "slot width (length; required)", |v| nonneg(v.f())),
-        k("notch", "depth", Float, Val::Float(0.0), "a length in [1e-30, 1e30] (0: unset)",
-          "slot depth from the edge (length; required); its end is flat", |v| nonneg(v.f())),
+           left/right; length)").required(Required::Always),
+        k("notch", "width", f(0.0), UNSET_OR_POS, "slot width (length)")
+          .required(Required::Always),
+        k("notch", "depth", f(0.0), UNSET_OR_POS,
+          "slot depth from the edge (length); its end is flat").required(Required::Always),
     ];
     v.extend(region_specs("support", &REGIONS, "bottom"));
-    v.extend(vec![
-        k(
-            "support",
-            "fix",
-            Str,
-            Val::Str("both".into()),
-            &choice(&["u1", "u2", "both"]),
-            "the prescribed components",
-            |v| matches!(v.s(), "u1" | "u2" | "both"),
-        ),
-        k(
-            "support",
-            "u1",
-            Float,
-            Val::Float(0.0),
-            FINITE,
-            "prescribed u1 at the reference load (length)",
-            fin,
-        ),
-        k(
-            "support",
-            "u2",
-            Float,
-            Val::Float(0.0),
-            FINITE,
-            "prescribed u2 at the reference load (length)",
-            fin,
-        ),
+    v.extend([
+        k("support", "fix", s("both"), OneOf(&["u1", "u2", "both"]), "the prescribed components"),
+        k("support", "u1", f(0.0), FIN, "prescribed u1 at the reference load (length)"),
+        k("support", "u2", f(0.0), FIN, "prescribed u2 at the reference load (length)"),
     ]);
-    v.extend(region_specs(
-        "region_load",
-        &["edge", "edge_part", "point"],
-        "top",
-    ));
-    v.extend(vec![
-        k(
-            "region_load",
-            "normal",
-            Float,
-            Val::Float(0.0),
-            FINITE,
-            "traction along the outward normal at the reference load (stress; tension positive)",
-            fin,
-        ),
-        k(
-            "region_load",
-            "shear",
-            Float,
-            Val::Float(0.0),
-            FINITE,
-            "shear traction at the reference load (stress): along +x1 on the bottom and top \
-           sides, along +x2 on the left and right sides",
-            fin,
-        ),
-        k(
-            "region_load",
-            "force",
-            Pair,
-            Val::Pair([0.0, 0.0]),
-            "two finite numbers, |x| <= 1e30",
-            "point force [f1, f2] at the reference load (force, over the thickness)",
-            |v| v.pair().iter().all(|&x| finite(x)),
-        ),
-        k(
-            "probe",
-            "name",
-            Str,
-            Val::Str(String::new()),
-            "a string (empty: probe[k])",
-            "the response's name in results",
-            |_| true,
-        ),
-        k(
-            "probe",
-            "kind",
-            Str,
-            Val::Str("displacement".into()),
-            &choice(&PROBES),
-            "'displacement' (u at the point) or 'opening' (the jump of u across a crack at the \
-           crack point nearest the point)",
-            |v| PROBES.contains(&v.s()),
-        ),
-        k(
-            "probe",
-            "point",
-            Pair,
-            Val::Pair([0.0, 0.0]),
-            "two finite numbers, |x| <= 1e30",
-            "the probed point (length)",
-            |v| v.pair().iter().all(|&x| finite(x)),
-        ),
-        k(
-            "probe",
-            "crack",
-            Int,
-            Val::Int(0),
-            "an integer >= 0 (a crack index)",
-            "the crack of an 'opening' probe (0: the primary crack)",
-            |v| v.i() >= 0,
-        ),
+    v.extend(region_specs("region_load", &REGIONS[..3], "top"));
+    v.extend([
+        k("region_load", "normal", f(0.0), FIN,
+          "traction along the outward normal at the reference load (stress; tension positive)"),
+        k("region_load", "shear", f(0.0), FIN,
+          "shear traction at the reference load (stress): along +x1 on the bottom and top \
+           sides, along +x2 on the left and right sides"),
+        k("region_load", "force", Val::Pair([0.0, 0.0]), PAIR_FIN,
+          "point force [f1, f2] at the reference load (force, over the thickness)"),
+        k("probe", "name", s(""), Range::Any, "the response's name in results")
+          .note("(empty: probe[k])").role(Output),
+        k("probe", "kind", s("displacement"), OneOf(&PROBES),
+          "'displacement' (u at the point) or 'opening' (the jump of u across a crack at the \
+           crack point nearest the point)"),
+        k("probe", "point", Val::Pair([0.0, 0.0]), PAIR_FIN, "the probed point (length)")
+          .required(Required::Always),
+        k("probe", "crack", Val::Int(0), at_least(0),
+          "the crack of an 'opening' probe (0: the primary crack)").note("(a crack index)"),
     ]);
     v
 }
@@ -630,51 +534,32 @@ fn build() -> Vec<KeySpec> {
 /// The keys that place a support's or a load's region (`section` "support" or "region_load"),
 /// the same in both: the region kind (`kinds`; "box" for supports only), the side and the part
 /// of an edge, the point, the box.
-fn region_specs(section: &'static str, kinds: &[&str], side: &str) -> Vec<KeySpec> {
-    let k = |key, kind, default, valid: &str, doc, ok: fn(&Val) -> bool| KeySpec {
-        section,
-        key,
-        kind,
-        default,
-        valid: valid.to_string(),
-        doc,
-        ok,
-    };
-    let sides = ["left", "right", "bottom", "top"];
-    let fin = |v: &Val| finite(v.f());
-    let mut v =
-        vec![
-        k("region", Kind::Str, Val::Str("edge".into()), &choice(kinds),
+#[rustfmt::skip]
+fn region_specs(
+    section: &'static str,
+    kinds: &'static [&'static str],
+    side: &str,
+) -> Vec<KeySpec> {
+    let s = |v: &str| Val::Str(v.into());
+    let mut v = vec![
+        k(section, "region", s("edge"), Range::OneOf(kinds),
           "'edge' (side), 'edge_part' (side, from, to), 'point' (the nearest node: a support \
-           there, or a point force) or 'box' (supports: every node in it)",
-          if kinds.contains(&"box") {
-              |v: &Val| REGIONS.contains(&v.s())
-          } else {
-              |v: &Val| matches!(v.s(), "edge" | "edge_part" | "point")
-          }),
-        k("side", Kind::Str, Val::Str(side.into()), &choice(&sides), "the side of an edge region",
-          |v| matches!(v.s(), "left" | "right" | "bottom" | "top")),
-        k("from", Kind::Float, Val::Float(0.0), FINITE,
-          "start of an edge part along its side (x1 on bottom/top, x2 on left/right)", fin),
-        k("to", Kind::Float, Val::Float(0.0), FINITE, "end of an edge part", fin),
-        k("point", Kind::Pair, Val::Pair([0.0, 0.0]), "two finite numbers, |x| <= 1e30",
-          "the point of a point region", |v| v.pair().iter().all(|&x| finite(x))),
+           there, or a point force) or 'box' (supports: every node in it)"),
+        k(section, "side", s(side), Range::OneOf(&SIDES), "the side of an edge region")
+            .when("region", &["edge", "edge_part"]),
+        k(section, "from", Val::Float(0.0), FIN,
+          "start of an edge part along its side (x1 on bottom/top, x2 on left/right)")
+            .when("region", &["edge_part"]),
+        k(section, "to", Val::Float(0.0), FIN, "end of an edge part")
+            .when("region", &["edge_part"]),
+        k(section, "point", Val::Pair([0.0, 0.0]), PAIR_FIN, "the point of a point region")
+            .when("region", &["point"]),
     ];
     if kinds.contains(&"box") {
-        v.push(k(
-            "box",
-            Kind::FloatList,
-            Val::FloatList(Vec::new()),
-            "a box [x0, y0, x1, y1] with x0 < x1, y0 < y1",
-            "the box of a box region",
-            |v| {
-                v.floats().is_empty()
-                    || (v.floats().len() == 4
-                        && v.floats().iter().all(|&x| finite(x))
-                        && v.floats()[0] < v.floats()[2]
-                        && v.floats()[1] < v.floats()[3])
-            },
-        ));
+        v.push(
+            k(section, "box", Val::FloatList(Vec::new()), Range::BoxOrEmpty,
+              "the box of a box region").when("region", &["box"]),
+        );
     }
     v
 }

@@ -23,4 +23,13 @@ impl Side {
             _ => Err(Error::invalid("side", "one of left, right, bottom, top", s)),
         }
     }
+    /// The scene name ([`super::schema::SIDES`]; the inverse of [`Side::parse`]).
+    pub fn name(self) -> &'static str {
+        match self {
+            Side::Left => "left",
+            Side::Right => "right",
+            Side::Bottom => "bottom",
+            Side::Top => "top",
+        }
+    }
 }

@@ -8,7 +8,7 @@
 // the negated comparisons are deliberate: they refuse NaN too
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-use super::parse::crack_name;
+use super::key_value::crack_name;
 use super::schema::{self, Val, PD_NU};
 use super::{
     Boundary, CrackKind, CrackSpec, Domain, Method, PdMethod, Problem, XfemMethod, XfemOptions,
@@ -28,7 +28,7 @@ pub fn problem(p: &Problem) -> Result<()> {
             return Err(Error::invalid(
                 &format!("{}.side", crack_name(k)),
                 &format!("'left' (method '{}' starts seams there)", p.method.name()),
-                format!("'{}'", side_name(c.side)),
+                format!("'{}'", c.side.name()),
             ));
         }
     }
@@ -74,12 +74,12 @@ pub fn problem(p: &Problem) -> Result<()> {
 /// problem; `name` is the section's scene name (`crack[1]` for the second crack).
 fn in_range(section: &str, name: &str, key: &str, v: Val) -> Result<()> {
     let spec = schema::spec(section, key).expect("a key of the schema");
-    if (spec.ok)(&v) {
+    if spec.ok(&v) {
         Ok(())
     } else {
         Err(Error::InvalidInput {
             param: format!("{name}.{key}"),
-            expected: spec.valid.clone(),
+            expected: spec.valid(),
             got: v.repr(),
         })
     }
@@ -220,13 +220,7 @@ pub fn xfem_options(o: &XfemOptions) -> Result<()> {
     let int = |n: usize| Val::Int(i64::try_from(n).unwrap_or(i64::MAX));
     in_range("xfem", "xfem", "nsub", int(o.nsub))?;
     in_range("xfem", "xfem", "tip_nsub", int(o.tip_nsub))?;
-    if o.tip_nsub < o.nsub {
-        return Err(Error::invalid(
-            "xfem.tip_nsub",
-            &format!("0 (= nsub) or an integer in nsub..64 = {}..64", o.nsub),
-            o.tip_nsub,
-        ));
-    }
+    tip_nsub("xfem.tip_nsub", o.nsub as i64, o.tip_nsub as i64)?;
     let radius = Val::Float(o.fixed_area_radius.unwrap_or(0.0));
     in_range("xfem", "xfem", "fixed_area_radius", radius)?;
     in_range(
@@ -239,7 +233,24 @@ pub fn xfem_options(o: &XfemOptions) -> Result<()> {
 
 /// The valid range of `section.key` in words.
 fn schema_valid(section: &str, key: &str) -> String {
-    schema::spec(section, key).map_or_else(String::new, |s| s.valid.clone())
+    schema::spec(section, key).map_or_else(String::new, schema::KeySpec::valid)
+}
+
+/// Tip elements are subdivided at least as finely as the other enriched ones: `tip` (a
+/// resolved `xfem.tip_nsub`, not 0) at least `nsub` (its range's upper end: the schema's).
+pub fn tip_nsub(param: &str, nsub: i64, tip: i64) -> Result<()> {
+    if tip < nsub {
+        return Err(Error::invalid(
+            param,
+            &format!(
+                "0 (= nsub) or an integer in [nsub, {}] = [{nsub}, {}]",
+                schema::MAX_TIP_NSUB,
+                schema::MAX_TIP_NSUB
+            ),
+            tip,
+        ));
+    }
+    Ok(())
 }
 
 /// The crack kinds each method models ([`schema::crack_kinds`]; "none" is no crack), and one
@@ -270,15 +281,6 @@ fn crack_kinds(p: &Problem) -> Result<()> {
         }
     }
     Ok(())
-}
-
-fn side_name(s: Side) -> &'static str {
-    match s {
-        Side::Left => "left",
-        Side::Right => "right",
-        Side::Bottom => "bottom",
-        Side::Top => "top",
-    }
 }
 
 /// Smallest (and, inverted, largest) magnitude of the reference load's products with the
@@ -359,17 +361,43 @@ pub fn reference_load(p: &Problem) -> Result<()> {
     Ok(())
 }
 
-/// A PD pre-crack passes between the grid nodes (a node on it has no bonds to cut on one side):
-/// the culprit is the crack's offset across itself (`crack.y` for cracks along x1, `crack.x`
-/// along x2), else its angle.
-fn precrack_between_nodes(c: &CrackSpec, d: &Domain, counts: [usize; 2]) -> Result<()> {
-    let h = d.width / counts[0] as f64;
-    let line: Vec<[f64; 2]> = c.polyline(d).iter().map(|q| [q[0] / h, q[1] / h]).collect();
-    for s in line.windows(2) {
+/// The rule of a PD pre-crack: it passes between the grid nodes (a node on it has no bonds to
+/// cut on one side). `units` is the polyline in grid units (node (i, j) at (i, j)) on a grid of
+/// `counts` cells, `node_xy` the position of node (i, j); the error names `culprit(segment)`'s
+/// key and value (the scene key to change). The one check of the rule: the scene's
+/// ([`problem`], on the plate's uniform grid) and the built grid's (`pd::splice::precrack`, on
+/// a graded grid too).
+pub fn precrack_off_nodes(
+    units: &[[f64; 2]],
+    counts: [usize; 2],
+    node_xy: &dyn Fn(usize, usize) -> [f64; 2],
+    culprit: &dyn Fn(usize) -> (String, String),
+) -> Result<()> {
+    for (k, s) in units.windows(2).enumerate() {
         let Some((i, j)) = crate::geometry::grid_node_on_segment(s[0], s[1], counts[0], counts[1])
         else {
             continue;
         };
+        let (key, v) = culprit(k);
+        let [x, y] = node_xy(i, j);
+        return Err(Error::invalid(
+            &key,
+            "a pre-crack passing between the PD grid nodes, as the paper's x2 = 10.5 with dx = \
+             1/15",
+            format!("{v} (the crack passes through the node at ({x:.6}, {y:.6}))"),
+        ));
+    }
+    Ok(())
+}
+
+/// [`precrack_off_nodes`] for a scene's crack on the plate's uniform PD grid: the culprit is the
+/// crack's offset across itself (`crack.y` for cracks along x1, `crack.x` along x2), else its
+/// angle.
+fn precrack_between_nodes(c: &CrackSpec, d: &Domain, counts: [usize; 2]) -> Result<()> {
+    let h = d.width / counts[0] as f64;
+    let line: Vec<[f64; 2]> = c.polyline(d).iter().map(|q| [q[0] / h, q[1] / h]).collect();
+    let culprit = |k: usize| {
+        let s = [line[k], line[k + 1]];
         let along_x1 = (s[1][1] - s[0][1]).abs() <= 1e-12 * (s[1][0] - s[0][0]).abs();
         let along_x2 = (s[1][0] - s[0][0]).abs() <= 1e-12 * (s[1][1] - s[0][1]).abs();
         let (key, v) = if along_x1 {
@@ -379,20 +407,10 @@ fn precrack_between_nodes(c: &CrackSpec, d: &Domain, counts: [usize; 2]) -> Resu
         } else {
             ("crack.angle", c.angle)
         };
-        return Err(Error::invalid(
-            key,
-            &format!(
-                "a pre-crack passing between the PD grid nodes (dx = {h:.6}), as the paper's \
-                 x2 = 10.5 with dx = 1/15"
-            ),
-            format!(
-                "{v} (the crack passes through the node at ({:.6}, {:.6}))",
-                i as f64 * h,
-                j as f64 * h
-            ),
-        ));
-    }
-    Ok(())
+        (key.to_string(), format!("{v} (dx = {h:.6})"))
+    };
+    let xy = |i: usize, j: usize| [i as f64 * h, j as f64 * h];
+    precrack_off_nodes(&line, counts, &xy, &culprit)
 }
 
 /// The crack lies inside the plate (tips strictly inside, edge cracks pointing inwards).

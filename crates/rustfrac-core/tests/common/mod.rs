@@ -7,7 +7,9 @@
 use rustfrac_core::fe::loading::{plate_conditions, PlateEdges};
 use rustfrac_core::fe::{FemModel, LinearSystem, Solution};
 use rustfrac_core::problem::Side;
-use rustfrac_core::problem::{Boundary, CrackKind, CrackSpec, Domain, Growth, Problem, SlaParams};
+use rustfrac_core::problem::{
+    Boundary, CrackKind, CrackSpec, Domain, Growth, Problem, SlaEngine, SlaParams,
+};
 use rustfrac_core::problem::{Elastic, Plane};
 use rustfrac_core::problem::{Grip, PlateLoad};
 use rustfrac_core::xfem::DEFAULT_AREA_THRESHOLD;
@@ -60,6 +62,16 @@ pub fn with_adaptive(mut p: Problem, margin: f64, size: f64) -> Problem {
     p
 }
 
+/// The SLA engine of the tests' `fast` switch: the cost model's choice, or the oracle
+/// (refactorise every step; a scene's `pd.fast = false`).
+pub fn engine(fast: bool) -> SlaEngine {
+    if fast {
+        SlaEngine::Auto
+    } else {
+        SlaEngine::Oracle
+    }
+}
+
 /// A coarse version of the paper's CCM-PD plate (dx = 1/5 keeps x2 = 10.5 and x1 = 1.1 between
 /// nodes), with a larger PD rectangle (4.4 x 2.4, ~600 PD dofs) so that hundreds of steps stay
 /// inside it.
@@ -70,7 +82,7 @@ pub fn coarse(fast: bool, steps: usize) -> Problem {
     pd.regions = vec![[0.3, 9.3, 4.7, 11.7]];
     pd.sla = SlaParams {
         max_steps: steps,
-        fast,
+        engine: engine(fast),
         ..SlaParams::default()
     };
     p
@@ -112,7 +124,7 @@ pub fn pd_strip(fast: bool, grip: Grip) -> Problem {
     set_precrack(&mut p, 0.5, 1.1);
     p.pd_mut().sla = SlaParams {
         max_steps: 2000,
-        fast,
+        engine: engine(fast),
         ..SlaParams::default()
     };
     p

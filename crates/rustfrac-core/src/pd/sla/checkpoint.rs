@@ -11,10 +11,11 @@
 //! Format (little endian, no external serialiser): magic `RFSLACK\0`, version (u32), model
 //! fingerprint (u64), step count (u64), then per step: step, lambda, sigma22, cmod, u0,
 //! crack_length, node_i, node_j (u64 / f64 bits), the broken bonds and the detached nodes (each a
-//! u64 count and u64 values), the probes (a u64 count and two f64 each; version 2); then the
-//! adaptive region's switches (version 3): a u64 count, per switch its first step (u64) and the
-//! midpoints of the bonds that grew the region (a u64 count and two f64 each); finally an
-//! FNV-1a checksum (u64) of everything before it.
+//! u64 count and u64 values), the probes (a u64 count and two f64 each); then the adaptive
+//! region's switches: a u64 count, per switch its first step (u64) and the midpoints of the
+//! bonds that grew the region (a u64 count and two f64 each); finally an FNV-1a checksum (u64)
+//! of everything before it. The fingerprint hashes the scene's physics and solver keys
+//! ([`fingerprint`]; `docs/design.md`, "Checkpoints").
 //!
 //! Writing: the file goes to a temporary name beside it, created exclusively under a random name
 //! (never following a planted symlink), synced, then renamed into place, so a reader never sees a
@@ -26,23 +27,24 @@
 
 use super::result::SlaStep;
 use crate::error::{Error, Result};
-use crate::problem::Grip;
+use crate::problem::scene_of::scene_of;
+use crate::problem::schema::{self, Role, Val};
 use crate::problem::Problem;
 use std::io::{Read, Write};
 use std::path::Path;
 
 const MAGIC: &[u8; 8] = b"RFSLACK\0";
-/// Format version of the checkpoint files written (version 1, without the probes, is still
-/// read for scenes without probes; versions 1 and 2 have no region switches).
-pub const VERSION: u32 = 3;
+/// Format version of the checkpoint files written and read. Versions 1 to 3 (without the probes,
+/// without the region switches, and all three with the earlier model fingerprint, a hand
+/// projection of the problem) are refused with a message saying so.
+pub const VERSION: u32 = 4;
 
 /// A growth of the adaptive region as a checkpoint stores it: the first step solved on the
 /// grown region and the midpoints of the bonds that grew it ([`crate::problem::pd_region`]
 /// gives the rectangles again).
 pub(crate) type Switch = (usize, Vec<[f64; 2]>);
-/// Version of the fingerprint's field sequence (unchanged by format versions that only add
-/// recorded values, so older checkpoints of the same model keep resuming).
-const FINGERPRINT_SCHEME: u64 = 1;
+/// Version of the fingerprint's byte sequence ([`fingerprint`]): 2, the schema's keys.
+const FINGERPRINT_SCHEME: u64 = 2;
 
 /// FNV-1a, 64 bit: the checksum and the model fingerprint (stable across platforms and runs).
 #[derive(Debug, Clone, Copy)]
@@ -71,85 +73,68 @@ impl Fnv {
         self.u64(s.len() as u64);
         self.bytes(s.as_bytes());
     }
+    /// A key's value: its kind, then its numbers (floats by their bits) or its text; lists with
+    /// their length.
+    pub fn val(&mut self, v: &Val) {
+        self.str(v.kind().name());
+        match v {
+            Val::Float(x) => self.f64(*x),
+            Val::Int(i) => self.u64(*i as u64),
+            Val::Str(s) => self.str(s),
+            Val::Bool(b) => self.u64(u64::from(*b)),
+            Val::Pair(q) => q.iter().for_each(|&x| self.f64(x)),
+            Val::IntList(l) => {
+                self.u64(l.len() as u64);
+                l.iter().for_each(|&x| self.u64(x as u64));
+            }
+            Val::FloatList(l) => {
+                self.u64(l.len() as u64);
+                l.iter().for_each(|&x| self.f64(x));
+            }
+            Val::PairList(l) => {
+                self.u64(l.len() as u64);
+                l.iter().flatten().for_each(|&x| self.f64(x));
+            }
+        }
+    }
     pub fn finish(&self) -> u64 {
         self.0
     }
 }
 
-/// Fingerprint of everything that determines an SLA's sequence of floating-point operations: the
-/// model (method, plate, grid, horizon, material, G0, PD rectangles, pre-crack polyline, the load
-/// that acts; holes and supports and loads on regions, as their full description; a graded FEM
-/// grid's pd.fem_grading and pd.fem_coarse) and the solver options (fast, refactor_every, tie_tol), plus the built model's
-/// counts. The step limit, stop length, damage snapshots and checkpoint options may change
-/// between the runs.
+/// Fingerprint of everything that determines an SLA's sequence of floating-point operations and
+/// the values its steps record: every physics and solver key of the problem's scene
+/// ([`schema::Role`], read through [`scene_of`], so a new key of the table is included), by its
+/// scene name (`crack[1].a0`, `hole[0].radius`) and value (floats by their bits), then the built
+/// model: the PD rectangles (an adaptive region's start), the pre-crack polyline and the counts
+/// of dofs and bonds. Output keys (the step limit, stop length, damage snapshots, checkpoint
+/// options, probe names) may change between the runs. FNV-1a of a fixed byte sequence: stable
+/// across runs and platforms.
 pub fn fingerprint(p: &Problem, precrack: &[[f64; 2]], n_dofs: usize, n_bonds: usize) -> u64 {
-    let pd = p.pd().expect("a PD problem");
-    let (d, mat, sla) = (&p.domain, &p.material.elastic, &pd.sla);
-    let load = p.boundary.plate_load();
     let mut h = Fnv::default();
     h.u64(FINGERPRINT_SCHEME);
     h.str(p.method.name());
-    for v in [d.width, d.height, pd.dx, p.material.g0, mat.e, mat.nu] {
-        h.f64(v);
+    for e in scene_of(p) {
+        for spec in schema::section_keys(e.section) {
+            if spec.role == Role::Output {
+                continue;
+            }
+            h.str(&e.name);
+            h.str(spec.key);
+            h.val(&e.values[spec.key]);
+        }
     }
-    h.f64(mat.thickness);
-    h.str(&format!("{:?}", mat.plane));
-    h.u64(pd.m as u64);
-    h.u64(pd.regions.len() as u64);
-    for r in &pd.regions {
+    let regions = p.pd().map_or(&[][..], |pd| &pd.regions);
+    h.u64(regions.len() as u64);
+    for r in regions {
         r.iter().for_each(|&v| h.f64(v));
     }
     h.u64(precrack.len() as u64);
     for q in precrack {
         q.iter().for_each(|&v| h.f64(v));
     }
-    // only the load that acts: u0 under displacement grips, the traction under the traction
-    // grip (the other is hashed as 0, so changing it does not invalidate a checkpoint)
-    let traction = if load.grip == Grip::Traction {
-        load.traction
-    } else {
-        0.0
-    };
-    h.str(load.grip.name());
-    h.f64(load.u0);
-    h.f64(traction);
-    h.u64(sla.fast as u64);
-    h.u64(sla.refactor_every as u64);
-    // the solver form when forced (nothing is hashed for "auto", so existing fingerprints stay)
-    if sla.engine != crate::problem::SlaEngine::Auto {
-        h.str(sla.engine.name());
-    }
-    h.f64(sla.tie_tol);
     h.u64(n_dofs as u64);
     h.u64(n_bonds as u64);
-    // general scenes: the holes and the supports and loads on regions (nothing is hashed for
-    // the paper's plate, so its fingerprints stay)
-    if !d.holes.is_empty() {
-        h.str(&format!("{:?}", d.holes));
-    }
-    // a graded FEM grid (nothing is hashed for the uniform one)
-    if pd.fem_grading != 1.0 {
-        h.f64(pd.fem_grading);
-        h.f64(pd.fem_coarse);
-    }
-    // the surface correction (nothing is hashed without it)
-    if pd.surface_correction != crate::problem::SurfaceCorrection::None {
-        h.str(pd.surface_correction.name());
-    }
-    // the adaptive region's rule (nothing is hashed for a fixed region)
-    if let Some(a) = &pd.adaptive {
-        h.str("adaptive");
-        h.f64(a.margin);
-        h.f64(a.size);
-    }
-    if let crate::problem::Boundary::Regions { supports, loads } = &p.boundary {
-        h.str(&format!("{supports:?}{loads:?}"));
-    }
-    // the critical stretch's rule (nothing is hashed for the default "continuum": the same
-    // bonds break under every rule, but the recorded loads differ)
-    if pd.s0_calibration != crate::problem::S0Calibration::Continuum {
-        h.str(pd.s0_calibration.name());
-    }
     h.finish()
 }
 
@@ -382,19 +367,21 @@ pub(crate) fn read(
         ));
     }
     let version = u32::from_le_bytes(b[8..12].try_into().expect("4 bytes"));
-    if !(1..=VERSION).contains(&version) {
+    if (1..VERSION).contains(&version) {
         return Err(bad(
-            &format!("a checkpoint of format version 1..={VERSION}"),
+            &format!(
+                "a checkpoint of format version {VERSION} (versions 1 to {} were written with an \
+                 earlier model fingerprint and cannot be matched to this model: run again from \
+                 the start)",
+                VERSION - 1
+            ),
             format!("version {version}"),
         ));
     }
-    if version == 1 && n_probes > 0 {
+    if version != VERSION {
         return Err(bad(
-            &format!(
-                "a checkpoint recording the scene's {n_probes} probes (format version 2; a \
-                 version 1 file resumes only a scene without [[probe]])"
-            ),
-            "version 1".into(),
+            &format!("a checkpoint of format version {VERSION}"),
+            format!("version {version}"),
         ));
     }
     let (body, tail) = b.split_at(b.len() - 8);
@@ -412,8 +399,9 @@ pub(crate) fn read(
         return Err(bad(
             &format!(
                 "a checkpoint made for this model and solver (fingerprint {fingerprint:016x}); it \
-                 was made for a different plate, grid, horizon, material, load, pre-crack, PD \
-                 region or solver option"
+                 was made for a different one: other values of the scene's physics or solver \
+                 keys (plate, material, load, cracks, pd grid and region, holes, supports, \
+                 probes' points, engine, tie_tol, refactor_every)"
             ),
             format!("fingerprint {fp:016x}"),
         ));
@@ -458,7 +446,7 @@ pub(crate) fn read(
         let detached = (0..nd)
             .map(|_| r.index(n_nodes, "node"))
             .collect::<Result<Vec<_>>>()?;
-        let np = if version == 1 { 0 } else { r.u64()? };
+        let np = r.u64()?;
         if np != n_probes as u64 {
             return Err(bad(
                 &format!("a checkpoint of a scene with {n_probes} probes"),
@@ -490,29 +478,27 @@ pub(crate) fn read(
         });
     }
     let mut switches = Vec::new();
-    if version >= 3 {
-        let ns = r.u64()?;
-        let mut last = 0;
-        for _ in 0..ns {
-            let step = r.u64()? as usize;
-            if step <= last || step > n + 1 {
-                return Err(bad(
-                    &format!("region switches at increasing steps in 1..={}", n + 1),
-                    format!("a switch at step {step}"),
-                ));
-            }
-            last = step;
-            let nc = r.index(n_bonds + 1, "switch bond count")?;
-            let mut centres = Vec::with_capacity(nc);
-            for _ in 0..nc {
-                let c = [f64::from_bits(r.u64()?), f64::from_bits(r.u64()?)];
-                if !c.iter().all(|x| x.is_finite()) {
-                    return Err(bad("finite switch midpoints", format!("{c:?}")));
-                }
-                centres.push(c);
-            }
-            switches.push((step, centres));
+    let ns = r.u64()?;
+    let mut last = 0;
+    for _ in 0..ns {
+        let step = r.u64()? as usize;
+        if step <= last || step > n + 1 {
+            return Err(bad(
+                &format!("region switches at increasing steps in 1..={}", n + 1),
+                format!("a switch at step {step}"),
+            ));
         }
+        last = step;
+        let nc = r.index(n_bonds + 1, "switch bond count")?;
+        let mut centres = Vec::with_capacity(nc);
+        for _ in 0..nc {
+            let c = [f64::from_bits(r.u64()?), f64::from_bits(r.u64()?)];
+            if !c.iter().all(|x| x.is_finite()) {
+                return Err(bad("finite switch midpoints", format!("{c:?}")));
+            }
+            centres.push(c);
+        }
+        switches.push((step, centres));
     }
     if r.pos != body.len() {
         return Err(bad(
@@ -521,4 +507,106 @@ pub(crate) fn read(
         ));
     }
     Ok((steps, switches))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::problem::parse;
+    use crate::problem::scene_of::tests::scenes;
+    use crate::problem::value::{Table, Value};
+    use std::collections::BTreeSet;
+
+    /// `t` with `key` of the entry `name` (`pd`, `crack`, `crack[1]`, `hole[2]`, `load[1]`)
+    /// set to `v`; None when the scene has no such entry.
+    fn with(t: &Table, name: &str, key: &str, v: Value) -> Option<Table> {
+        let mut t = t.clone();
+        let (head, index) = match name.split_once('[') {
+            Some((h, rest)) => (h, Some(rest.trim_end_matches(']').parse::<usize>().ok()?)),
+            None => (name, None),
+        };
+        let table = match (t.get_mut(head)?, index) {
+            (Value::Table(s), None) => s,
+            (Value::List(l), Some(k)) => match l.get_mut(k)? {
+                Value::Table(s) => s,
+                _ => return None,
+            },
+            (Value::List(l), None) if head == "crack" => match l.first_mut()? {
+                Value::Table(s) => s,
+                _ => return None,
+            },
+            _ => return None,
+        };
+        table.insert(key.to_string(), v);
+        Some(t)
+    }
+
+    /// Every physics and solver key is in the fingerprint, every output key out of it: in
+    /// scenes that state every key, each key is changed in turn to other values of its range
+    /// (the first the scene accepts that changes the problem), and a checkpoint written for
+    /// the scene is refused by the changed problem exactly when the key is not an output key.
+    /// Every key of the sections a PD scene reads is changed in some scene.
+    #[test]
+    fn every_physics_and_solver_key_is_fingerprinted() {
+        let dir = std::env::temp_dir().join(format!("rustfrac-fingerprint-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let file = dir.join("base.ckpt");
+        let fp = |q: &Problem| fingerprint(q, &q.pd_precrack(), 100, 1000);
+        let mut changed = BTreeSet::new();
+        for scene in scenes() {
+            let p = parse::problem(&scene).unwrap();
+            write(&file, fp(&p), &[], &[]).unwrap();
+            assert!(read(&file, fp(&p), (1000, 1000, p.probes.len())).is_ok());
+            for e in scene_of(&p) {
+                for spec in schema::section_keys(e.section) {
+                    for v in spec.range.others(&e.values[spec.key]) {
+                        let Some(t) = with(&scene, &e.name, spec.key, v.to_value()) else {
+                            break;
+                        };
+                        let Ok(q) = parse::problem(&t) else {
+                            continue;
+                        };
+                        if format!("{q:?}") == format!("{p:?}") {
+                            continue; // a key this entry does not read (a circle's corners)
+                        }
+                        changed.insert(spec.param());
+                        let refused = read(&file, fp(&q), (1000, 1000, q.probes.len())).is_err();
+                        assert_eq!(
+                            refused,
+                            spec.role != Role::Output,
+                            "{}.{} = {} ({})",
+                            e.name,
+                            spec.key,
+                            v.repr(),
+                            spec.role.name()
+                        );
+                        break;
+                    }
+                }
+            }
+        }
+        let sections = schema::method_sections("ccm_pd").iter().copied();
+        let lists = schema::LIST_SECTIONS.iter().map(|(_, s)| *s);
+        for sec in sections.chain(lists) {
+            for spec in schema::section_keys(sec) {
+                assert!(
+                    changed.contains(&spec.param()),
+                    "{} never changed",
+                    spec.param()
+                );
+            }
+        }
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// The case that a hand projection of the problem missed: a checkpoint written with
+    /// `pd.hole_volumes = "centre"` does not resume an `"exact"` run.
+    #[test]
+    fn hole_volumes_are_fingerprinted() {
+        let p = parse::problem(&scenes()[0]).unwrap();
+        let mut q = p.clone();
+        q.pd_mut().hole_volumes = crate::problem::HoleVolumes::Exact;
+        let fp = |q: &Problem| fingerprint(q, &q.pd_precrack(), 100, 1000);
+        assert_ne!(fp(&p), fp(&q));
+    }
 }

@@ -30,7 +30,7 @@ pub(super) fn engine_for<'a>(
     (broken, springs0): (&[bool], &[Spring]),
     probe_dofs: &[usize],
 ) -> Result<(Box<dyn Engine + 'a>, String, usize)> {
-    if !sla.fast || sla.engine == SlaEngine::Oracle {
+    if sla.engine == SlaEngine::Oracle {
         let solver = "oracle (sparse LU refactorised every step)".to_string();
         return Ok((
             Box::new(Oracle::new(model, broken, springs0, k0)?),

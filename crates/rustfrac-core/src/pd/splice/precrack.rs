@@ -18,8 +18,9 @@
 //! and the crack-mouth nodes of the CMOD.
 
 use crate::error::{check_finite, Error, Result};
-use crate::geometry::{bond_crosses, clipped_length, grid_node_on_segment};
+use crate::geometry::{bond_crosses, clipped_length};
 use crate::pd::{Bond, Grid};
+use crate::problem::validate::precrack_off_nodes;
 use crate::problem::Domain;
 
 /// The pre-crack polyline in grid units, validated: none or at least 2 points, every point inside
@@ -63,14 +64,10 @@ pub(super) fn in_grid_units(
                 format!("{a:?}"),
             ));
         }
-        if let Some((i, j)) = grid_node_on_segment(a, b, nx, ny) {
-            return Err(Error::invalid(
-                "precrack",
-                "a polyline passing between grid nodes (as the paper's x2 = 10.5)",
-                format!("it passes through node {:?}", grid.xy(grid.node(i, j))),
-            ));
-        }
     }
+    let xy = |i: usize, j: usize| grid.xy(grid.node(i, j));
+    let culprit = |k: usize| ("precrack".to_string(), format!("segment {k}"));
+    precrack_off_nodes(&crack, [nx, ny], &xy, &culprit)?;
     Ok(crack)
 }
 
