@@ -17,9 +17,25 @@ FAMILIES = {
     "test_notebook.py": "notebook",
     "test_packaging.py": "packaging",
 }
+# slow: 5 s or more in a CI run (pytest --durations=25, two workers on the loaded 2-core machine)
 SLOW = {
     "test_docs.py": {"*"},
     "test_notebook.py": {"test_example_notebook_reproduces_fig7"},
+    "test_packaging.py": {"test_core_stub_matches_the_native_module"},
+    "test_fig7.py": {
+        "test_full_disk_while_staging_a_result_folder_leaves_the_folder_as_it_was",
+        "test_the_cpu_parts_benchmark_accounts_for_every_part",
+    },
+    "test_fault_campaign.py": {
+        "test_sigint_at_random_moments",
+        "test_sigint_at_random_moments_of_the_fig7_job",
+    },
+    "test_result_folder.py": {"test_concurrent_writers_never_mix"},
+    "test_sweep.py": {"test_dask_cluster_gives_identical_numbers"},
+    "test_bounded_errors.py": {"test_millions_of_unknown_keys_give_a_short_message"},
+    "test_interrupt.py": {"test_cli_ctrl_c_keeps_the_finished_part"},
+    "test_pd.py": {"test_fast_sla_matches_oracle"},
+    "test_sweep_scene.py": {"test_xfem_k_i_extrapolates_to_the_handbook"},
 }
 
 
