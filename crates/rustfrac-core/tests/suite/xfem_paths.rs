@@ -5,7 +5,7 @@
 //! the element length of that mesh) by [`path_deviation`]; the study with finer references is the example
 //! `xfem_paths` (benches/RESULTS.md, "XFEM mixed-mode paths").
 
-mod common;
+use crate::common;
 
 use common::scene_values::{edge_shear as shear_scene, f, i, s, tbl};
 use rustfrac_core::problem::value::{Table, Value};

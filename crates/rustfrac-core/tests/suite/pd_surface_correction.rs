@@ -3,7 +3,7 @@
 //! lattice family against the model's bonds, the adaptive region, fast engines vs the oracle, and
 //! the scene key's refusal.
 
-mod common;
+use crate::common;
 
 use common::{coarse, go_on, pd_plate, pd_strip, same_sla_history, set_precrack};
 use rustfrac_core::pd::sla::run;

@@ -2,7 +2,7 @@
 //! path independence, mesh convergence on the paper's case with a FEM seam-crack cross-check,
 //! crack growth direction, and the paper's numbers printed beside ours.
 
-mod common;
+use crate::common;
 
 use common::{grips, paper_growth, quiet, solve_fem_plate, tada_f, tall_strip};
 use common::{run, GrowthParams, XfemCase};

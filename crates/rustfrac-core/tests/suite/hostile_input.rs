@@ -5,7 +5,7 @@
 //! random SPD matrices (solved to a small residual) and random singular ones (an error, never
 //! NaN). Case counts are kept small so the whole file runs in a few seconds in release mode.
 
-mod common;
+use crate::common;
 
 use common::{go_on, pd_plate, quiet};
 use common::{GrowthParams, XfemCase};

@@ -5,7 +5,7 @@
 //! growth), two cracks, a hole, and supports and loads on regions on a graded grid. The condition
 //! estimates are compared too (they estimate the same number by a different lower bound).
 
-mod common;
+use crate::common;
 
 use common::scene_values::{edge_shear, f, i, s, tbl};
 use common::{paper_growth, quiet, tall_strip, XfemCase};

@@ -3,7 +3,7 @@
 //! uniform grid's on a coarse case, the fast engine against the refactorise-every-step oracle on
 //! the graded model, and the refusals.
 
-mod common;
+use crate::common;
 
 use common::{coarse, go_on, same_sla_history};
 use rustfrac_core::la::{Lu, Reduction};

@@ -5,8 +5,8 @@
 //! a domain without holes bit for bit as before; XFEM: a crack from a notch tip, a tip in or near
 //! a hole refused, and an edge crack near a hole against the seam FEM.
 //!
-//! Run in release: `cargo test --release -p rustfrac-core --test hole_validation -- --nocapture`
-//! prints the measured numbers.
+//! Run in release: `cargo test --release -p rustfrac-core --test suite hole_validation:: --
+//! --nocapture` prints the measured numbers.
 
 use rustfrac_core::fe::fictitious::{FictitiousDomain, DEFAULT_MIN_SUPPORT_FRACTION};
 use rustfrac_core::fe::loading::{plate_conditions, PlateEdges};

@@ -1,8 +1,9 @@
 //! General scenes for PD and CCM-PD: pre-cracks at any angle and position, holes,
 //! supports and loads on regions, probes; against brute force, Kirsch's hole, the shear of a
-//! block, and pure PD against CCM-PD. Run in release (`cargo test --release --test pd_general`).
+//! block, and pure PD against CCM-PD. Run in release (`cargo test --release --test suite
+//! pd_general::`).
 
-mod common;
+use crate::common;
 
 use common::{go_on, pd_plate};
 use rustfrac_core::pd::cell_fraction;
@@ -647,7 +648,7 @@ fn pd_hole_volumes_centre_vs_exact_against_kirsch() {
 }
 
 #[test]
-#[ignore = "dx = 0.025 takes a minute: cargo test --release --test pd_general -- --ignored"]
+#[ignore = "dx = 0.025 takes a minute: cargo test --release --test suite pd_general:: -- --ignored"]
 fn pd_hole_volumes_centre_vs_exact_converge() {
     let rows = compare_hole_volumes(&[0.1, 0.05, 0.025]);
     // both converge: the displacement error does not grow as dx halves

@@ -2,7 +2,7 @@
 //! two horizons, PD regions on the plate's boundary and corners and pure PD against the continuum,
 //! nodes whose bonds all break, and the step at which the ligament separates (fast and oracle).
 
-mod common;
+use crate::common;
 
 use common::XfemCase;
 use common::{go_on, pd_plate, pd_strip, quiet, rel, set_precrack};

@@ -5,7 +5,7 @@
 //! elements, 1e6 unknowns). Every case either gives a finite, validated number (error against an
 //! independent reference printed and asserted) or a clear error.
 
-mod common;
+use crate::common;
 
 use common::{quiet, tada_f, tall_strip};
 use nalgebra::DMatrix;

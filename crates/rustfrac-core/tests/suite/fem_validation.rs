@@ -1,7 +1,7 @@
 //! FEM validation against closed forms: patch test, convergence rates on a manufactured solution,
 //! the paper's uncracked plate, solver cross-checks and singular systems.
 
-mod common;
+use crate::common;
 
 use common::{grips, solve_fem_plate};
 use rustfrac_core::fe::loading::sigma22;

@@ -5,7 +5,7 @@
 //! The Python side checks the grid energy against independently sub-sampled partial volumes and
 //! the SLA rule's transfer to another strip (tests/test_energy.py).
 
-mod common;
+use crate::common;
 
 use common::{coarse, go_on, rel};
 use rustfrac_core::pd::calibration::{

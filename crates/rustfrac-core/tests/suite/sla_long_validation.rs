@@ -1,7 +1,7 @@
 //! Long SLA runs: bounded solver memory over thousands of steps, nodes detached
 //! during the run, checkpoints and bit-for-bit resume, refusal of foreign or corrupt checkpoints.
 
-mod common;
+use crate::common;
 
 use common::{coarse, go_on};
 use rustfrac_core::pd::cost::auto_refactor_every;

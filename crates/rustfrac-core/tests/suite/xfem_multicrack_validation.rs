@@ -3,7 +3,7 @@
 //! double-edge-cracked strip against Tada's formulas, the accuracy of sub-quad integration in
 //! elements cut by two cracks, symmetric growth, and refused geometries.
 
-mod common;
+use crate::common;
 
 use common::{paper_growth, quiet, tall_strip};
 use common::{run, XfemCase};

@@ -4,7 +4,7 @@
 //! beam (Srawley 1976, ASTM E399 for S/W = 4), Timoshenko's beam deflection, and the graded
 //! grid against the uniform one on the paper's plate.
 
-mod common;
+use crate::common;
 
 use common::rel;
 use common::scene_values::{edge_shear, f, floats, i, pair, s, scene, tbl};

@@ -1,7 +1,7 @@
-//! Set-ups and closed forms shared by the integration tests (`mod common;` in each test file):
+//! Set-ups and closed forms shared by the integration tests (`use crate::common;` in each module):
 //! progress callbacks, relative errors, the coarse CCM-PD plate and the pure PD strip of the SLA
 //! tests, the tall traction strip and Tada's factor of the XFEM tests, and the direct FEM solve of
-//! a plate under the paper's grips. Each test binary uses only some of them.
+//! a plate under the paper's grips. Each test module uses only some of them.
 #![allow(dead_code)]
 
 use rustfrac_core::fe::loading::{plate_conditions, PlateEdges};

@@ -5,7 +5,7 @@
 //! oracle across region switches; checkpoint and resume across a switch, bit for bit; a hole in
 //! the path; the reported closest approach of a fixed region.
 
-mod common;
+use crate::common;
 
 use common::{coarse, go_on, same_sla_history};
 use rustfrac_core::pd::sla::{run, CcmPdResult};

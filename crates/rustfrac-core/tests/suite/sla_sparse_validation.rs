@@ -3,7 +3,7 @@
 //! pure PD grids, separation detected at the same step, checkpoints resumed bit for bit, the
 //! engine's choice reported; and an ignored paper-scale run (pure PD, 52 k nodes).
 
-mod common;
+use crate::common;
 
 use common::{coarse, go_on, pd_plate, pd_strip, rel};
 use rustfrac_core::pd::sla::{force_lu_form, run, CcmPdResult};
@@ -214,7 +214,7 @@ fn sparse_checkpoint_and_resume_are_bit_for_bit() {
 /// engine's first `ORACLE_STEPS` steps against the oracle (170 s a step at load 12, after a
 /// 240 s set-up: benches/RESULTS.md), then
 /// 300 steps of the sparse engine alone, all finite. `cargo test --release -p rustfrac-core
-/// --test sla_sparse_validation -- --ignored --nocapture` (minutes).
+/// --test suite sla_sparse_validation:: -- --ignored --nocapture` (minutes).
 #[test]
 #[ignore]
 fn paper_grid_pure_pd_sparse_matches_oracle() {

@@ -6,7 +6,7 @@
 //! correction, the adaptive region's switches, bonds with an FEM end, and a checkpoint resumed bit
 //! for bit.
 
-mod common;
+use crate::common;
 
 use common::{coarse, go_on, pd_plate, pd_strip, same_sla_history};
 use rustfrac_core::pd::sla::{force_screening, run, CcmPdResult};

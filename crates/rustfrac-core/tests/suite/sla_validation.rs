@@ -1,7 +1,7 @@
 //! SLA validation: fast (condensation + SMW) against the refactorise-every-step oracle, mode I
 //! symmetry, separation, and the paper's case before any break.
 
-mod common;
+use crate::common;
 
 use common::{coarse, go_on, pd_strip};
 use rustfrac_core::pd::sla::run;
@@ -89,7 +89,7 @@ fn fast_sla_matches_oracle_coarse() {
 }
 
 #[test]
-#[ignore = "paper grid oracle takes minutes: cargo test --release --test sla_validation -- --ignored"]
+#[ignore = "paper grid oracle takes minutes: cargo test --release --test suite sla_validation:: -- --ignored"]
 fn fast_sla_matches_oracle_paper_grid() {
     let n = 100;
     let mut p = Problem::paper("ccm_pd");

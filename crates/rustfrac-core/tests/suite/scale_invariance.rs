@@ -13,7 +13,7 @@
 //! K_II against K_I, the crack path against the plate size). A separate test checks the G0 law:
 //! multiplying G0 alone by g multiplies every critical load factor by sqrt(g) and keeps the path.
 
-mod common;
+use crate::common;
 
 use common::{go_on, grips, quiet, solve_fem_plate};
 use common::{GrowthParams, XfemCase};

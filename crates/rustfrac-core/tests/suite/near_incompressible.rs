@@ -2,7 +2,7 @@
 //! and near crack tips but stay exact in uniform stress states. Measured here against closed forms,
 //! these numbers justify the warning threshold `material::NU_LOCKING_WARN` (0.49) and its message.
 
-mod common;
+use crate::common;
 
 use common::XfemCase;
 use common::{quiet, tada_f};

@@ -3,7 +3,7 @@
 //! pure FEM solution of the same scene and Kirsch's hole; the SLA on a plate with a FEM hole (the
 //! fast engine equals the oracle); the refusal of a hole cutting a hybrid element.
 
-mod common;
+use crate::common;
 
 use common::{coarse, go_on};
 use rustfrac_core::fem_driver;
