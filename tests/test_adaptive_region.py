@@ -2,7 +2,7 @@
 the region grows ahead of the crack, no bond breaks within ``adapt_margin`` horizons of the FEM
 part, the switches are reported, and bad options are refused naming the key. The numerics
 (against a fixed region covering the path, the oracle, bit-for-bit resume across switches)
-are validated in ``crates/rustfrac-core/tests/ccm_pd_adaptive.rs``."""
+are validated in ``crates/rustfrac-core/tests/suite/ccm_pd_adaptive.rs``."""
 
 from __future__ import annotations
 

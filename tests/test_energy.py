@@ -123,7 +123,7 @@ def test_s0_calibration_sla_transfers_to_another_strip() -> None:
     tolerance, 10 %, is the spread of the release ratio over strip sizes at m = 3 measured in
     the core's size study (1.18 .. 1.32 for 6 x 8 .. 10 x 10 horizons, free and clamped grips:
     the crack's detours differ from strip to strip); the calibration's factor is exact (the run
-    equals the continuum run rescaled, tests/s0_calibration.rs)."""
+    equals the continuum run rescaled, tests/suite/s0_calibration.rs)."""
     w, dx, a0, yc = 2.0, 0.1, 0.3, 1.05
     kw = dict(method="pd", width=w, height=2.0, dx=dx, m=3, a0=a0, crack_y=yc, sla_steps=5000)
     base = rf.run(rf.scenes.edge_crack_plate(**kw))

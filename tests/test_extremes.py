@@ -1,7 +1,7 @@
 """Numerical extremes through Python: the condition estimate of every solve in the
 results (and saved with them), the ill-conditioning warning, and cracks the mesh cannot resolve
 refused with a clear error. The geometry and mesh extremes themselves are measured in
-crates/rustfrac-core/tests/xfem_extremes.rs."""
+crates/rustfrac-core/tests/suite/xfem_extremes.rs."""
 
 from __future__ import annotations
 

@@ -4,7 +4,7 @@ region responses of results, the load-path figure and the command line.
 
 References: Yau, Wang and Corten (1980) and Moes, Dolbow and Belytschko (1999, fig. 13) for the
 edge crack under shear (K_I = 34.0, K_II = 4.55); Srawley (1976), ASTM E399, for the SENB beam
-with S/W = 4. The Rust test crates/rustfrac-core/tests/general_scenes.rs does the fine-mesh
+with S/W = 4. The Rust test crates/rustfrac-core/tests/suite/general_scenes.rs does the fine-mesh
 checks; these run coarse meshes in well under a second each.
 """
 

@@ -377,7 +377,7 @@ def test_surface_correction_is_forwarded_and_reported() -> None:
     """``surface_correction`` reaches the core from ``edge_crack_plate`` and TOML: the default
     ("none") runs the paper's bonds (meta says so, no factors), "energy" stiffens the nodes the
     pre-crack cuts (a smaller CMOD before any break) and reports its factors; the option
-    survives a TOML round trip. The numbers are the core's (tests/pd_surface_correction.rs)."""
+    survives a TOML round trip. The numbers are the core's (tests/suite/pd_surface_correction.rs)."""
     plain = rf.run(coarse(3))
     s = coarse(3, surface_correction="energy")
     assert rf.Scene.from_toml_str(s.to_toml()) == s and s.pd.surface_correction == "energy"
@@ -512,7 +512,7 @@ def test_pd_scenes_round_trip_property() -> None:
 
 def test_ccm_pd_graded_fem_grid_from_python() -> None:
     """pd.fem_grading > 1 grades the FEM part (fewer unknowns), the same first breaks and
-    reference CMOD within 0.2 % (tests/ccm_pd_graded.rs measures the Rust side)."""
+    reference CMOD within 0.2 % (tests/suite/ccm_pd_graded.rs measures the Rust side)."""
     uni = rf.run(coarse(10))
     gr = rf.run(coarse(10, fem_grading=1.2, fem_coarse=8.0))
     assert gr.n_dofs < uni.n_dofs / 2

@@ -28,7 +28,7 @@ def test_m1_runs_with_an_accuracy_warning() -> None:
         res2 = rf.run(coarse(3, m=2))
     assert res2.meta["warnings"] == []
     # m = 1 overestimates the opening (paper grid: CMOD +21 % against XFEM, m = 2..8: +3..5 %;
-    # crates/rustfrac-core/tests/pd_extremes_validation.rs)
+    # crates/rustfrac-core/tests/suite/pd_extremes_validation.rs)
     assert res.cmod > res2.cmod
 
 

@@ -2,7 +2,7 @@
 lengths times a scale ls (1e-6 .. 1e3), E times e (1e-6 .. 1e12), G0 times e ls give the same dimensionless
 results to 1e-9 relative: sigma22 / E, CMOD / ls, K / (E sqrt(ls)), the critical load factors, the
 crack path / ls and the SLA's sequence of broken bonds. No validation threshold or core tolerance
-may be absolute (the Rust side of this check: crates/rustfrac-core/tests/scale_invariance.rs)."""
+may be absolute (the Rust side of this check: crates/rustfrac-core/tests/suite/scale_invariance.rs)."""
 
 from __future__ import annotations
 

@@ -1,7 +1,7 @@
 """Singular systems through Python: a free rigid-body mode is named, a separated body is
 reported, never NaN; the condition estimate can be skipped (``condition=False``); warnings carry a
 kind that survives saving. The Rust side (pivot test per unknown, COND_SINGULAR, scale disparity
-of 1e12 between unknowns) is tested in crates/rustfrac-core/tests/singular_detection.rs."""
+of 1e12 between unknowns) is tested in crates/rustfrac-core/tests/suite/singular_detection.rs."""
 
 from __future__ import annotations
 
@@ -57,7 +57,7 @@ def test_free_rotation_is_named() -> None:
 
 def test_crack_through_the_width_is_refused() -> None:
     """An XFEM crack cutting the plate in two is refused up front (a FEM seam through the width
-    is reported singular: crates/rustfrac-core/tests/singular_detection.rs)."""
+    is reported singular: crates/rustfrac-core/tests/suite/singular_detection.rs)."""
     with pytest.raises(rf.InvalidParameterError, match="cut the plate in two") as e:
         _core.run({"method": "xfem", "mesh": {"nx": 11, "ny": 21}, "crack": {"a0": 11.0}})
     assert e.value.param == "crack.a0"

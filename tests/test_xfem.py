@@ -222,7 +222,7 @@ def test_inclined_edge_crack_turns_towards_mode_i() -> None:
 def test_kink_rule_reaches_the_core_from_python_toml_and_cli(tmp_path: Path) -> None:
     """``xfem.kink_rule`` (a core scene key): the 30-degree edge crack of the paper's plate
     zig-zags under "hoop" (the default) and does not under "predictor_corrector" (kinks after
-    the first below 2 degrees, the bound of crates/rustfrac-core/tests/xfem_paths.rs); the same
+    the first below 2 degrees, the bound of crates/rustfrac-core/tests/suite/xfem_paths.rs); the same
     key from a TOML file through the CLI gives the same path; bad values name the key."""
     kw = {"crack_angle": 30.0, "growth_steps": 6}
     default = rf.run(_xfem(**kw))

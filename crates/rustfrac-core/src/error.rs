@@ -128,7 +128,7 @@ impl std::error::Error for Error {}
 
 /// Smallest magnitude accepted for a dimensional value (length, modulus, stress, G0).
 ///
-/// The models are scale invariant (tests/scale_invariance.rs: lengths 1e-6..1e3 and E
+/// The models are scale invariant (tests/suite/scale_invariance.rs: lengths 1e-6..1e3 and E
 /// 1e-6..1e12 give the same dimensionless results to 1e-9), so the only limit is double
 /// precision: products such as the PD micromodulus E / (h delta^3) (eq. 47) or an energy E h L^2
 /// must neither overflow nor underflow, which holds while every input lies within

@@ -33,7 +33,7 @@
 //!   (measurements at the constant).
 //! * Holes thinner than two elements: a node inside a hole whose support reaches material on
 //!   both faces ties the faces together, so a slot narrower than about two elements is glued
-//!   (measured, `tests/hole_validation.rs`: an XFEM crack from the tip of a half-element slot
+//!   (measured, `tests/suite/hole_validation.rs`: an XFEM crack from the tip of a half-element slot
 //!   gives K_I 14.78 instead of 27.12); draw the crack through such a slot from the plate's
 //!   edge instead (its Heaviside enrichment separates the faces), or refine. Such holes are
 //!   reported: a [`Warning`] names each one fewer than [`MIN_ELEMENTS_ACROSS`] elements across.
@@ -50,7 +50,7 @@ use crate::problem::{Domain, Hole, Shape};
 use crate::warning::{Warning, WarningKind};
 
 /// Nodes whose support holds less material than this fraction are removed (module
-/// documentation). Measured (`tests/hole_validation.rs`, `small_fraction_rule_bounds_the_condition`):
+/// documentation). Measured (`tests/suite/hole_validation.rs`, `small_fraction_rule_bounds_the_condition`):
 /// * the condition estimate (of the Jacobi-equilibrated matrix, what governs the Cholesky
 ///   solve) does not grow as a sliver thins: 2.72e4 without a sliver, 2.88e4 at f = 1e-5 on a
 ///   32 x 32 grid (plain Q4 has no near-dependence; only the unscaled matrix's condition grows
@@ -114,7 +114,7 @@ pub struct FictitiousDomain {
 /// The fewest elements across a hole or notch (its bounding box, within the plate, against the
 /// largest element it overlaps along that direction) before its faces are tied: below it a node
 /// inside the hole, or an element spanning it, couples material on both faces (measured,
-/// `tests/hole_validation.rs`: a half-element slot gives K_I 14.78 instead of 27.12).
+/// `tests/suite/hole_validation.rs`: a half-element slot gives K_I 14.78 instead of 27.12).
 pub const MIN_ELEMENTS_ACROSS: f64 = 2.0;
 
 /// A warning for each hole or notch fewer than [`MIN_ELEMENTS_ACROSS`] elements across (its

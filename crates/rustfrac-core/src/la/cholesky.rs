@@ -36,7 +36,7 @@ use faer::{Conj, Side};
 /// unknown's own diagonal entry A_ii (the same meaning as before for a uniform mesh, where all
 /// A_ii are alike; no longer relative to the largest A_ii). Pivots lie in [lambda_min,
 /// lambda_max] of the scaled matrix, so one at the threshold already means a condition number of
-/// ~1e13 or more; exactly singular plates measured far below it (tests/singular_detection.rs: the
+/// ~1e13 or more; exactly singular plates measured far below it (tests/suite/singular_detection.rs: the
 /// sentinel or 0).
 pub const PIVOT_TOL: f64 = 1e-13;
 /// Value faer substitutes for a pivot below the threshold; its square root marks it in the factor.

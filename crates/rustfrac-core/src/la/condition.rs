@@ -24,7 +24,7 @@ pub const COND_WARN: f64 = 1e12;
 /// trusted. The pivot test ([`crate::la::PIVOT_TOL`]) catches pivots that collapse; this
 /// catches the near singularity the pivots do not show (their ratio is only a lower bound of the
 /// condition number): e.g. a near-null mode spread over n unknowns leaves a last pivot
-/// ~n lambda_min (tests/singular_detection.rs: a grounded spring chain, cond 5e15, pivot ratio
+/// ~n lambda_min (tests/suite/singular_detection.rs: a grounded spring chain, cond 5e15, pivot ratio
 /// 2e12). The worst well-posed model we run (a/W = 0.95 at 1e6 unknowns) measures 4.5e10, over
 /// 2000x below; between [`COND_WARN`] and this the result carries a warning.
 pub const COND_SINGULAR: f64 = 1e14;
@@ -47,7 +47,7 @@ pub fn check_condition(what: &str, c: f64) -> Result<()> {
 
 /// Steps of Hager's iteration in [`Cholesky::condition_estimate`]. 0 = its first gradient step
 /// only (2 solves): within 13 % of the exact cond_1 on every test matrix and 0.4 % of the 5-step
-/// estimate on the 352 x 665 plate (tests/xfem_extremes.rs); a solve costs ~10 % of a
+/// estimate on the 352 x 665 plate (tests/suite/xfem_extremes.rs); a solve costs ~10 % of a
 /// factorisation there, so each further step (2 solves, plus 1 for Higham's alternative vector)
 /// is left to [`Cholesky::condition_estimate_with`].
 pub const CONDITION_ITERATIONS: usize = 0;

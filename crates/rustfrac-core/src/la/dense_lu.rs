@@ -23,8 +23,8 @@ pub struct DenseLu {
 }
 
 /// The dense LU's pivot test: a pivot below this fraction of the largest pivot is zero (the
-/// condensed PD matrix of a separated body: `tests/sla_validation.rs`
-/// `separation_is_a_status_not_nan`, `tests/pd_extremes_validation.rs`).
+/// condensed PD matrix of a separated body: `tests/suite/sla_validation.rs`
+/// `separation_is_a_status_not_nan`, `tests/suite/pd_extremes_validation.rs`).
 pub const DENSE_PIVOT_TOL: f64 = 1e-13;
 
 impl DenseLu {

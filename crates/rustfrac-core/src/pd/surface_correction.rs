@@ -43,7 +43,7 @@
 //!   a 2 x 4 pure PD plate at dx = 0.1 is within 0.5 % of the closed form uncorrected). There
 //!   the correction would restore the bulk stiffness of that wider body and overcorrect (8 %
 //!   too stiff, measured), so the family counts the lattice points beyond the outline as
-//!   present: outline nodes are not corrected (`tests/pd_surface_correction.rs`). The paper's
+//!   present: outline nodes are not corrected (`tests/suite/pd_surface_correction.rs`). The paper's
 //!   CCM-PD rectangle reaches no plate edge.
 //! * **A direction without bonds.** If W_k(i) = 0 (no existing bond with n_k != 0), the
 //!   correction cannot restore it: g_k(i) = 1.

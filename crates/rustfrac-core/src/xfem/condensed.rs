@@ -24,7 +24,7 @@
 //! 10^2-10^3) and, for u_S = S P^T L^-T (L^-1 P S r_S - sum_j u_Ej w_j), one dense backward
 //! half-solve, which bounds the step on large meshes (benches/RESULTS.md). The reference path, a
 //! full factorisation per step ([`crate::xfem::plate`]), stays the oracle
-//! (`xfem::run_reference`, tests/xfem_growth_reuse.rs).
+//! (`xfem::run_reference`, tests/suite/xfem_growth_reuse.rs).
 //!
 //! Checks: the pivots of A and of the equilibrated S_E (the pivots of the LDL^T factorisation of
 //! the equilibrated K with E eliminated last) below [`PIVOT_TOL`] are a singular system, and
@@ -34,7 +34,7 @@
 //! ||S^_E^-1||_1, where S^_E^-1 = (K^^-1)_EE is a principal block of K^^-1 (so its norm is a lower
 //! bound of ||K^^-1||_1) and A^^-1 <= (K^^-1)_SS in the Loewner order; the ill-conditioning of
 //! XFEM systems sits in the enriched block. Measured against the full estimate in
-//! tests/xfem_growth_reuse.rs.
+//! tests/suite/xfem_growth_reuse.rs.
 
 use super::model::XfemModel;
 use super::plate::{PlateConditions, PlateProblem, PlateSolve};

@@ -52,7 +52,7 @@ pub fn branch_functions(tip: &Tip, x: [f64; 2]) -> ([f64; 4], [[f64; 2]; 4]) {
 /// Without this a node or a Gauss point lying on the crack (a crack through nodes, a sub-quad
 /// point on an element diagonal) takes theta = +pi or -pi by the rounding of its coordinates,
 /// i.e. the branch functions of the wrong face: K_I was off by 2.6 % and K_II by 7 % for a 45
-/// degree crack through nodes (tests/xfem_extremes.rs).
+/// degree crack through nodes (tests/suite/xfem_extremes.rs).
 #[inline]
 pub fn branch_functions_snapped(tip: &Tip, x: [f64; 2], snap: f64) -> ([f64; 4], [[f64; 2]; 4]) {
     let d = sub(x, tip.pos);

@@ -24,13 +24,13 @@
 //! Validated with the exact Williams field represented exactly by the enrichment: K to 2e-5 for
 //! tips 0.01 .. 0.6 elements from an edge or a corner (0.28 .. 0.79 without the term), and on real
 //! solutions against unclipped domains (0.7 %) and the energy release rate (1.7 %)
-//! (tests/xfem_extremes.rs).
+//! (tests/suite/xfem_extremes.rs).
 //!
 //! Holes and notches: a traction-free hole boundary inside the domain would add a boundary term
 //! (the auxiliary traction is not zero there), so the domain keeps every hole out: [`XfemModel::sifs`]
 //! refuses a radius a hole enters, [`XfemModel::sifs_clear_of_holes`] (the driver and growth)
 //! shrinks it to [`XfemModel::hole_free_radius`], not below [`MIN_HOLE_FREE_RADIUS`] element
-//! sizes. Measured (tests/hole_validation.rs): a tip 0.6 from a hole of radius 0.5 on h = 0.25
+//! sizes. Measured (tests/suite/hole_validation.rs): a tip 0.6 from a hole of radius 0.5 on h = 0.25
 //! (domain 1.67 elements) gives K_I within 0.80 % of a 4x finer mesh (its 2.5-element domain
 //! clear of the hole; the 2x finer mesh is 0.37 % off it), and on one solution a domain shrunk
 //! from 8 to 4.2 elements agrees with the 2.5-element one within 0.14 %.
@@ -52,7 +52,7 @@ use crate::problem::Elastic;
 
 /// The smallest q-radius, in tip-element sizes, that [`XfemModel::sifs_clear_of_holes`] shrinks
 /// a SIF domain to so that no hole enters it. Measured on an edge crack (a = 1.1, h = 0.25;
-/// tests/hole_validation.rs, `xfem_sif_domain_radius_near_a_hole`), K_I against its value at the
+/// tests/suite/hole_validation.rs, `xfem_sif_domain_radius_near_a_hole`), K_I against its value at the
 /// default r_I = 2.5: +3.2 % at 1.0 and 1.25 element sizes (the domain is the ring of the tip
 /// element's neighbours only), -31 % at 0.75, +0.94 % at 1.5, +0.14 % at 2, < 0.06 % at 3 and 4;
 /// so a domain shrunk to 1.5 element sizes keeps K_I within 1 %.

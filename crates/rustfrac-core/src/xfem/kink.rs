@@ -21,7 +21,7 @@
 //! The load factor of a step (the critical state) is that of the current cracks under both
 //! rules; only the extension's direction differs.
 //!
-//! Measured (tests/xfem_paths.rs, benches/RESULTS.md): the 30-degree crack's kinks after the
+//! Measured (tests/suite/xfem_paths.rs, benches/RESULTS.md): the 30-degree crack's kinks after the
 //! first stay below 1.8 degrees at every h and da tried (`hoop`: up to 10.2), |K_II / K_I| at the
 //! grown tips drops 2.7-5.5x (edge crack under shear: 1.6-1.8x), and both rules converge to the
 //! same path (mesh h0 / 4, da = h / 2: 0.0026 apart at most, 0.04 h).

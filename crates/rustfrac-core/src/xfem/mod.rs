@@ -40,7 +40,7 @@
 //! * Integration: sub-quads sample every Heaviside and branch function at their Gauss points. An
 //!   element crossed by two or more cracks uses twice the sub-quads per direction (capped at 64):
 //!   measured on two parallel cracks 0.05 apart inside one row of h = 0.1 elements
-//!   (tests/xfem_multicrack_validation.rs), 4 x 4 sub-quads there put the local crack openings
+//!   (tests/suite/xfem_multicrack_validation.rs), 4 x 4 sub-quads there put the local crack openings
 //!   1 % off the converged integration, 8 x 8 0.5 % (a single crack in the same elements: 0.2 %);
 //!   the SIFs of the outer tips change by 1e-4.
 //! * Refused, naming the crack's scene key (`Error::InvalidInput { param: "crack[k]" }`,
@@ -60,14 +60,14 @@
 //!   of the most critical tip during growth); [`XfemResult::tips`] and
 //!   [`XfemResult::tip_history`] hold every tip.
 //!
-//! Validation (tests/xfem_multicrack_validation.rs): two collinear cracks (centres 1.5 half-
+//! Validation (tests/suite/xfem_multicrack_validation.rs): two collinear cracks (centres 1.5 half-
 //! lengths apart) against the closed form (Erdogan 1962; Tada): inner tip -0.4 %, outer -0.3 %;
 //! two well-separated cracks: within 0.2 % of Griffith and their interaction with the single-
 //! crack model on the same mesh within 3e-4 of the closed form; double-edge-cracked strip
 //! a/b = 0.2 .. 0.6: within 1.1 % of Tada's tan-form fit (within 1.9 % of the Benthem-Koiter
 //! fit, which differs from it by up to 1.8 %).
 //!
-//! # Validation (tests/xfem_validation.rs) and the paper's case
+//! # Validation (tests/suite/xfem_validation.rs) and the paper's case
 //! Exact Williams fields: K within 0.4 %, other mode below 0.2 %. Tall edge-cracked strip vs Tada,
 //! a/W = 0.1 .. 0.6: within 1.2 %. Inclined centre crack, beta = 0 .. 75 deg: within 0.7 %.
 //! Paper's case (free grips), 44 x 83 -> 352 x 665: K_I 20.755 -> 20.858, CMOD 0.005853 ->

@@ -159,7 +159,7 @@ impl PlateProblem {
 
 /// Smallest distance, in tip-element lengths, between a crack tip and the plate boundary that the
 /// plate driver accepts: a shorter edge crack or a narrower ligament is not resolved by the mesh.
-/// Measured on the tall strip against Tada (tests/xfem_extremes.rs, benches/RESULTS.md): an edge
+/// Measured on the tall strip against Tada (tests/suite/xfem_extremes.rs, benches/RESULTS.md): an edge
 /// crack 0.8 elements long gives K_I 24 % low; a ligament of 2, 4, 8, 16 elements gives K_I 17, 8.4,
 /// 3.6, 1.7 % low (error ~ 0.3 h / ligament); a tip 0.5 elements from the edge, 49 % low even though
 /// its (clipped) SIF domains are right for the computed field. It is a mesh limit, not a SIF one:

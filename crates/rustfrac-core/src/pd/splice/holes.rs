@@ -12,7 +12,7 @@
 //!   A bond's stiffness c beta V_i V_j / |xi| (eq. 46) then takes f_i f_j (its `beta` is scaled
 //!   by it; PD holes only: FEM holes of CCM-PD are the fictitious domain's); loads on regions keep
 //!   the full cell volume. Measured on Kirsch's plate
-//!   (tests/pd_general.rs, `pd_hole_volumes_centre_vs_exact_against_kirsch`; w = 6, a = 0.5,
+//!   (tests/suite/pd_general.rs, `pd_hole_volumes_centre_vs_exact_against_kirsch`; w = 6, a = 0.5,
 //!   m = 3) at dx = 0.1 / 0.05 / 0.025: displacement differences across the hole, centre
 //!   3.38 / 2.91 / 2.66 %, exact 4.02 / 3.23 / 2.80 %; hoop strain at the hole's top (the node
 //!   row through it, whose cells the hole cuts), centre -24.0 / -22.4 / -19.2 %, exact
