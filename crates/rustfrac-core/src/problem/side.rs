@@ -3,7 +3,7 @@
 
 use crate::error::{Error, Result};
 
-/// A boundary side of the rectangle.
+/// A boundary side of the rectangle (in the order of [`super::schema::SIDES`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Side {
     Left,
@@ -25,11 +25,18 @@ impl Side {
     }
     /// The scene name ([`super::schema::SIDES`]; the inverse of [`Side::parse`]).
     pub fn name(self) -> &'static str {
-        match self {
-            Side::Left => "left",
-            Side::Right => "right",
-            Side::Bottom => "bottom",
-            Side::Top => "top",
+        super::schema::SIDES[self as usize]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_round_trip() {
+        for n in super::super::schema::SIDES {
+            assert_eq!(Side::parse(n).unwrap().name(), n);
         }
     }
 }
