@@ -4,13 +4,41 @@ escaped."""
 from __future__ import annotations
 
 from html import escape
-from typing import TYPE_CHECKING, Any
+from typing import Any, Protocol
 
 import numpy as np
 
-if TYPE_CHECKING:
-    from .result import Result
-    from .scene import Scene
+
+class Result(Protocol):
+    """What the view reads of a :class:`rustfrac.Result` (structural: ``result.py`` imports
+    this module, so it does not import ``result.py`` back)."""
+
+    method: str
+    sigma22: float
+    cmod: float
+    n_dofs: int
+    wall_time_s: float
+    scalars: dict[str, Any]
+    meta: dict[str, Any]
+    history: dict[str, Any]
+    fields: dict[str, Any]
+
+    @property
+    def regions(self) -> dict[str, dict[str, Any]]: ...
+    @property
+    def probes(self) -> dict[str, tuple[float, float]]: ...
+    @property
+    def warnings(self) -> list[str]: ...
+
+
+class Scene(Protocol):
+    """What the view reads of a :class:`rustfrac.Scene` (structural, as for :class:`Result`)."""
+
+    method: str
+    name: str
+
+    def to_dict(self) -> dict[str, Any]: ...
+    def describe(self) -> str: ...
 
 
 def _fmt(v: Any) -> str:

@@ -41,14 +41,25 @@ import sys
 import zlib
 from pathlib import Path
 from types import ModuleType
-from typing import IO, TYPE_CHECKING, Any
+from typing import IO, Any, Protocol
 
 import numpy as np
 
 from .errors import PlotDataError
 
-if TYPE_CHECKING:
-    from .result import Result
+
+class Result(Protocol):
+    """What the writers read of a :class:`rustfrac.Result` (structural, so that this module,
+    which ``result.py`` imports, does not import it back)."""
+
+    method: str
+    fields: dict[str, Any]
+    history: dict[str, Any]
+    meta: dict[str, Any]
+
+    @property
+    def crack_polylines(self) -> list[np.ndarray]: ...
+
 
 #: cell types of the cut cells by vertex count (others: "polygon")
 _FIXED = {3: "triangle", 4: "quad"}
