@@ -59,7 +59,7 @@ impl Checker {
             let local = &e.name[prefix.len()..];
             if !es
                 .iter()
-                .any(|(k, _)| super::schema::pattern_matches(local, k))
+                .any(|(k, _)| super::entry::pattern_matches(local, k))
             {
                 self.problems.push(format!(
                     "{}.{}: missing (an entry of {} present always)",

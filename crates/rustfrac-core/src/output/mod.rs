@@ -10,11 +10,13 @@
 
 pub mod check;
 mod common;
+pub mod entry;
 mod fem;
 mod pd;
 pub mod record;
 pub mod schema;
 pub mod status;
+mod table;
 #[cfg(test)]
 mod tests;
 mod xfem;
