@@ -2,8 +2,9 @@
 //! unit and meaning, and when it is present. This table is the one place a result name lives:
 //! the bindings export it (`rustfrac._core.result_schema()`), Python's `Result`, its files and
 //! figures read names and units from it, and a test checks every record a run emits against it
-//! (`output/tests.rs`). Adding a result key: one `t.add(..)` line in the method family's file of `output/table/` and the line
-//! of the method's conversion (`output/{fem,xfem,pd}.rs`) that sets it.
+//! (`output/tests.rs`). Adding a result key: one `t.add(..)` line in the method family's file
+//! of `output/table/` and the line of the method's conversion (`output/{fem,xfem,pd}.rs`) that
+//! sets it.
 //!
 //! Units are the scene's (consistent, chosen by the user; the paper's case N, mm, MPa) and are
 //! named by dimension: "length", "stress", "force" (over the thickness), "energy",
