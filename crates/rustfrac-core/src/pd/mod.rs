@@ -9,6 +9,7 @@
 //! * [`bonds`]: the grid, the bonds, the neighbour search and the damage index (eq. 53).
 //! * [`splice`]: the splice CCM-PD coupling (section 2.2.2, eq. 58) and the pure PD model.
 //! * [`surface_correction`]: the PD surface correction (energy method, Le & Bobaru 2018).
+//! * [`lps`]: the linear peridynamic solid (state-based, `pd.model = "lps"`).
 //! * [`cost`]: the cost model of the SLA's engines (their times and bytes), which the splice
 //!   model's memory bound reads too.
 //! * [`sla`]: the sequentially linear analysis (section 3), its two solvers and checkpoints.
@@ -17,6 +18,7 @@ pub mod bonds;
 pub mod calibration;
 pub mod constants;
 pub mod cost;
+pub mod lps;
 pub mod partial_volume;
 pub mod sla;
 pub mod splice;

@@ -21,6 +21,7 @@ pub mod key_value;
 pub mod kink_rule;
 pub mod material;
 pub mod parse;
+pub mod pd_model;
 pub mod pd_region;
 pub mod range;
 mod read;
@@ -38,6 +39,7 @@ pub use grid::{FeGrid, MAX_ELEMENTS};
 pub use grips::{Grip, PlateLoad};
 pub use kink_rule::KinkRule;
 pub use material::{Elastic, Plane};
+pub use pd_model::{Influence, PdModel};
 pub use regions::{Hole, LoadKind, Probe, ProbeKind, Region, RegionLoad, Shape, Support};
 pub use s0_calibration::{Calibration, S0Calibration};
 pub use side::Side;
@@ -327,6 +329,10 @@ pub struct PdMethod {
     pub surface_correction: SurfaceCorrection,
     /// the critical stretch's rule (`pd.s0_calibration`, [`crate::pd::calibration`])
     pub s0_calibration: S0Calibration,
+    /// the constitutive model (`pd.model`, [`PdModel`]; [`crate::pd::lps`] for the LPS)
+    pub model: PdModel,
+    /// the LPS influence function (`pd.influence`, [`Influence`])
+    pub influence: Influence,
 }
 
 /// Options of the adaptive region (scene keys `pd.adapt_margin`, `pd.adapt_size`; in horizons).

@@ -732,6 +732,8 @@ fn pd_method(pd: &Section, ccm: bool) -> PdMethod {
         },
         surface_correction: super::SurfaceCorrection::from_name(pd["surface_correction"].s()),
         s0_calibration: S0Calibration::from_name(pd["s0_calibration"].s()),
+        model: super::PdModel::from_name(pd["model"].s()),
+        influence: super::Influence::from_name(pd["influence"].s()),
         regions: ccm
             .then_some([cx - sx / 2.0, cy - sy / 2.0, cx + sx / 2.0, cy + sy / 2.0])
             .into_iter()

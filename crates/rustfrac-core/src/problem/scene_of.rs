@@ -87,6 +87,8 @@ fn pd(p: &PdMethod) -> Vec<(&'static str, Val)> {
         ("fast", Val::Bool(true)),
         ("engine", s(sla.engine.name())),
         ("s0_calibration", s(p.s0_calibration.name())),
+        ("model", s(p.model.name())),
+        ("influence", s(p.influence.name())),
         (
             "stop_crack_length",
             Val::Float(sla.stop_crack_length.unwrap_or(0.0)),

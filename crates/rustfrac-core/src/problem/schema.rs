@@ -98,6 +98,10 @@ pub const PD_REGIONS: [&str; 2] = ["fixed", "adaptive"];
 /// `pd.surface_correction`: the PD surface correction ([`super::SurfaceCorrection`],
 /// `crate::pd::surface_correction`).
 pub const SURFACE_CORRECTIONS: [&str; 2] = ["none", "energy"];
+/// `pd.model`: the PD constitutive model ([`super::PdModel`], `crate::pd::lps`).
+pub const PD_MODELS: [&str; 2] = ["bond", "lps"];
+/// `pd.influence`: the LPS influence function ([`super::Influence`]).
+pub const INFLUENCES: [&str; 2] = ["constant", "conical"];
 /// `pd.s0_calibration`: the critical stretch's rule ([`crate::pd::calibration`]).
 pub const S0_CALIBRATIONS: [&str; 3] = ["continuum", "grid", "sla"];
 /// Largest `pd.adapt_margin` and `pd.adapt_size` (horizons).
@@ -464,6 +468,13 @@ fn build() -> Vec<KeySpec> {
            the SLA releases G0 per unit of new crack area; computed once per m per process: \
            about 1 s at m = 4, 20 s at m = 5, 90 s at m = 6); the factor is in the result's \
            meta['s0_calibration']"),
+        k("pd", "model", s(PD_MODELS[0]), OneOf(&PD_MODELS),
+          "PD model: 'bond' (bond-based, the paper's: nu = 1/4 in plane strain only) or 'lps' \
+           (the linear peridynamic solid, ordinary state-based, Silling et al. 2007: any nu; \
+           method 'pd' only, the oracle engine; docs/design.md, 'The linear peridynamic solid')"),
+        k("pd", "influence", s(INFLUENCES[0]), OneOf(&INFLUENCES),
+          "LPS influence function omega(|xi|): 'constant' (1) or 'conical' (1 - |xi| / delta)")
+          .note("(used with pd.model = 'lps')"),
         k("pd", "stop_crack_length", f(0.0), ZeroOr("no stop", &POS),
           "stop the SLA once the crack is this long").role(Output),
         k("pd", "damage_at_steps", Val::IntList(Vec::new()),

@@ -11,7 +11,8 @@
 use super::key_value::crack_name;
 use super::schema::{self, Val, PD_NU};
 use super::{
-    Boundary, CrackKind, CrackSpec, Domain, Method, PdMethod, Problem, XfemMethod, XfemOptions,
+    Boundary, CrackKind, CrackSpec, Domain, Method, PdMethod, PdModel, Problem, S0Calibration,
+    SlaEngine, SurfaceCorrection, XfemMethod, XfemOptions,
 };
 use super::{Grip, Plane, Side};
 use crate::error::{Error, Result};
@@ -543,21 +544,7 @@ fn peridynamics(p: &Problem, pd: &PdMethod) -> Result<()> {
             pd.fem_grading,
         ));
     }
-    let mat = &p.material.elastic;
-    if mat.nu != PD_NU {
-        return Err(Error::invalid(
-            "material.nu",
-            &format!("nu = {PD_NU}: bond-based peridynamics (method '{method}') fixes it"),
-            mat.nu,
-        ));
-    }
-    if mat.plane != Plane::Strain {
-        return Err(Error::invalid(
-            "material.plane",
-            &format!("'strain' (method '{method}' supports plane strain only)"),
-            "'stress'",
-        ));
-    }
+    pd_model(p, pd, method)?;
     let d = &p.domain;
     let nodes = (d.width / pd.dx + 1.0) * (d.height / pd.dx + 1.0);
     if nodes > schema::max_elements() as f64 {
@@ -661,6 +648,74 @@ fn peridynamics(p: &Problem, pd: &PdMethod) -> Result<()> {
     }
     if let Some(c) = p.cracks.first() {
         precrack_between_nodes(c, d, counts)?;
+    }
+    Ok(())
+}
+
+/// The rules of `pd.model`: bond-based PD (the paper's) fixes nu = 1/4 in plane strain; the LPS
+/// (`crate::pd::lps`) models any nu, for method 'pd' with the oracle engine, the continuum
+/// critical stretch and no surface correction (its stiffness is not a sum of bond stiffnesses).
+fn pd_model(p: &Problem, pd: &PdMethod, method: &str) -> Result<()> {
+    let mat = &p.material.elastic;
+    if pd.model == PdModel::Bond {
+        if mat.nu != PD_NU {
+            return Err(Error::invalid(
+                "material.nu",
+                &format!(
+                    "nu = {PD_NU}: bond-based peridynamics (method '{method}', pd.model = \
+                     'bond') fixes it; pd.model = 'lps' (method 'pd') models any nu"
+                ),
+                mat.nu,
+            ));
+        }
+        if mat.plane != Plane::Strain {
+            return Err(Error::invalid(
+                "material.plane",
+                &format!(
+                    "'strain' (method '{method}' with pd.model = 'bond' supports plane strain \
+                     only; pd.model = 'lps' (method 'pd') models plane stress)"
+                ),
+                "'stress'",
+            ));
+        }
+        return Ok(());
+    }
+    let lps_needs = |key: &str, want: &str, got: String| {
+        Err(Error::invalid(
+            key,
+            &format!("{want} with pd.model = 'lps'"),
+            got,
+        ))
+    };
+    if !matches!(p.method, Method::Pd(_)) {
+        return lps_needs(
+            "pd.model",
+            "method 'pd' (pure PD; the CCM-PD splice of the LPS is \
+             not implemented: use pd.model = 'bond')",
+            format!("'lps' with method '{method}'"),
+        );
+    }
+    if !matches!(pd.sla.engine, SlaEngine::Oracle | SlaEngine::Auto) {
+        return lps_needs(
+            "pd.engine",
+            "'auto' or 'oracle' (the fast engines' rank-1 updates are bond-based)",
+            format!("'{}'", pd.sla.engine.name()),
+        );
+    }
+    if pd.surface_correction != SurfaceCorrection::None {
+        return lps_needs(
+            "pd.surface_correction",
+            "'none' (the LPS's weighted volume m of each node is its own correction)",
+            format!("'{}'", pd.surface_correction.name()),
+        );
+    }
+    if pd.s0_calibration != S0Calibration::Continuum {
+        return lps_needs(
+            "pd.s0_calibration",
+            "'continuum' (the LPS critical stretch of docs/design.md, 'The linear peridynamic \
+             solid')",
+            format!("'{}'", pd.s0_calibration.name()),
+        );
     }
     Ok(())
 }

@@ -18,6 +18,7 @@ mod hostile_input;
 mod near_incompressible;
 mod pd_extremes_validation;
 mod pd_general;
+mod pd_lps;
 mod pd_surface_correction;
 mod pd_validation;
 mod problem_description;

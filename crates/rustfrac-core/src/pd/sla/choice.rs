@@ -30,7 +30,8 @@ pub(super) fn engine_for<'a>(
     (broken, springs0): (&[bool], &[Spring]),
     probe_dofs: &[usize],
 ) -> Result<(Box<dyn Engine + 'a>, String, usize)> {
-    if sla.engine == SlaEngine::Oracle {
+    // the LPS's break is no rank-1 change: the oracle rebuilds its matrix (`pd::lps`)
+    if sla.engine == SlaEngine::Oracle || model.lps.is_some() {
         let solver = "oracle (sparse LU refactorised every step)".to_string();
         return Ok((
             Box::new(Oracle::new(model, broken, springs0, k0)?),

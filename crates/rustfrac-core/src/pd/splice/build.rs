@@ -18,12 +18,13 @@ use crate::la::Pattern;
 use crate::memory;
 use crate::pd::calibration::calibration;
 use crate::pd::cost::{factor_nnz_guess, CostEstimate};
+use crate::pd::lps::{LpsConstants, LpsModel};
 use crate::pd::surface_correction::energy_factors;
 use crate::pd::{
     family_stencil, find_bonds, find_bonds_where, Bond, Grid, PdConstants, BYTES_PER_BOND,
 };
-use crate::problem::Calibration;
 use crate::problem::{validate, Method, PdMethod, Problem, S0Calibration, SurfaceCorrection};
+use crate::problem::{Calibration, PdModel};
 use crate::warning::{Warning, WarningKind};
 
 impl SpliceModel {
@@ -104,7 +105,17 @@ impl SpliceModel {
                 &pd_nodes,
             )),
         };
+        let lps = match pm.model {
+            PdModel::Bond => None,
+            PdModel::Lps => Some(LpsModel::new(
+                lps_constants(p, pm, grid.dx)?,
+                &grid,
+                &bonds,
+                &precrack_broken,
+            )?),
+        };
         Ok(Self {
+            lps,
             node_bond_ptr,
             node_bonds,
             warnings,
@@ -174,13 +185,21 @@ fn grid_and_constants(p: &Problem, pm: &PdMethod) -> Result<(Grid, PdConstants, 
     let fit = |len: f64| validate::grid_count(len, pm.dx).expect("checked by validate::problem");
     let (nx, ny) = (fit(d.width), fit(d.height));
     let dx = d.width / nx as f64;
-    let mut pd = PdConstants::new(&p.material.elastic, p.material.g0, dx, pm.m)?;
+    let mut pd = match pm.model {
+        PdModel::Bond => PdConstants::new(&p.material.elastic, p.material.g0, dx, pm.m)?,
+        PdModel::Lps => lps_constants(p, pm, dx)?.pd_constants(),
+    };
     let cal = calibration(pm.s0_calibration, pm.m)?;
     if pm.s0_calibration != S0Calibration::Continuum {
         pd.s0 *= cal.factor;
     }
     let grid = graded::grid(pm, nx, ny, dx);
     Ok((grid, pd, cal))
+}
+
+/// The LPS constants of the problem on spacing `dx` ([`crate::pd::lps`]).
+fn lps_constants(p: &Problem, pm: &PdMethod, dx: f64) -> Result<LpsConstants> {
+    LpsConstants::new(&p.material.elastic, p.material.g0, dx, pm.m, pm.influence)
 }
 
 /// Node classes: every node PD (pure PD model, the plate at least two horizons wide and high), or

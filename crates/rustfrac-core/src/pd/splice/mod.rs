@@ -102,6 +102,8 @@ pub struct SpliceModel {
     pub surface: Option<SurfaceFactors>,
     /// the critical stretch's calibration applied to `pd.s0` (`pd.s0_calibration`)
     pub s0_calibration: crate::problem::Calibration,
+    /// the linear peridynamic solid (`pd.model = "lps"`, [`crate::pd::lps`]); None: bond-based
+    pub lps: Option<crate::pd::lps::LpsModel>,
 }
 
 /// The stiffness matrices of the FEM elements that are not the shared dx x dx square: cut by
@@ -189,6 +191,9 @@ impl SpliceModel {
 
     /// Assembles the splice matrix (PD rows scaled by node volume) with `broken` bonds removed.
     pub fn assemble(&self, broken: &[bool]) -> CscMatrix {
+        if let Some(lps) = &self.lps {
+            return lps.assemble(broken);
+        }
         let ne = self.elements.len();
         self.pattern
             .assemble(&self.rows_of, &self.cols_of, |blk, out| {
