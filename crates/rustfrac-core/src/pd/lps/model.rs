@@ -1,18 +1,21 @@
 //! The LPS model on the splice model's bonds (docs/design.md, "The linear peridynamic solid").
 //!
-//! With the weights w_b of [`super::influence`], node i's weighted volume (the discrete sum, so
-//! that it is consistent with the quadrature) and dilatation are
+//! With the weights w_b of [`super::influence`] and the node volumes V (the cell's part inside
+//! the plate: half on the outline's edges, a quarter at its corners, so that the PD body is the
+//! plate), node i's weighted volume (the discrete sum, consistent with the quadrature) and
+//! dilatation are
 //!
-//!   m_i = sum_b w_b |xi_b|^2 V,   theta_i = (2 / m_i) sum_b w_b |xi_b| e_b V,
+//!   m_i = sum_b w_b |xi_b|^2 V_j,   theta_i = (2 / m_i) sum_b w_b |xi_b| e_b V_j,
 //!
 //! over its bonds b (either end), e_b = n . (u_j - u_i) the linearised extension. Its strain
 //! energy density and the body's energy are
 //!
-//!   W_i = a theta_i^2 + (4 mu / m_i) sum_b w_b e_b^2 V,   a = kappa' / 2 - mu,   Pi = sum_i V W_i,
+//!   W_i = a theta_i^2 + (4 mu / m_i) sum_b w_b e_b^2 V_j,   a = kappa' / 2 - mu,
+//!   Pi = sum_i V_i W_i,
 //!
 //! (eq. L1 of the design; the continuum W for a uniform strain in the bulk), and the matrix is
-//! its Hessian: per bond 2 V^2 w_b (b_i + b_j) g g^T (b_i = 4 mu / m_i, g = dofs of -n at i and
-//! n at j) and per node 2 a V d_i d_i^T (d_i the gradient of theta_i, a dense block over the
+//! its Hessian: per bond 2 V_i V_j w_b (b_i + b_j) g g^T (b_i = 4 mu / m_i, g = dofs of -n at i and
+//! n at j) and per node 2 a V_i d_i d_i^T (d_i the gradient of theta_i, a dense block over the
 //! node's family). It is symmetric positive semi-definite for every nu in range, with the null
 //! space of the pairwise part alone (Cauchy-Schwarz on theta_i; the design), so the grounding
 //! rules of bond-based PD apply unchanged.
@@ -38,6 +41,9 @@ pub struct LpsModel {
     pub weight: Vec<f64>,
     /// per node: the weighted volume m_i (0 for a node without bonds)
     pub m: Vec<f64>,
+    /// per node: its volume V_i, the part of its dx x dx cell inside the plate (half on an
+    /// edge of the outline, a quarter at a corner)
+    pub vol: Vec<f64>,
     /// bonds of each node (CSR: `node_bonds[ptr[n]..ptr[n + 1]]`)
     ptr: Vec<usize>,
     node_bonds: Vec<u32>,
@@ -69,11 +75,20 @@ impl LpsModel {
             })
             .collect();
         let nn = grid.n_nodes();
+        let vol: Vec<f64> = (0..nn)
+            .map(|n| {
+                let (i, j) = grid.ij(n);
+                let fx = if i == 0 || i == grid.nx { 0.5 } else { 1.0 };
+                let fy = if j == 0 || j == grid.ny { 0.5 } else { 1.0 };
+                v * fx * fy
+            })
+            .collect();
         let mut m = vec![0.0; nn];
         for (b, &w) in bonds.iter().zip(&weight) {
             let l2 = b.xi[0] * b.xi[0] + b.xi[1] * b.xi[1];
-            m[b.i as usize] += w * l2 * v;
-            m[b.j as usize] += w * l2 * v;
+            let (i, j) = (b.i as usize, b.j as usize);
+            m[i] += w * l2 * vol[j];
+            m[j] += w * l2 * vol[i];
         }
         let mut ptr = vec![0usize; nn + 1];
         for b in bonds {
@@ -111,6 +126,7 @@ impl LpsModel {
             bonds: bonds.to_vec(),
             weight,
             m,
+            vol,
             ptr,
             node_bonds,
             rows_of,
@@ -146,7 +162,7 @@ impl LpsModel {
         if self.m[n] <= 0.0 {
             return d;
         }
-        let f = 2.0 / self.m[n] * self.consts.volume;
+        let f = 2.0 / self.m[n];
         for (k, &b) in bonds.iter().enumerate() {
             let b = b as usize;
             if broken[b] || self.weight[b] == 0.0 {
@@ -154,7 +170,7 @@ impl LpsModel {
             }
             let bond = &self.bonds[b];
             // xi and n point from i to j; seen from n the far end's extension is the same
-            let s = f * self.weight[b];
+            let s = f * self.weight[b] * self.vol[other(bond, n)];
             let g = [s * bond.xi[0], s * bond.xi[1]];
             let sign = if bond.i as usize == n { 1.0 } else { -1.0 };
             d[k + 1] = [sign * g[0], sign * g[1]];
@@ -184,7 +200,7 @@ impl LpsModel {
             if !broken[b] {
                 let bond = &self.bonds[b];
                 let e = bond.stretch(u) * bond.length();
-                pair += self.weight[b] * e * e * self.consts.volume;
+                pair += self.weight[b] * e * e * self.vol[other(bond, n)];
             }
         }
         self.a() * th * th + self.b(n) * pair
@@ -212,7 +228,7 @@ impl LpsModel {
             let t = 2.0 / self.m[n] * (c.kappa - 2.0 * c.mu) * th * w * l
                 + 8.0 * c.mu / self.m[n] * w * e;
             let (n1, n2) = (bond.xi[0] / l, bond.xi[1] / l);
-            let f = t * l * c.volume;
+            let f = t * l * self.vol[other(bond, n)];
             s[0] += f * n1 * n1;
             s[1] += f * n2 * n2;
             s[2] += f * n1 * n2;
@@ -223,7 +239,6 @@ impl LpsModel {
     /// The stiffness matrix (the Hessian of Pi, rows are forces) with `broken` bonds removed.
     pub fn assemble(&self, broken: &[bool]) -> CscMatrix {
         let nb = self.bonds.len();
-        let v = self.consts.volume;
         let a = self.a();
         self.pattern
             .assemble(&self.rows_of, &self.cols_of, |blk, out| {
@@ -236,7 +251,11 @@ impl LpsModel {
                     let l = bond.length();
                     let n = [bond.xi[0] / l, bond.xi[1] / l];
                     let (i, j) = (bond.i as usize, bond.j as usize);
-                    let k = 2.0 * v * v * self.weight[blk] * (self.b(i) + self.b(j));
+                    let k = 2.0
+                        * self.vol[i]
+                        * self.vol[j]
+                        * self.weight[blk]
+                        * (self.b(i) + self.b(j));
                     let g = [-n[0], -n[1], n[0], n[1]];
                     for gr in g {
                         for gc in g {
@@ -247,7 +266,7 @@ impl LpsModel {
                     let n = blk - nb;
                     let d = self.dilatation_gradient(n, broken);
                     let f: Vec<f64> = d.iter().flat_map(|c| [c[0], c[1]]).collect();
-                    let k = 2.0 * a * v;
+                    let k = 2.0 * a * self.vol[n];
                     for &r in &f {
                         for &c in &f {
                             out.push(k * r * c);
