@@ -39,7 +39,7 @@ def test_lps_scene_runs_past_the_peak_with_the_closed_form_critical_stretch() ->
 
 
 def test_bond_based_refuses_nu_other_than_a_quarter_naming_pd_model() -> None:
-    with pytest.raises(rf.InvalidParameterError, match="pd.model") as e:
+    with pytest.raises(rf.InvalidParameterError, match=r"pd\.model") as e:
         rf.run(lps_scene(model="bond"))
     assert e.value.param == "material.nu"
     with pytest.raises(rf.InvalidParameterError, match="influence") as e:

@@ -1,5 +1,5 @@
-//! The LPS influence function and the quadrature weight of a bond (docs/design.md, "The linear
-//! peridynamic solid").
+//! The LPS influence function and the quadrature weight of a bond (see docs/design.md,
+//! "The linear peridynamic solid").
 //!
 //! A bond with grid offset d = xi / dx has the weight w = omega(|xi|) beta q(d): the influence
 //! function, the exact partial volume of its cell ([`crate::pd::partial_volume`]) and the
