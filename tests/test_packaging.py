@@ -12,7 +12,6 @@ import pytest
 
 import rustfrac as rf
 from general_support import HOLES_REFUSED, has_holes
-from rustfrac import _core
 
 if sys.version_info >= (3, 11):
     import tomllib
