@@ -86,7 +86,10 @@ def test_license_files_and_metadata() -> None:
     for minor in range(lo, 14):
         assert f"Programming Language :: Python :: 3.{minor}" in cls
     assert not any(c.startswith("License ::") for c in cls)  # the expression says it (PEP 639)
-    assert "Operating System :: POSIX :: Linux" in cls and "Operating System :: OS Independent" not in cls
+    assert (
+        "Operating System :: POSIX :: Linux" in cls
+        and "Operating System :: OS Independent" not in cls
+    )
     assert "urls" not in proj  # no public address yet: no placeholders
     for name in ("CITATION.cff", "CHANGELOG.md"):
         assert (ROOT / name).is_file(), name
