@@ -55,7 +55,7 @@ from ._folder import check_writable, with_fallback, writing
 from ._log import logger
 from .errors import InvalidParameterError, PlotDataError
 from .pd_region import DEFAULT_MARGIN_HORIZONS, Box, held_sides, pd_dofs, pd_region
-from .result import OWNED_NAMES, Result
+from .result import OWNED_NAMES, Result, save_result
 from .runner import as_scene
 from .scene import MAX_STEPS, METHODS, PD_NU, PdOptions, Scene
 from .specimens import pd_layout
@@ -636,7 +636,7 @@ class _Job:
                     w.under_lock(
                         part,
                         functools.partial(
-                            self.results[name]._save, outdir / part, vtu=self.vtu,
+                            save_result, self.results[name], outdir / part, vtu=self.vtu,
                             save_id=parts[part],
                         ),
                     )  # fmt: skip

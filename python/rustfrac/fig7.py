@@ -43,7 +43,7 @@ from ._folder import FolderWriter, check_writable, locked, why, with_fallback, w
 from ._forked import Forked
 from ._log import logger
 from .errors import InvalidResultError, OutputError, ResultNotFoundError
-from .result import JSON_NAME, OWNED_NAMES, Result, read_json
+from .result import JSON_NAME, OWNED_NAMES, Result, read_json, stage_result
 from .scene import Scene
 from .scenes import edge_crack_plate
 from .study import Log, ProgressFactory, run_logged
@@ -643,15 +643,15 @@ class _StagedPart:
         self._error: BaseException | None = None
         self._done = False
         self._thread = threading.Thread(
-            target=self._stage, args=(res, save_id), name=f"stage {d.name}", daemon=True
+            target=self._stage_files, args=(res, save_id), name=f"stage {d.name}", daemon=True
         )
         self._thread.start()
 
-    def _stage(self, res: Result, save_id: str) -> None:
+    def _stage_files(self, res: Result, save_id: str) -> None:
         try:
             self.d.mkdir(parents=True, exist_ok=True)
             self._w = FolderWriter(self.d, OWNED_NAMES, JSON_NAME, ())
-            res._stage(self._w, vtu=True, save_id=save_id)
+            stage_result(res, self._w, vtu=True, save_id=save_id)
             self._w.sync()
         except BaseException as e:  # raised again by commit(), in the main thread
             self._error = e
@@ -671,7 +671,7 @@ class _StagedPart:
             if self._error is not None:
                 raise self._error
             assert self._w is not None
-            self._w._commit()
+            self._w.commit()
             self._done = True
         except OSError as e:
             if isinstance(e, OutputError):
@@ -684,7 +684,7 @@ class _StagedPart:
         if self._done:
             return
         if self._w is not None:
-            self._w._abort()
+            self._w.abort()
         if self._made:
             try:
                 self.d.rmdir()
