@@ -54,7 +54,7 @@ from . import agreement, figures, paths, study
 from ._folder import check_writable, with_fallback, writing
 from ._log import logger
 from .errors import InvalidParameterError, PlotDataError
-from .pd_region import DEFAULT_MARGIN_HORIZONS, Box, held_sides, pd_dofs, pd_region
+from .pd_region import DEFAULT_MARGIN_HORIZONS, Box, cut_hole, held_sides, pd_dofs, pd_region
 from .result import OWNED_NAMES, Result, save_result
 from .runner import as_scene
 from .scene import MAX_STEPS, METHODS, PD_NU, PdOptions, Scene
@@ -305,6 +305,17 @@ def plan(
         given = (x0, y0, x1, y1)
     else:
         given = _stated_region(src)
+    if given is not None:
+        k = cut_hole(given, common.get("hole", []), (width, height), dx)
+        if k is not None:
+            raise InvalidParameterError(
+                f"invalid region: the PD rectangle {_fmt_box(given)} cuts hole[{k}] (the hybrid "
+                "elements at its boundary would cross the hole); give a rectangle that takes the "
+                "hole in whole or keeps a spacing clear of it (--region x0,y0,x1,y1; "
+                "region=(x0, y0, x1, y1)), or let compare choose one (--region auto) or grow "
+                "the adaptive region (--region adaptive)",
+                "region",
+            )
     return Plan(
         src,
         Scene.from_dict(xd),
@@ -342,7 +353,7 @@ def place(p: Plan, xfem_path: np.ndarray, final_tip: Sequence[float] | None) -> 
     cands = [p.dx]
     if p.dx_auto and p.region_given is None:
         cands += [v for v in _fitting_spacings(w, hgt, p.dx * (1 - 1e-9)) if v > p.dx]
-    box: Box = p.region_given or (0.0, 0.0, 0.0, 0.0)
+    box: Box | None = p.region_given
     for dx in cands:
         box = p.region_given or pd_region(
             xfem_path,
@@ -353,8 +364,11 @@ def place(p: Plan, xfem_path: np.ndarray, final_tip: Sequence[float] | None) -> 
             held=sorted(held_sides(p.pd)),
             margin_horizons=p.margin_horizons,
         )
+        if box is None:
+            return _adaptive_instead(p, final_tip)
         if pd_dofs(box, dx) <= PD_DOFS_BUDGET:
             break
+    assert box is not None
     n = pd_dofs(box, dx)
     if dx != p.dx:
         p.notes.append(
@@ -394,6 +408,20 @@ def place(p: Plan, xfem_path: np.ndarray, final_tip: Sequence[float] | None) -> 
     opts["center"] = [(box[0] + box[2]) / 2, (box[1] + box[3]) / 2]
     opts["size"] = [box[2] - box[0], box[3] - box[1]]
     return _with_sla_length(p, dx, final_tip)
+
+
+def _adaptive_instead(p: Plan, final_tip: Sequence[float] | None) -> Scene:
+    """The CCM-PD scene of ``p`` on the adaptive region, where no fixed rectangle around the path
+    keeps clear of the holes (:func:`~rustfrac.pd_region.pd_region`), with a note saying so."""
+    p.adaptive = True
+    p.pd["pd"]["region"] = "adaptive"
+    p.notes.append(
+        "no fixed PD rectangle around the XFEM path keeps clear of the holes (a hole taken in "
+        "whole, or its hybrid band clear of it) and two horizons off the loaded or supported "
+        "sides: the adaptive PD region instead; give a rectangle with --region x0,y0,x1,y1 "
+        "(region=(x0, y0, x1, y1)) to choose one"
+    )
+    return _with_sla_length(p, p.dx, final_tip)
 
 
 def _with_sla_length(p: Plan, dx: float, final_tip: Sequence[float] | None) -> Scene:
