@@ -159,10 +159,13 @@ def fig8b(results: dict[str, Result], p: Preset) -> Figure | None:
     """Fig. 8b: the XFEM growth's deformed mesh near the tip at the preset's growth steps
     (None: no growth run, or none of those steps reached)."""
     from .. import figures
+    from ..plotting import PAPER_UNITS
 
     g = results.get("xfem_growth")
     if g is None:
         return None
+    # the paper's units (mm, MPa) of the columns' quantities in the result schema
+    length, stress = (PAPER_UNITS.of(g.unit(k) or "") for k in ("a", "sigma22"))
     off = g.fields["snapshot_offsets"]
     snaps = []
     for k in p.snapshot_steps:
@@ -172,8 +175,8 @@ def fig8b(results: dict[str, Result], p: Preset) -> Figure | None:
                 (
                     g.fields["snapshot_cells"][rows],
                     g.fields["snapshot_disp"][rows],
-                    f"growth step {k}: a = {float(g.history['a'][k]):.3g} mm, sigma22 = "
-                    f"{float(g.history['sigma22'][k]):.3g} MPa",
+                    f"growth step {k}: a = {float(g.history['a'][k]):.3g} {length}, sigma22 = "
+                    f"{float(g.history['sigma22'][k]):.3g} {stress}",
                 )
             )
     return figures.plot_deformed_patches(snaps, scale=50.0) if snaps else None
