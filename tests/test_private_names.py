@@ -93,21 +93,24 @@ def private_attributes(source: str) -> set[str]:
 
 def private_attribute_uses(sources: dict[str, str]) -> list[str]:
     """The private attributes or methods (``obj._y``) that a module of ``sources`` (module ->
-    text) reads but does not define while another module does, as "module:line: ._y (defined
-    in other)"."""
+    text) reads while another module defines them, as "module:line: ._y (defined in other)":
+    ``self._y`` / ``cls._y`` only when the module does not define ``_y`` itself (a class's own
+    names), any other ``obj._y`` even when it does (``res._stage`` in a module with a
+    ``_stage`` of its own is still another module's)."""
     defined = {m: private_attributes(src) for m, src in sources.items()}
-    found: list[str] = []
+    found: list[tuple[str, int, str]] = []
     for m, src in sources.items():
         for node in ast.walk(ast.parse(src)):
             if not (isinstance(node, ast.Attribute) and isinstance(node.ctx, ast.Load)):
                 continue
             name = node.attr
-            if not _private(name) or name in defined[m]:
+            own = isinstance(node.value, ast.Name) and node.value.id in ("self", "cls")
+            if not _private(name) or (own and name in defined[m]):
                 continue
             homes = sorted(o for o, names in defined.items() if o != m and name in names)
             if homes:
-                found.append(f"{m}:{node.lineno}: .{name} (defined in {', '.join(homes)})")
-    return found
+                found.append((m, node.lineno, f".{name} (defined in {', '.join(homes)})"))
+    return [f"{m}:{line}: {what}" for m, line, what in sorted(found)]
 
 
 def test_the_checker_finds_a_private_name_taken_from_another_module() -> None:
@@ -155,13 +158,16 @@ def test_the_checker_finds_a_private_method_called_from_another_module() -> None
         "class Job:\n"
         "    def _own(self):\n"
         "        return 1\n"
+        "    def _commit(self, w):\n"
+        "        return self._own(), self._commit, w._commit()\n"
         "def f(w, j):\n"
         "    w._commit()\n"
         "    return j._own(), w.__class__, w._staged\n"
     )
     assert private_attribute_uses({"rustfrac.a": home, "rustfrac.b": user}) == [
         "rustfrac.b:5: ._commit (defined in rustfrac.a)",
-        "rustfrac.b:6: ._staged (defined in rustfrac.a)",
+        "rustfrac.b:7: ._commit (defined in rustfrac.a)",
+        "rustfrac.b:8: ._staged (defined in rustfrac.a)",
     ]
 
 

@@ -33,8 +33,9 @@ NUMERIC_KEYS: tuple[str, ...] = (
     "n_bonds",
     "n_pd_nodes",
 )
+#: the paper's PD rectangle (width, height), scaled by the ``pd_size`` study
 PD_SIZE = (2.73, 1.67)
-
+#: a progress callback (done, total, message)
 Progress = Callable[[int, int, str], Any]
 
 
