@@ -393,3 +393,25 @@ def test_a_given_pd_rectangle_cutting_a_hole_is_refused_naming_the_region_option
     assert e.value.param == "region"
     assert "hole[0]" in str(e.value) and "--region" in str(e.value)
     assert not (tmp_path / "given").exists() or not any((tmp_path / "given").iterdir())
+
+
+def test_compare_moves_the_pd_rectangle_off_a_hole_the_loaded_edges_clearance_cuts(
+    tmp_path: Path,
+) -> None:
+    """A centre crack right of hole[0] on the two-hole plate: the rectangle took hole[0] in
+    whole, the loaded top edge's clearance then cut it, and the core refused the run ("hole[0]
+    ... cuts the hybrid element"). Its left side now moves back off the hole, the path keeps its
+    margin, and the core runs the fixed rectangle."""
+    d = {
+        **TWO_HOLES_ONE_CRACK,
+        "material": {"E": 1.0, "nu": 0.25},
+        "crack": {"kind": "center", "a0": 0.5, "y": 5.1, "x": 9.5},
+    }
+    s = compare.compare(d, tmp_path / "out", quick=True, log=None)
+    pd = s["scenes"]["ccm_pd"]["pd"]
+    assert pd["region"] == "fixed" and s["cost"]["ccm_pd"]["status"] == "completed"
+    (cx, cy), (sx, sy) = pd["center"], pd["size"]
+    box = (cx - sx / 2, cy - sy / 2, cx + sx / 2, cy + sy / 2)
+    dx, m = s["discretisation"]["pd_dx"], s["discretisation"]["pd_m"]
+    assert pd_region.cut_hole(box, d["hole"], (20.0, 10.0), (m + 1) * dx) is None
+    assert box[0] >= 5.0 and box[0] <= 9.0 - m * dx  # off hole[0], a horizon left of the tip

@@ -83,7 +83,9 @@ def place(p: Plan, xfem_path: np.ndarray, final_tip: Sequence[float] | None) -> 
     else:
         p.notes.append(
             f"fixed PD rectangle {fmt_box(box)}: the XFEM path's bounding box plus "
-            f"{p.margin_horizons:g} horizons (adaptive CCM-PD not used)"
+            f"{p.margin_horizons:g} horizons"
+            + ("; holes taken in whole or kept clear of its boundary" if holes else "")
+            + " (adaptive CCM-PD not used)"
         )
     opts = p.pd["pd"]
     opts["center"] = [(box[0] + box[2]) / 2, (box[1] + box[3]) / 2]
