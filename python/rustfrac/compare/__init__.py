@@ -55,13 +55,14 @@ from ..scene import Scene
 from ..study import Log, ProgressFactory, run_logged
 from .drawings import drawings
 from .place import place
-from .plan import (
-    DEFAULT_GROWTH_STEPS,
-    PD_DOFS_BUDGET,  # noqa: F401 (the comparison's cost budget)
-    Plan,
-    fitting_spacings,
-    plan,
-)
+
+# "X as X": names kept where they were before the package (rustfrac.compare.X)
+from .plan import COMPARE_A_STOP_FRACTION as COMPARE_A_STOP_FRACTION
+from .plan import DEFAULT_GROWTH_STEPS, Plan, fitting_spacings, plan
+from .plan import PD_DOFS_BUDGET as PD_DOFS_BUDGET
+from .plan import SLA_STEPS_PER_SPACING_M3 as SLA_STEPS_PER_SPACING_M3
+from .ridge import RIDGE_HALF_WIDTH_HORIZONS as RIDGE_HALF_WIDTH_HORIZONS
+from .ridge import RIDGE_WINDOW_SPACINGS as RIDGE_WINDOW_SPACINGS
 from .ridge import bond_midpoints, grown_path, path_agreement, response_pair, sla_broken_bonds
 from .summary import job_summary, markdown
 

@@ -33,23 +33,19 @@ from typing import Any
 
 from .._folder import with_fallback, writing
 from ..study import csv_text, machine
-from .analysis import (
-    choose_presets,
-    errors,
-    pareto,  # noqa: F401 (the cost-error front, for its tests)
-    references,
-    richardson,
-)
+
+# "X as X": names kept where they were before the package (rustfrac.sweep.X)
+from .analysis import PRESET_TOLERANCES as PRESET_TOLERANCES
+from .analysis import RATE_RANGE as RATE_RANGE
+from .analysis import choose_presets, errors, references, richardson
+from .analysis import pareto as pareto
 from .backends import SweepInterrupted, sweep
-from .points import (
-    NUMERIC_KEYS,  # noqa: F401 (the keys both backends give alike)
-    QUANTITIES,
-    REFINEMENT,
-    define_points,
-    quantities_of,
-    run_point,
-)
+from .points import NUMERIC_KEYS as NUMERIC_KEYS
+from .points import PD_SIZE as PD_SIZE
+from .points import QUANTITIES, REFINEMENT, define_points, quantities_of, run_point
+from .points import Progress as Progress
 from .report import CSV_KEYS, SCENE_CSV_KEYS, cell, markdown, plot, scene_markdown
+from .user_scene import ASPECT_TOL as ASPECT_TOL
 from .user_scene import (
     DEFAULT_REPEATS,
     SCENE_PARAMS,
