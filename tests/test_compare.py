@@ -415,3 +415,18 @@ def test_compare_moves_the_pd_rectangle_off_a_hole_the_loaded_edges_clearance_cu
     dx, m = s["discretisation"]["pd_dx"], s["discretisation"]["pd_m"]
     assert pd_region.cut_hole(box, d["hole"], (20.0, 10.0), (m + 1) * dx) is None
     assert box[0] >= 5.0 and box[0] <= 9.0 - m * dx  # off hole[0], a horizon left of the tip
+
+
+def test_the_command_refuses_a_rectangle_cutting_a_hole_naming_region(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """``rustfrac compare --region x0,y0,x1,y1`` with a rectangle cutting a hole: exit 2 before
+    the runs, the message naming the --region choices."""
+    scene = tmp_path / "two_holes.toml"
+    scene.write_text(rf.Scene.from_dict(TWO_HOLES_ONE_CRACK).to_toml())
+    out = tmp_path / "out"
+    args = ["compare", str(scene), "--out", str(out), "--quick", "-q", "--region", "0,1,8,6"]
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert "hole[0]" in err and "--region adaptive" in err and "--region auto" in err
+    assert not out.exists()
