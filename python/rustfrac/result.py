@@ -435,12 +435,7 @@ class Result:
             OutputError: the folder cannot be written (it is a file, read-only, the disk is
                 full, ...); the folder is left as it was.
         """
-        return self._save(directory, vtu=vtu)
-
-    def _save(self, directory: PathLike, *, vtu: bool = True, save_id: str | None = None) -> Path:
-        with writing(directory, owned=OWNED_NAMES, last=JSON_NAME) as w:
-            self._stage(w, vtu=vtu, save_id=save_id)
-        return w.path
+        return save_result(self, directory, vtu=vtu)
 
     def _stage(self, w: FolderWriter, *, vtu: bool, save_id: str | None = None) -> str:
         """Stages this result's files into the pending folder ``w`` (the JSON last, with the
@@ -475,6 +470,23 @@ class Result:
         }
         w.stage(JSON_NAME).write_text(_dumps(_jsonable(doc)), encoding="utf-8")
         return str(doc["save_id"])
+
+
+def save_result(
+    res: Result, directory: PathLike, *, vtu: bool = True, save_id: str | None = None
+) -> Path:
+    """:meth:`Result.save` with a given save id (the package's jobs name their parts' saves in
+    their summaries); not part of the user API."""
+    with writing(directory, owned=OWNED_NAMES, last=JSON_NAME) as w:
+        stage_result(res, w, vtu=vtu, save_id=save_id)
+    return w.path
+
+
+def stage_result(res: Result, w: FolderWriter, *, vtu: bool, save_id: str | None = None) -> str:
+    """Stages ``res``'s files into the pending folder ``w`` (a job writing a result folder
+    beside its own files, ``rustfrac run --plot``); returns the save id. Not part of the user
+    API."""
+    return res._stage(w, vtu=vtu, save_id=save_id)
 
 
 def load(directory: PathLike) -> Result:

@@ -19,7 +19,7 @@ if TYPE_CHECKING:
 
 
 def cmd_run(args: argparse.Namespace) -> int:
-    from ..result import JSON_NAME, OWNED_NAMES, PVD_NAME, Result
+    from ..result import JSON_NAME, OWNED_NAMES, PVD_NAME, Result, stage_result
     from ..runner import run
 
     log = (lambda *a: None) if args.quiet else (lambda *a: print(*a, flush=True))
@@ -114,7 +114,7 @@ def cmd_run(args: argparse.Namespace) -> int:
         plots.clear()
         missing.clear()
         with writing(d, owned=OWNED_NAMES, last=JSON_NAME) as w:
-            res._stage(w, vtu=not args.no_vtu)
+            stage_result(res, w, vtu=not args.no_vtu)
             if args.plot:
                 _stage_plots(res, w, plots, missing)
         return d
