@@ -9,16 +9,14 @@ from typing import Any, Callable
 import numpy as np
 import numpy.typing as npt
 
-# the module's exports; _progress_demo and _panic_demo only in builds with "test-hooks" (the
-# stub check, tests/test_packaging.py::test_core_stub_matches_the_native_module, allows both)
+# the module's exports, the same in every build; the test hooks _progress_demo and _panic_demo
+# (builds with "test-hooks" only) are attributes outside __all__, typed at the end
 __all__ = [
     "COND_SINGULAR",
     "COND_WARN",
     "PROGRESS_INTERVAL_S",
     "WARNING_KINDS",
     "__version__",
-    "_panic_demo",
-    "_progress_demo",
     "check_scene",
     "check_section",
     "crack_polylines",

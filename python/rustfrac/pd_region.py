@@ -26,7 +26,8 @@ __all__ = ["DEFAULT_MARGIN_HORIZONS", "Box", "cut_hole", "held_sides", "pd_dofs"
 #: margin of the fixed PD rectangle around the path's bounding box, in horizons
 DEFAULT_MARGIN_HORIZONS = 3.0
 
-Box = tuple[float, float, float, float]  # x0, y0, x1, y1
+#: a rectangle (x0, y0, x1, y1), in the scene's lengths
+Box = tuple[float, float, float, float]
 
 
 def _hole_box(hole: Mapping[str, Any]) -> Box:

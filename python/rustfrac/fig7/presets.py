@@ -42,6 +42,7 @@ class Preset:
     full_pd: bool = False
 
 
+#: the job's presets by name (``rustfrac fig7 --preset NAME``)
 PRESETS: dict[str, Preset] = {
     "paper": Preset((44, 83), 1.0 / 15.0, 500, (2, 8), "the paper's settings"),
     "fast": Preset((44, 83), 1.0 / 5.0, 120, (2, 8), "XFEM as the paper, coarse PD grid: seconds"),

@@ -228,7 +228,7 @@ def extrapolate(hs: Sequence[float | None], qs: Sequence[float | None]) -> dict[
     ``hs`` are the levels' sizes (any order; None: no length scale), ``qs`` the quantity. With
     the finest three ordered coarse to fine (h1 > h2 > h3, refinement ratios r12 = h1/h2 and
     r23 = h2/h3), the observed rate p solves (q1 - q2) / (q2 - q3) = (h1^p - h2^p) /
-    (h2^p - h3^p), which for a constant ratio r is p = log(|q2 - q1| / |q3 - q2|) / log(r)
+    (h2^p - h3^p), which for a constant ratio r is ``p = log(|q2 - q1| / |q3 - q2|) / log(r)``
     (:func:`richardson`); non-uniform ratios are allowed. The extrapolated value is
     q* = q3 - (q2 - q3) h3^p / (h2^p - h3^p), and each level's error estimate q_i - q*.
 
@@ -237,7 +237,7 @@ def extrapolate(hs: Sequence[float | None], qs: Sequence[float | None]) -> dict[
     wrong number) | "not applicable" (fewer than 3 levels, no length scale, a missing value),
     ``why``, ``value``, ``rate``, ``ratios`` [r12, r23], ``constant_ratio``, ``levels`` (the
     indices of the three levels used, finest last) and ``error_estimates`` (per level, in the
-    order given: {"abs": q_i - q*, "rel": |q_i - q*| / |q*|}, or None).
+    order given: ``{"abs": q_i - q*, "rel": |q_i - q*| / |q*|}``, or None).
     """
     n = len(hs)
     out: dict[str, Any] = {
