@@ -464,7 +464,7 @@ def test_progress_bar_shows_eta() -> None:
     from rustfrac.cli import ProgressBar
 
     buf = io.StringIO()
-    bar = ProgressBar(stream=buf, delay=0.0)
+    bar = ProgressBar(stream=buf, delay=0.0, log_interval=0.0)  # every report a line
     bar(0, 100, "building")
     bar(10, 100, "sla: step 10/100")
     bar(20, 100, "sla: step 20/100")
@@ -532,7 +532,7 @@ def test_progress_bar_eta_follows_the_recent_rate() -> None:
 
     t = [0.0]
     buf = io.StringIO()
-    bar = ProgressBar(stream=buf, delay=0.0, clock=lambda: t[0])
+    bar = ProgressBar(stream=buf, delay=0.0, clock=lambda: t[0], log_interval=0.0)
     for k in range(1, 81):
         t[0] += 0.1 if k <= 50 else 1.0
         bar(k, 100, f"step {k}")

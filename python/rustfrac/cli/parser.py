@@ -14,6 +14,20 @@ def _choices(name: str) -> list[str]:
     return list(_core.scene_constants()[name])
 
 
+#: the levels of ``--log-level``, quietest last
+LOG_LEVELS = ("debug", "info", "warning", "error")
+
+
+def log_level(args: argparse.Namespace) -> int:
+    """The ``logging`` level the options ask for: ``--log-level``, else one step below warning
+    per ``-v``."""
+    import logging
+
+    if args.log_level is not None:
+        return int(getattr(logging, args.log_level.upper()))
+    return {0: logging.WARNING, 1: logging.INFO}.get(args.verbose, logging.DEBUG)
+
+
 def build_parser() -> argparse.ArgumentParser:
     from .. import __version__
 
@@ -21,6 +35,19 @@ def build_parser() -> argparse.ArgumentParser:
         prog="rustfrac", description="rustfrac: crack propagation (FEM, XFEM, CCM-PD)"
     )
     p.add_argument("--version", action="version", version=f"rustfrac {__version__}")
+    p.add_argument(
+        "-v",
+        "--verbose",
+        action="count",
+        default=0,
+        help="show the library's log on stderr: -v its steps (info), -vv details (debug)",
+    )
+    p.add_argument(
+        "--log-level",
+        choices=LOG_LEVELS,
+        default=None,
+        help="the level of the library's log on stderr (default: warning; overrides -v)",
+    )
     sub = p.add_subparsers(dest="command", required=True)
     r = sub.add_parser("run", help="run a scene TOML file and save its results")
     r.add_argument("scene", type=Path, help="scene file (TOML)")

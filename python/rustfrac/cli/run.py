@@ -27,6 +27,14 @@ def cmd_run(args: argparse.Namespace) -> int:
     if scene is None:
         return 2
     scene = _checkpoint_options(scene, args)
+    resume = scene.pd.resume_from if scene.method in ("pd", "ccm_pd") else None
+    if resume and not Path(resume).is_file():  # an input: refused before computing, exit 2
+        what = "missing" if not Path(resume).exists() else "not a regular file"
+        print(
+            f"rustfrac: error: invalid --resume (pd.resume_from): checkpoint {resume} is {what}",
+            file=sys.stderr,
+        )
+        return 2
     try:
         check_writable(args.out)  # before computing: a bad --out must not cost the run
     except OutputError as e:

@@ -20,6 +20,7 @@ pub mod grips;
 pub mod key_value;
 pub mod kink_rule;
 pub mod material;
+pub mod number;
 pub mod parse;
 pub mod pd_region;
 pub mod range;
