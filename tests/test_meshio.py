@@ -505,3 +505,29 @@ def test_xfem_cells_carry_the_enriched_stress(tmp_path: Path) -> None:
     assert np.all(np.abs(stress[faces, 2]) < 0.1 * t)
     far = (kind == _vtk.STANDARD) & (np.abs(c[:, 1] - 3.0) < 0.3)
     assert far.any() and np.allclose(stress[far, 1], t, rtol=0.02), stress[far, 1]
+
+
+@pytest.mark.parametrize("every", [0, 2])
+def test_state_every_limits_the_kept_states(every: int, tmp_path: Path) -> None:
+    """``xfem.state_every = k`` keeps every k-th growth step's state and the last one (the
+    series holds those and the origin); 0 keeps none: no series, and result.vtu is the single
+    solve with the initial crack (its own cut cells and opening, not the grown crack's lines)."""
+    scene = rf.scenes.edge_crack_plate("xfem", mesh=MESH, growth_steps=4)
+    res = rf.run(scene.replace(xfem__state_every=every))
+    rows = len(res.history["a"])
+    assert rows == 5
+    kept = list(res.fields["state_rows"])
+    assert kept == ([] if every == 0 else [1, 3, 4])
+    assert res.fields["state_u"].shape == (len(kept), len(res.fields["u"]))
+    assert res.fields["state_stress"].shape == (len(kept), len(res.fields["elements"]), 3)
+    res.save(tmp_path)
+    if every == 0:
+        assert not (tmp_path / "result.pvd").exists()
+        m = meshio.read(tmp_path / "result.vtu")
+        lines = [b for b in m.cells if b.type == "line"]
+        assert sum(len(b.data) for b in lines) == len(res.fields["crack_initial"]) - 1
+        np.testing.assert_array_equal(
+            m.point_data["displacement"][: len(res.coords), :2], res.displacement
+        )
+    else:
+        assert [t for t, _ in series_of(tmp_path)] == [0, 1, 3, 4]

@@ -98,3 +98,32 @@ impl KeptStates {
         self.kept
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn rows(every: usize, steps: usize) -> Vec<usize> {
+        let mut k = KeptStates::new(every);
+        for step in 0..steps {
+            if k.any() {
+                let state = GrowthState {
+                    row: step + 1,
+                    ..GrowthState::default()
+                };
+                k.push(step, state);
+            }
+        }
+        k.finish().iter().map(|s| s.row).collect()
+    }
+
+    #[test]
+    fn every_kth_step_and_the_last_are_kept() {
+        assert_eq!(rows(1, 4), [1, 2, 3, 4]);
+        assert_eq!(rows(2, 4), [1, 3, 4]);
+        assert_eq!(rows(2, 5), [1, 3, 5]);
+        assert_eq!(rows(10, 3), [1, 3]);
+        assert_eq!(rows(3, 1), [1]);
+        assert!(rows(0, 4).is_empty());
+    }
+}
