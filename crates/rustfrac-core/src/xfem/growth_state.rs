@@ -38,9 +38,9 @@ impl GrowthState {
         let u: Vec<f64> = u.iter().map(|v| lam * v).collect();
         let (_, gauss) = model.gauss_stresses(&u);
         let n_el = model.mesh.n_elements();
-        let per = if n_el == 0 { 1 } else { gauss.len() / n_el };
+        let per = gauss.len().checked_div(n_el).unwrap_or(1).max(1);
         let stress = gauss
-            .chunks(per.max(1))
+            .chunks(per)
             .map(|c| {
                 let n = c.len() as f64;
                 let s = c
