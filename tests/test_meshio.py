@@ -378,9 +378,18 @@ def test_sla_series_has_one_state_per_damage_snapshot(ccm: rf.Result, tmp_path: 
     states = series_of(tmp_path)
     f = ccm.fields
     assert [t for t, _ in states] == [5.0, 10.0]
-    for (_, p), dmg in zip(states, f["damage_at"]):
+    crit = ccm.history["bond"][1:]  # the steps' critical bonds (tie_tol = 0: one a step)
+    pre = np.setdiff1d(np.flatnonzero(f["broken"]), crit)  # the pre-crack's
+    assert len(pre) > 0
+    for (step, p), dmg in zip(states, f["damage_at"]):
         m = meshio.read(p)
         np.testing.assert_array_equal(m.point_data["damage"][f["pd_nodes"]], dmg)
+        # the bonds broken by that step, as lines between their end nodes
+        (lines,) = [b.data for b in m.cells if b.type == "line"]
+        want = np.union1d(pre, crit[: int(step)])
+        np.testing.assert_array_equal(lines, f["bond_nodes"][want])
+        assert m.field_data["step"][0] == step
+        assert m.field_data["load_factor"][0] == ccm.history["load_factor"][int(step)]
     assert not np.array_equal(f["damage_at"][0], f["damage_at"][1])
 
 
