@@ -540,3 +540,10 @@ def test_state_every_limits_the_kept_states(every: int, tmp_path: Path) -> None:
         )
     else:
         assert [t for t, _ in series_of(tmp_path)] == [0, 1, 3, 4]
+
+
+def test_state_every_out_of_range_names_the_key() -> None:
+    scene = rf.scenes.edge_crack_plate("xfem", mesh=MESH, growth_steps=2)
+    with pytest.raises(rf.InvalidParameterError, match=r"\[0, 100000\]") as e:
+        rf.run(scene.replace(xfem__state_every=-1))
+    assert e.value.param == "xfem.state_every"
