@@ -315,7 +315,8 @@ def _opening_profile(mesh: Any, tip: np.ndarray, direction: np.ndarray, h: float
 def _check_state(mesh: Any, res: rf.Result, row: int) -> None:
     """The state of history row ``row`` read back: near its own tip the crack opens as LEFM says
     for its own K_I, delta(r) = 8 K_I / E' sqrt(r / (2 pi)) (the Williams / Irwin near-tip field,
-    E' = E / (1 - nu^2) in plane strain), and the largest s22 sits at its own tip."""
+    E' = E / (1 - nu^2) in plane strain), the largest s22 and the tip enrichment sit at its own
+    tip."""
     scene = rf.Scene.from_dict(res.meta["scene"])
     mat = scene.material
     h = scene.plate.width / scene.mesh.nx
@@ -340,6 +341,10 @@ def _check_state(mesh: Any, res: rf.Result, row: int) -> None:
         if s[i, 1] > best:
             best, at = s[i, 1], c[i]
     assert at is not None and np.linalg.norm(at - tip) < 1.0 * h, (at, tip)
+    # the tip-enriched cells are those around this state's tip
+    enr = np.concatenate(mesh.cell_data["enrichment"])
+    c = np.concatenate([pts[b.data].mean(axis=1) for b in mesh.cells])
+    assert (enr == 2).any() and np.all(np.linalg.norm(c[enr == 2] - tip, axis=1) < 2.5 * h)
 
 
 def test_every_growth_state_opens_and_peaks_at_its_own_tip(tmp_path: Path) -> None:

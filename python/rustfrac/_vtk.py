@@ -22,9 +22,9 @@ block per cell type (``quad``, ``triangle``, ``line``, ``vertex``), so that ever
   lines), ``kind`` (0 standard element, 1 cut cell, 2 crack line), ``cut_cell`` (the cut polygon
   a cell comes from, -1 otherwise), ``crack`` (the crack index of a line, -1 for elements),
   ``stress`` (standard elements: the mean of their Gauss-point stresses; a cut cell: the enriched
-  stress of its own side at its polygon's centroid; crack lines 0) and, for the single solve,
-  ``enrichment`` (the largest enrichment of the parent element's nodes: 0 none, 1 Heaviside,
-  2 tip; -1 for crack lines).
+  stress of its own side at its polygon's centroid; crack lines 0) and ``enrichment`` (the
+  largest enrichment of the parent element's nodes for that state's cracks: 0 none, 1
+  Heaviside, 2 tip; -1 for crack lines).
 - PD / CCM-PD: the grid nodes; ``quad`` cells of the FEM part (the grid cells with a FEM
   corner: CCM-PD only), the PD nodes as ``vertex`` cells and every broken bond as a ``line``
   cell between its end nodes. Point data ``displacement`` (reference load, before any break),
@@ -202,7 +202,8 @@ class XfemState:
         cut_element: the element of each cut polygon.
         cut_stress: the stress at each cut polygon's centroid (c, 3), or None.
         cracks: the crack polylines of the state.
-        enrichment: each node's enrichment (the single solve only), or None.
+        enrichment: each node's enrichment for the state's cracks (0, 1 Heaviside, 2 tip), or
+            None.
     """
 
     row: int
@@ -291,6 +292,9 @@ def xfem_states(res: Result) -> list[XfemState]:
                 np.asarray(f["state_cut_element"][a:b], dtype=np.int64),
                 np.asarray(f["state_cut_stress"][a:b], dtype=float),
                 [c for c in lines if len(c) >= 2],
+                np.asarray(f["state_enrichment"][k], dtype=np.int64)
+                if "state_enrichment" in f
+                else None,
             )
         )
     return out

@@ -4,6 +4,7 @@
 use super::common::{self, Headline};
 use super::record::{Entries, Record, Value};
 use crate::problem::{Method, Problem};
+use crate::xfem::growth_state::node_enrichment;
 use crate::xfem::{GrowthStep, TipStep, XfemResult};
 
 impl XfemResult {
@@ -38,13 +39,7 @@ impl XfemResult {
 fn mesh_fields(rec: &mut Record, r: &mut XfemResult) {
     let f = &mut rec.fields;
     let n_nodes = r.coords.len();
-    let mut enrichment = vec![0.0; n_nodes];
-    for &n in &r.heaviside_nodes {
-        enrichment[n] = 1.0;
-    }
-    for &n in &r.tip_nodes {
-        enrichment[n] = 2.0;
-    }
+    let enrichment = node_enrichment(n_nodes, &r.heaviside_nodes, &r.tip_nodes);
     let mut offsets: Vec<usize> = vec![0];
     for poly in &r.cut.polygons {
         offsets.push(offsets[offsets.len() - 1] + poly.len());
@@ -152,13 +147,14 @@ fn state_fields(rec: &mut Record, r: &mut XfemResult) {
     let states = std::mem::take(&mut r.states);
     let n = states.len();
     let (n_nodes, n_el) = (rows_of(f, "coords"), rows_of(f, "elements"));
-    let (mut u, mut stress) = (Vec::new(), Vec::new());
+    let (mut u, mut stress, mut enrichment) = (Vec::new(), Vec::new(), Vec::new());
     let (mut cut_offsets, mut point_offsets): (Vec<usize>, Vec<usize>) = (vec![0], vec![0]);
     let (mut points, mut disp, mut element) = (Vec::new(), Vec::new(), Vec::new());
     let mut cut_stress = Vec::new();
     let (mut crack_points, mut crack_offsets): (Vec<[f64; 2]>, Vec<usize>) = (Vec::new(), vec![0]);
     for s in &states {
         u.extend_from_slice(&s.u);
+        enrichment.extend_from_slice(&s.enrichment);
         stress.extend(s.stress.iter().flatten());
         for (poly, d) in s.cut.polygons.iter().zip(&s.cut.disp) {
             points.extend_from_slice(poly);
@@ -187,6 +183,13 @@ fn state_fields(rec: &mut Record, r: &mut XfemResult) {
         Value::Floats {
             shape: vec![n, n_el, 3],
             data: stress,
+        },
+    );
+    f.set(
+        "state_enrichment",
+        Value::Floats {
+            shape: vec![n, n_nodes],
+            data: enrichment,
         },
     );
     f.set("state_cut_offsets", Value::indices(&cut_offsets));

@@ -29,6 +29,8 @@ pub struct GrowthState {
     pub cut: CutCells,
     /// the polylines of every crack of the state (the cracks its solve ran on)
     pub cracks: Vec<Vec<[f64; 2]>>,
+    /// each node's enrichment for this state's cracks: 0 standard, 1 Heaviside, 2 tip
+    pub enrichment: Vec<f64>,
 }
 
 impl GrowthState {
@@ -49,14 +51,37 @@ impl GrowthState {
                 [s[0] / n, s[1] / n, s[2] / n]
             })
             .collect();
+        let enrichment = node_enrichment(
+            model.mesh.coords.len(),
+            model.heaviside_nodes.iter().flatten(),
+            model.tip_nodes.iter().flatten(),
+        );
         Ok(Self {
             row,
+            enrichment,
             cut: model.cut_cells(&u, STATE_CUT_CELLS)?,
             stress,
             u: u[..model.n_std].to_vec(),
             cracks: model.cracks.iter().map(|c| c.points.clone()).collect(),
         })
     }
+}
+
+/// Each of `n_nodes` nodes' largest enrichment: 0 standard, 1 Heaviside (`heaviside`), 2 tip
+/// (`tip`).
+pub fn node_enrichment<'a>(
+    n_nodes: usize,
+    heaviside: impl IntoIterator<Item = &'a usize>,
+    tip: impl IntoIterator<Item = &'a usize>,
+) -> Vec<f64> {
+    let mut out = vec![0.0; n_nodes];
+    for &n in heaviside {
+        out[n] = 1.0;
+    }
+    for &n in tip {
+        out[n] = 2.0;
+    }
+    out
 }
 
 /// The states a growth run keeps: every `every`-th growth step (the first included) and the

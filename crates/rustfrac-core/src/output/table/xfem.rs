@@ -211,6 +211,12 @@ pub(super) fn rows(t: &mut Table) {
          enriched stress at the element's 2 x 2 Gauss points",
     );
     t.add(
+        "state_enrichment",
+        Floats(&[Var("n_states"), Var("n_nodes")]),
+        TEXT,
+        "each state's node enrichment for its cracks: 0 standard, 1 Heaviside, 2 tip",
+    );
+    t.add(
         "state_cut_offsets",
         Ints(&[PlusOne("n_states")]),
         TEXT,
