@@ -95,6 +95,7 @@ fn growth(a_stop: f64, max_steps: usize) -> Option<Growth> {
         da: None,
         a_stop,
         kink_rule: rustfrac_core::problem::KinkRule::Hoop,
+        state_every: 0,
     })
 }
 

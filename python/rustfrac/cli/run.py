@@ -152,6 +152,7 @@ def _stage_plots(res: _Result, w: FolderWriter, plots: list[str], missing: list[
     """``rustfrac run --plot``: the PNGs of a result, staged into its folder; Ctrl-C drops the
     plot being drawn and lists it and the rest in ``missing`` (the result is still written)."""
     from ..plotting import (
+        field_components,
         plot_crack_path,
         plot_damage,
         plot_field,
@@ -159,9 +160,9 @@ def _stage_plots(res: _Result, w: FolderWriter, plots: list[str], missing: list[
         plot_tip_deformation,
     )
 
-    name = "s22.png" if "nodal_stress" in res.fields else "u2.png"
+    component = "s22" if "s22" in field_components(res) else "u2"
     todo: list[tuple[str, Callable[[], Any]]] = [
-        (name, lambda: plot_field(res)),
+        (f"{component}.png", lambda: plot_field(res, component)),
         ("crack_path.png", lambda: plot_crack_path(res)),
     ]
     if res.damage is not None:

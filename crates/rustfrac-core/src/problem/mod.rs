@@ -284,6 +284,9 @@ pub struct Growth {
     pub a_stop: f64,
     /// the direction rule of each extension (`xfem.kink_rule`)
     pub kink_rule: KinkRule,
+    /// keep the whole plate's state of every this many growth steps and of the last one
+    /// (`xfem.state_every`; 0: none; [`crate::xfem::GrowthState`])
+    pub state_every: usize,
 }
 
 /// XFEM (section 2.1).

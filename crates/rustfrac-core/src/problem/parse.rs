@@ -713,6 +713,7 @@ fn xfem_method(mesh: &Section, x: &Section, domain: &Domain) -> XfemMethod {
             },
             // the schema admits only its names
             kink_rule: KinkRule::from_name(x["kink_rule"].s()).unwrap_or_default(),
+            state_every: x["state_every"].i() as usize,
         }),
         tip_tie_tol: x["tip_tie_tol"].f(),
         condition: true,

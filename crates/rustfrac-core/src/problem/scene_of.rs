@@ -251,6 +251,7 @@ pub fn scene_of(p: &Problem) -> Vec<Entry> {
                         ("da", Val::Float(g.da.unwrap_or(0.0))),
                         ("kink_rule", s(g.kink_rule.name())),
                         ("a_stop", Val::Float(g.a_stop)),
+                        ("state_every", int(g.state_every)),
                     ]);
                 }
                 out.push(one(&v));

@@ -210,6 +210,7 @@ fn xfem_ranges(x: &XfemMethod, int: &dyn Fn(usize) -> Val) -> Result<()> {
         }
         in_range("xfem", "xfem", "da", Val::Float(g.da.unwrap_or(0.0)))?;
         in_range("xfem", "xfem", "a_stop", Val::Float(g.a_stop))?;
+        in_range("xfem", "xfem", "state_every", int(g.state_every))?;
     }
     Ok(())
 }

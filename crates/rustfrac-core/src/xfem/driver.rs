@@ -4,6 +4,7 @@
 
 use super::condensed::CondensedSolver;
 use super::growth::{grow, shrunk_warning, GrowthStatus, GrowthStep, TipStep};
+use super::growth_state::GrowthState;
 use super::interaction_integral::DomainSifs;
 use super::model::XfemModel;
 use super::patch::CutCells;
@@ -101,6 +102,9 @@ pub struct XfemResult {
     /// growth runs: the deformed patch around the growing tip at every critical state
     /// (displacements at the critical load, i.e. scaled by lambda), for Fig. 8b
     pub snapshots: Vec<DeformedPatch>,
+    /// growth runs: the whole plate at the kept critical states (`xfem.state_every`: every
+    /// k-th step and the last), in history order; empty without growth
+    pub states: Vec<GrowthState>,
     /// condition estimate of the initial crack's solve (see [`ConditionEstimate`]); None when
     /// not computed ([`XfemMethod::condition`] false)
     pub condition: Option<ConditionEstimate>,
@@ -167,6 +171,7 @@ fn run_with(
     res.response_history = growth.responses;
     res.tip_history = growth.tip_history;
     res.snapshots = growth.snapshots;
+    res.states = growth.states;
     res.warnings.extend(growth.warnings);
     if let Some(stop) = growth.status {
         res.status = stop;
@@ -350,6 +355,7 @@ fn initial_result(
         gauss_points,
         gauss_stress,
         snapshots: Vec::new(),
+        states: Vec::new(),
         condition: first.condition,
         warnings: p
             .material

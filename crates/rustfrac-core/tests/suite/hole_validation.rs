@@ -716,6 +716,7 @@ fn xfem_growth_towards_a_hole_stops_at_the_ligament() {
             da: None,
             a_stop: 8.0,
             kink_rule: rustfrac_core::problem::KinkRule::Hoop,
+            state_every: 0,
         });
     }
     let r = xfem::run(&p, &|_, _| true).unwrap();
