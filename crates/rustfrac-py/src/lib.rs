@@ -95,7 +95,10 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     // every build
     #[cfg(feature = "test-hooks")]
     {
-        m.setattr("_progress_demo", wrap_pyfunction!(hooks::_progress_demo, m)?)?;
+        m.setattr(
+            "_progress_demo",
+            wrap_pyfunction!(hooks::_progress_demo, m)?,
+        )?;
         m.setattr("_panic_demo", wrap_pyfunction!(hooks::_panic_demo, m)?)?;
     }
     Ok(())
