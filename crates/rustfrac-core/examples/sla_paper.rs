@@ -49,9 +49,9 @@ fn main() {
     println!(
         "fast: {} steps, status {}, setup {:.3} s, SLA {:.3} s, total {:.3} s; step {}: lambda {:.12}, CMOD {:.9}",
         r.history.len(),
-        r.status,
-        r.setup_seconds,
-        r.sla_seconds,
+        r.run.status,
+        r.timings.setup_seconds,
+        r.timings.sla_seconds,
         t.elapsed().as_secs_f64(),
         last.step,
         last.lambda,

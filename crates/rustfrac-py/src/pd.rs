@@ -55,7 +55,7 @@ pub fn run<'py>(py: Python<'py>, p: &Problem, prog: &Progress) -> PyResult<Bound
             ),
         };
         let r = sla::run_reporting(p, &report)?;
-        let msg = format!("sla: {} after {} steps", r.status, r.history.len());
+        let msg = format!("sla: {} after {} steps", r.run.status, r.history.len());
         prog.report(total, total, &msg, true);
         Ok(r)
     });

@@ -132,11 +132,11 @@ pub fn reference_strip(
 /// not end separated.
 pub fn strip_release_ratio(p: &Problem) -> Result<f64> {
     let r = sla::run(p, &|_, _| true)?;
-    if r.status != SlaStatus::Separated {
+    if r.run.status != SlaStatus::Separated {
         return Err(Error::Internal {
             detail: format!(
                 "s0 calibration 'sla': the reference strip did not separate ({} after {} steps)",
-                r.status.name(),
+                r.run.status.name(),
                 r.history.len()
             ),
         });

@@ -465,8 +465,36 @@ impl Method {
         match self {
             Method::Fem(_) => "fem",
             Method::Xfem(_) => "xfem",
-            Method::Pd(_) => "pd",
-            Method::CcmPd(_) => "ccm_pd",
+            Method::Pd(_) => PdVariant::Pd.name(),
+            Method::CcmPd(_) => PdVariant::CcmPd.name(),
+        }
+    }
+
+    /// Which of the two PD methods this is (None: FEM or XFEM).
+    pub fn pd_variant(&self) -> Option<PdVariant> {
+        match self {
+            Method::Pd(_) => Some(PdVariant::Pd),
+            Method::CcmPd(_) => Some(PdVariant::CcmPd),
+            Method::Fem(_) | Method::Xfem(_) => None,
+        }
+    }
+}
+
+/// The two PD methods without their options (a PD result's method).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PdVariant {
+    /// bond-based PD on the whole plate
+    Pd,
+    /// the splice CCM-PD coupling
+    CcmPd,
+}
+
+impl PdVariant {
+    /// Stable name: "pd" | "ccm_pd" (the method's, [`Method::name`]).
+    pub fn name(self) -> &'static str {
+        match self {
+            PdVariant::Pd => "pd",
+            PdVariant::CcmPd => "ccm_pd",
         }
     }
 }

@@ -137,13 +137,13 @@ fn graded_sla_history_follows_the_uniform_grid() {
     let n = 100;
     let uni = run(&coarse(true, n), &go_on).unwrap();
     let gr = run(&graded_coarse(true, n, 1.2), &go_on).unwrap();
-    assert_eq!(gr.n_pd_nodes, uni.n_pd_nodes);
-    assert_eq!(gr.n_bonds, uni.n_bonds);
+    assert_eq!(gr.counts.n_pd_nodes, uni.counts.n_pd_nodes);
+    assert_eq!(gr.counts.n_bonds, uni.counts.n_bonds);
     assert!(
-        gr.n_dofs < uni.n_dofs / 2,
+        gr.counts.n_dofs < uni.counts.n_dofs / 2,
         "{} vs {}",
-        gr.n_dofs,
-        uni.n_dofs
+        gr.counts.n_dofs,
+        uni.counts.n_dofs
     );
     let same = (0..n)
         .take_while(|&k| gr.broken_positions(k, None) == uni.broken_positions(k, None))
@@ -156,7 +156,7 @@ fn graded_sla_history_follows_the_uniform_grid() {
     let peak = |r: &CcmPdResult| r.history.iter().map(|s| s.sigma22).fold(0.0, f64::max);
     println!(
         "coarse case: uniform {} dofs, graded {} dofs; same broken bonds for {same} of {n} steps; worst relative lambda difference {worst:.3e}; sigma22 ref {:.5} / {:.5}, CMOD {:.6e} / {:.6e}; peak sigma22 {:.4} / {:.4}",
-        uni.n_dofs, gr.n_dofs, gr.sigma22, uni.sigma22, gr.cmod, uni.cmod, peak(&gr), peak(&uni)
+        uni.counts.n_dofs, gr.counts.n_dofs, gr.reference.sigma22, uni.reference.sigma22, gr.reference.cmod, uni.reference.cmod, peak(&gr), peak(&uni)
     );
     // measured: the same bonds in the first 84 steps (then two nearly tied bonds swap order),
     // lambda within 5.4e-4, CMOD within 4.8e-4 (the coarser far field); tolerances leave a
@@ -167,7 +167,7 @@ fn graded_sla_history_follows_the_uniform_grid() {
         same + 1
     );
     assert!(worst < 1.5e-3, "{worst}");
-    assert!((gr.cmod / uni.cmod - 1.0).abs() < 1.5e-3);
+    assert!((gr.reference.cmod / uni.reference.cmod - 1.0).abs() < 1.5e-3);
 }
 
 #[test]
@@ -178,7 +178,7 @@ fn graded_fast_sla_matches_oracle() {
     let worst = same_sla_history(&fast, &oracle, n);
     println!(
         "graded coarse case ({} dofs): fast {:.3} s, oracle {:.3} s; worst relative difference {worst:.2e}",
-        fast.n_dofs, fast.sla_seconds, oracle.sla_seconds
+        fast.counts.n_dofs, fast.timings.sla_seconds, oracle.timings.sla_seconds
     );
     assert!(worst < 1e-8, "{worst}");
 }

@@ -281,8 +281,8 @@ proptest! {
         match run {
             Ok(r) => {
                 prop_assert!(valid_material(e, nu, 1.0) && nu == 0.25);
-                prop_assert!(r.sigma22.is_finite() && r.cmod.is_finite());
-                prop_assert!(all_finite(&r.u) && all_finite(&r.damage));
+                prop_assert!(r.reference.sigma22.is_finite() && r.reference.cmod.is_finite());
+                prop_assert!(all_finite(&r.reference.u) && all_finite(&r.final_state.damage));
                 for h in &r.history {
                     prop_assert!(h.lambda.is_finite() && h.sigma22.is_finite() && h.cmod.is_finite());
                 }

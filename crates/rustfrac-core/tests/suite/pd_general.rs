@@ -469,15 +469,15 @@ fn sla_on_region_scenes_fast_equals_oracle() {
             let r = run(&p, &go_on);
             force_screening(false);
             let r = r.unwrap();
-            assert_eq!(r.screened_steps > 0, screen, "{method}");
-            assert_eq!(r.grip, "regions");
+            assert_eq!(r.work.screened_steps > 0, screen, "{method}");
+            assert_eq!(r.run.grip, None, "supports and loads on regions");
             let t = p.material.elastic.thickness;
             for s in &r.history {
                 // the traction's mean stress is the applied one, lambda times 1
                 assert!((s.sigma22 - s.lambda).abs() <= 1e-9 * s.lambda, "{s:?}");
                 assert!(s.u0 > 0.0 && s.u0.is_finite());
             }
-            let top = &r.responses.regions[1].1;
+            let top = &r.reference.responses.regions[1].1;
             assert!((top.force[1] - 1.2 * t).abs() < 1e-9 * t);
             hist.push(r.history);
         }
@@ -537,10 +537,10 @@ fn sla_histories_carry_the_probes() {
             let r = run(&p, &go_on);
             force_screening(false);
             let r = r.unwrap();
-            assert_eq!(r.screened_steps > 0, screen, "{method}");
+            assert_eq!(r.work.screened_steps > 0, screen, "{method}");
             assert_eq!(r.history.len(), 30, "{method}");
             let s1 = &r.history[0];
-            for (k, (name, v)) in r.responses.probes.iter().enumerate() {
+            for (k, (name, v)) in r.reference.responses.probes.iter().enumerate() {
                 for c in 0..2 {
                     let want = s1.lambda * v[c];
                     let tol = 1e-9 * (want.abs() + s1.lambda * v[0].hypot(v[1]));

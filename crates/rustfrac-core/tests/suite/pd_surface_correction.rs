@@ -305,7 +305,9 @@ fn fast_engines_match_the_oracle_with_the_correction() {
     let oracle = run(&with_correction(coarse(false, n), e), &go_on).unwrap();
     let plain = run(&coarse(true, n), &go_on).unwrap();
     let w1 = same_sla_history(&fast, &oracle, n);
-    assert!(fast.surface_correction.is_some() && plain.surface_correction.is_none());
+    assert!(
+        fast.constants.surface_correction.is_some() && plain.constants.surface_correction.is_none()
+    );
     // the correction changes the run (else this test proves nothing about it)
     assert!((fast.history[0].lambda / plain.history[0].lambda - 1.0).abs() > 1e-4);
 
@@ -319,13 +321,13 @@ fn fast_engines_match_the_oracle_with_the_correction() {
         |fast: bool| common::with_adaptive(with_correction(coarse(fast, 320), e), 1.5, 2.5);
     let fast = run(&adaptive(true), &go_on).unwrap();
     let oracle = run(&adaptive(false), &go_on).unwrap();
-    assert!(!fast.switches.is_empty());
-    assert_eq!(fast.switches.len(), oracle.switches.len());
+    assert!(!fast.region.switches.is_empty());
+    assert_eq!(fast.region.switches.len(), oracle.region.switches.len());
     let w3 = same_sla_history(&fast, &oracle, 320);
     println!(
         "fast vs oracle with the correction: coarse CCM-PD {n} steps {w1:.2e}; pure PD strip {ns} \
          steps {w2:.2e}; adaptive 320 steps, {} switches {w3:.2e}",
-        fast.switches.len()
+        fast.region.switches.len()
     );
     for w in [w1, w2, w3] {
         assert!(w < 1e-8, "{w}");

@@ -141,7 +141,7 @@ fn bad_inputs_are_refused_with_reasons() {
     let base = Problem::paper("ccm_pd");
     let check = |p: Problem, name: &str| match run(&p, &|_, _| true) {
         Err(Error::InvalidInput { param, .. }) => assert_eq!(param, name),
-        other => panic!("{name}: {:?}", other.map(|r| r.status)),
+        other => panic!("{name}: {:?}", other.map(|r| r.run.status)),
     };
     let mut p = base.clone();
     p.pd_mut().dx = 0.07; // does not fit W = 11

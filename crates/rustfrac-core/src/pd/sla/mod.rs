@@ -69,5 +69,8 @@ pub use fast::{force_lu_form, force_screening};
 pub use grounding::DEBRIS_LIMIT;
 pub use memory::peak_memory_bytes;
 pub use progress::SlaProgress;
-pub use result::{CcmPdResult, RegionSwitch, SlaStatus, SlaStep};
+pub use result::{
+    CcmPdResult, Constants, FinalState, Geometry, ModelCounts, ReferenceState, RegionRecord,
+    RegionSwitch, RunSummary, SlaStatus, SlaStep, SolverUsed, SolverWork, Timings,
+};
 pub use run::{run, run_model, run_reporting};

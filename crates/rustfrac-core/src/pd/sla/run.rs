@@ -96,8 +96,7 @@ fn run_from(
         timing("matrix assembled", t0);
         st.probes = model.probe_functionals()?;
         let probe_dofs: Vec<usize> = st.probes.iter().flat_map(|p| p.dofs()).collect();
-        let (mut engine, solver, refactor_interval) =
-            engine_for(model, sla, &k, (&st.broken, &springs), &probe_dofs)?;
+        let (mut engine, solver) = engine_for(model, sla, &k, (&st.broken, &springs), &probe_dofs)?;
         timing("engine ready", t0);
         if let (Some(ts), Some(sw)) = (switch_start.take(), st.switches.last_mut()) {
             // a switch costs the new model and its solver
@@ -111,8 +110,7 @@ fn run_from(
             sol0 = Some((s, responses));
         }
         drop(k);
-        info.solver = solver;
-        info.refactor_interval = refactor_interval;
+        info.solver = Some(solver);
         let sigma0 = sol0.as_ref().map_or(0.0, |s| s.0.sigma22);
         // the replayed steps of this model; then the next switch, or the live steps
         let grow = match replay.as_mut() {
@@ -133,13 +131,14 @@ fn run_from(
                 st.steps(sla, model, engine.as_mut(), fp, sigma0, progress)?
             }
         };
-        info.n_refactorisations += engine.n_refactorisations();
-        info.max_update_rank = info.max_update_rank.max(engine.max_update_rank());
-        info.inverse_columns += engine.inverse_columns();
-        info.lu_fallbacks += engine.lu_fallbacks();
+        let w = &mut info.work;
+        w.n_refactorisations += engine.n_refactorisations();
+        w.max_update_rank = w.max_update_rank.max(engine.max_update_rank());
+        w.inverse_columns += engine.inverse_columns();
         let (ss, sb) = engine.screening();
-        info.screened_steps += ss;
-        info.screened_bonds += sb;
+        w.screened_steps += ss;
+        w.screened_bonds += sb;
+        info.lu_fallbacks += engine.lu_fallbacks();
         let Some(centres) = grow else {
             break if st.status == SlaStatus::Separated {
                 Vec::new()
@@ -164,7 +163,7 @@ fn run_from(
         s0.u = reference_field(model)?;
     }
     let mut r = results(model, st, s0, u_final, info)?;
-    r.responses = responses;
+    r.reference.responses = responses;
     Ok(r)
 }
 
