@@ -6,7 +6,8 @@
 //!
 //! `cargo bench -p rustfrac-core --bench sla`
 
-use rustfrac_core::pd::sla::{peak_memory_bytes, run};
+use rustfrac_core::pd::analysis::run;
+use rustfrac_core::pd::sla::peak_memory_bytes;
 use rustfrac_core::problem::Problem;
 use std::time::Instant;
 

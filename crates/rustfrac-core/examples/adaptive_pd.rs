@@ -11,7 +11,8 @@
 //!
 //! `cargo run --release -p rustfrac-core --example adaptive_pd [-- --margin 2 --size 4
 //! --a-stop 7.6 --steps 20000 --grading 1 --fixed-cover]`
-use rustfrac_core::pd::sla::{run, CcmPdResult};
+use rustfrac_core::pd::analysis::run;
+use rustfrac_core::pd::sla::CcmPdResult;
 use rustfrac_core::problem::pd_region;
 use rustfrac_core::problem::{AdaptiveRegion, Problem};
 use std::time::Instant;

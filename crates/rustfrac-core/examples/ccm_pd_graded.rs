@@ -6,7 +6,8 @@
 //!
 //! `cargo run --release -p rustfrac-core --example ccm_pd_graded -- [STEPS]` (default 500)
 
-use rustfrac_core::pd::sla::{run, CcmPdResult};
+use rustfrac_core::pd::analysis::run;
+use rustfrac_core::pd::sla::CcmPdResult;
 use rustfrac_core::problem::Problem;
 
 fn broken_xy(r: &CcmPdResult, k: usize) -> Vec<[[i64; 2]; 2]> {

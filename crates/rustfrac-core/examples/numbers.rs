@@ -6,7 +6,7 @@
 //! growth on 44 x 83, two cracks), CCM-PD (the paper's 500 SLA steps, fast solver) and pure PD and
 //! the oracle on a coarse grid.
 use rustfrac_core::fem_driver;
-use rustfrac_core::pd::sla;
+use rustfrac_core::pd::analysis;
 use rustfrac_core::problem::Side;
 use rustfrac_core::problem::{CrackSpec, Growth, Problem, SlaEngine, SlaParams};
 use rustfrac_core::problem::{Grip, PlateLoad};
@@ -133,7 +133,7 @@ fn xfem_cases() {
 }
 
 fn sla_case(name: &str, p: &Problem) {
-    let r = sla::run(p, &|_, _| true).unwrap();
+    let r = analysis::run(p, &|_, _| true).unwrap();
     println!(
         "sla {name}: gamma {} c {} s0 {} sigma22 {} cmod {} u {} ufinal {} status {} n_dofs {} bonds {}",
         h(r.constants.pd.gamma),

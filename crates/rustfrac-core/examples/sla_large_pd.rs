@@ -9,7 +9,8 @@
 //!
 //! `cargo run --release -p rustfrac-core --example sla_large_pd [-- --steps 500 --oracle-steps 3
 //! --ccm-steps 100 --skip-pure]`
-use rustfrac_core::pd::sla::{run, CcmPdResult};
+use rustfrac_core::pd::analysis::run;
+use rustfrac_core::pd::sla::CcmPdResult;
 use rustfrac_core::problem::{Problem, SlaEngine};
 use std::time::Instant;
 

@@ -5,7 +5,8 @@
 //!
 //! `cargo run --release -p rustfrac-core --example sla_long`
 
-use rustfrac_core::pd::sla::{peak_memory_bytes, run};
+use rustfrac_core::pd::analysis::run;
+use rustfrac_core::pd::sla::peak_memory_bytes;
 use rustfrac_core::problem::Problem;
 use std::time::Instant;
 

@@ -350,13 +350,11 @@ pub enum SurfaceCorrection {
 }
 
 impl SurfaceCorrection {
-    /// From the scene key's value (one of [`schema::SURFACE_CORRECTIONS`]; anything else is
-    /// `None`).
-    pub fn from_name(s: &str) -> Self {
-        match s {
-            "energy" => Self::Energy,
-            _ => Self::None,
-        }
+    /// From the scene key's value (None: not one of [`schema::SURFACE_CORRECTIONS`]).
+    pub fn from_name(s: &str) -> Option<Self> {
+        [Self::None, Self::Energy]
+            .into_iter()
+            .find(|c| c.name() == s)
     }
     /// The scene key's value.
     pub fn name(self) -> &'static str {
@@ -373,6 +371,19 @@ pub enum HoleVolumes {
     Centre,
     /// the material part of its cell (exact for circles and rectangles, sub-sampled otherwise)
     Exact,
+}
+
+impl HoleVolumes {
+    /// From the scene key's value (None: not one of [`schema::HOLE_VOLUMES`]).
+    pub fn from_name(s: &str) -> Option<Self> {
+        [Self::Centre, Self::Exact]
+            .into_iter()
+            .find(|h| h.name() == s)
+    }
+    /// The scene key's value.
+    pub fn name(self) -> &'static str {
+        schema::HOLE_VOLUMES[self as usize]
+    }
 }
 
 /// The SLA solver (scene key `pd.engine`, whose names are [`schema::SLA_ENGINES`] in this

@@ -6,9 +6,10 @@
 //! the path; the reported closest approach of a fixed region.
 
 use crate::common;
+use rustfrac_core::pd::analysis::run;
 
 use common::{coarse, go_on, same_sla_history};
-use rustfrac_core::pd::sla::{run, CcmPdResult};
+use rustfrac_core::pd::sla::CcmPdResult;
 use rustfrac_core::problem::{Hole, Problem, Shape};
 
 /// The coarse paper case (dx = 0.2, m = 4: delta = 0.8) with an adaptive region of `margin`

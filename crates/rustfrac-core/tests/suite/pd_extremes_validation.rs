@@ -3,10 +3,13 @@
 //! nodes whose bonds all break, and the step at which the ligament separates (fast and oracle).
 
 use crate::common;
+use rustfrac_core::pd::analysis::run;
+use rustfrac_core::pd::analysis::splice_model;
+use rustfrac_core::problem::Calibration;
 
 use common::XfemCase;
 use common::{go_on, pd_plate, pd_strip, quiet, rel, set_precrack};
-use rustfrac_core::pd::sla::{run, run_model, CcmPdResult};
+use rustfrac_core::pd::sla::{run_model, CcmPdResult};
 use rustfrac_core::pd::splice::SpliceModel;
 use rustfrac_core::problem::Grip;
 use rustfrac_core::problem::{Method, Problem, SlaParams};
@@ -247,7 +250,7 @@ fn node_with_every_bond_broken_is_detached_not_singular() {
             engine: common::engine(fast),
             ..SlaParams::default()
         };
-        let model = SpliceModel::with_precrack(&p, square).unwrap();
+        let model = SpliceModel::with_precrack(&p, square, Calibration::continuum()).unwrap();
         let r = run_model(&model, &go_on).unwrap();
         let node = r
             .geometry
@@ -310,7 +313,7 @@ fn ligament_separates_at_the_right_step_fast_and_oracle() {
             let r = run(&p, &go_on).unwrap();
             assert_eq!(r.run.status.name(), "separated");
             // replay the broken bonds and find the first step after which no load is carried
-            let model = SpliceModel::new(&p).unwrap();
+            let model = splice_model(&p).unwrap();
             let mut broken = model.precrack_broken.clone();
             assert!(carries_load(&model, &broken, r.reference.sigma22));
             let mut first_cut = None;

@@ -21,7 +21,7 @@ use rustfrac_core::fe::loading::sigma22;
 use rustfrac_core::fe::mesh::Mesh;
 use rustfrac_core::fe::FemModel;
 use rustfrac_core::fem_driver::{self, FemPlateResult};
-use rustfrac_core::pd::sla;
+use rustfrac_core::pd::analysis;
 use rustfrac_core::problem::{Boundary, Domain, Problem, SlaParams};
 use rustfrac_core::problem::{Elastic, Plane};
 use rustfrac_core::problem::{Grip, PlateLoad};
@@ -390,11 +390,11 @@ fn ccm_pd_sla_is_scale_invariant() {
 
 fn pd_case(method: &str, grip: Grip, scales: &[(f64, f64, f64)]) -> f64 {
     let steps = 12;
-    let r0 = sla::run(&pd_params(1.0, 1.0, 1.0, steps, method, grip), &go_on).unwrap();
+    let r0 = analysis::run(&pd_params(1.0, 1.0, 1.0, steps, method, grip), &go_on).unwrap();
     assert_eq!(r0.history.len(), steps);
     let mut worst = 0.0f64;
     for &(l, e, t) in scales {
-        let r = sla::run(&pd_params(l, e, t, steps, method, grip), &go_on).unwrap();
+        let r = analysis::run(&pd_params(l, e, t, steps, method, grip), &go_on).unwrap();
         let tag = format!("{method} {grip:?} l={l:e} e={e:e} t={t:e}");
         assert_eq!(r.run.status, r0.run.status, "{tag}");
         assert_eq!(

@@ -2,11 +2,12 @@
 //! during the run, checkpoints and bit-for-bit resume, refusal of foreign or corrupt checkpoints.
 
 use crate::common;
+use rustfrac_core::pd::analysis::run;
 
 use common::{coarse, go_on};
 use rustfrac_core::pd::cost::auto_refactor_every;
 use rustfrac_core::pd::sla::checkpoint;
-use rustfrac_core::pd::sla::{run, CcmPdResult};
+use rustfrac_core::pd::sla::CcmPdResult;
 use rustfrac_core::problem::{Probe, ProbeKind, Problem};
 use rustfrac_core::Error;
 use rustfrac_core::WarningKind;

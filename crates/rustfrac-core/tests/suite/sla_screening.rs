@@ -7,9 +7,10 @@
 //! for bit.
 
 use crate::common;
+use rustfrac_core::pd::analysis::run;
 
 use common::{coarse, go_on, pd_plate, pd_strip, same_sla_history};
-use rustfrac_core::pd::sla::{force_screening, run, CcmPdResult};
+use rustfrac_core::pd::sla::{force_screening, CcmPdResult};
 use rustfrac_core::problem::Grip;
 use rustfrac_core::problem::{Problem, SlaEngine, SurfaceCorrection};
 

@@ -4,9 +4,10 @@
 //! engine's choice reported; and an ignored paper-scale run (pure PD, 52 k nodes).
 
 use crate::common;
+use rustfrac_core::pd::analysis::run;
 
 use common::{coarse, go_on, pd_plate, pd_strip, rel};
-use rustfrac_core::pd::sla::{force_lu_form, run, CcmPdResult};
+use rustfrac_core::pd::sla::{force_lu_form, CcmPdResult};
 use rustfrac_core::problem::Grip;
 use rustfrac_core::problem::{Problem, SlaEngine};
 use std::path::PathBuf;

@@ -4,7 +4,7 @@
 use crate::common;
 
 use common::{coarse, go_on, pd_strip};
-use rustfrac_core::pd::sla::run;
+use rustfrac_core::pd::analysis::run;
 use rustfrac_core::problem::Grip;
 use rustfrac_core::problem::Problem;
 

@@ -1,4 +1,4 @@
-//! The SLA run ([`run`], section 3): build the model and the solver, replay a checkpoint, run
+//! The SLA run ([`run_calibrated`], section 3): build the model and the solver, replay a checkpoint, run
 //! the steps (`steps.rs`), grow an adaptive region between them (`switch.rs`), collect the
 //! results (`collect.rs`).
 
@@ -14,33 +14,30 @@ use super::resume::{checkpoint_sizes, Replay};
 use super::state::RunState;
 use crate::error::Result;
 use crate::pd::splice::{SpliceModel, StaticSolution};
-use crate::problem::{validate, Problem};
+use crate::problem::{validate, Calibration, Problem};
 use std::sync::Arc;
 use std::time::Instant;
 
-/// Runs a CCM-PD (or pure PD) problem: linear solution at the reference load, then the SLA.
-/// `progress(step, max_steps)` is called after every step; returning `false` stops the run
-/// (status [`SlaStatus::Cancelled`], a checkpoint is written first when `checkpoint_path` is set).
-pub fn run(p: &Problem, progress: &(dyn Fn(usize, usize) -> bool + Sync)) -> Result<CcmPdResult> {
-    run_reporting(p, &|s: &SlaProgress| progress(s.step, s.max_steps))
-}
-
-/// [`run`] with a callback that reads the whole [`SlaProgress`] after every step (the crack's
-/// advance towards `pd.stop_crack_length` besides the step).
-pub fn run_reporting(
+/// Runs a CCM-PD (or pure PD) problem whose critical stretch is scaled by `s0` (the calibration
+/// of its `pd.s0_calibration`; `crate::pd::analysis::run` makes it): linear solution at the
+/// reference load, then the SLA. `progress` reads the whole [`SlaProgress`] after every step;
+/// returning `false` stops the run (status [`SlaStatus::Cancelled`], a checkpoint is written
+/// first when `checkpoint_path` is set).
+pub fn run_calibrated(
     p: &Problem,
+    s0: Calibration,
     progress: &(dyn Fn(&SlaProgress) -> bool + Sync),
 ) -> Result<CcmPdResult> {
     validate::problem(p)?;
     validate::reference_load(p)?;
     keep_large_blocks_mmapped();
     let t0 = Instant::now();
-    let model = SpliceModel::new(p)?;
+    let model = SpliceModel::new(p, s0)?;
     timing("model built", t0);
     run_from(&model, t0, progress)
 }
 
-/// [`run`] on a model built by hand ([`SpliceModel::with_precrack`]).
+/// The SLA on a model built by hand ([`SpliceModel::with_precrack`]).
 pub fn run_model(
     model: &SpliceModel,
     progress: &(dyn Fn(usize, usize) -> bool + Sync),
