@@ -354,13 +354,11 @@ pub enum SurfaceCorrection {
 }
 
 impl SurfaceCorrection {
-    /// From the scene key's value (one of [`schema::SURFACE_CORRECTIONS`]; anything else is
-    /// `None`).
-    pub fn from_name(s: &str) -> Self {
-        match s {
-            "energy" => Self::Energy,
-            _ => Self::None,
-        }
+    /// From the scene key's value (None: not one of [`schema::SURFACE_CORRECTIONS`]).
+    pub fn from_name(s: &str) -> Option<Self> {
+        [Self::None, Self::Energy]
+            .into_iter()
+            .find(|c| c.name() == s)
     }
     /// The scene key's value.
     pub fn name(self) -> &'static str {
@@ -377,6 +375,19 @@ pub enum HoleVolumes {
     Centre,
     /// the material part of its cell (exact for circles and rectangles, sub-sampled otherwise)
     Exact,
+}
+
+impl HoleVolumes {
+    /// From the scene key's value (None: not one of [`schema::HOLE_VOLUMES`]).
+    pub fn from_name(s: &str) -> Option<Self> {
+        [Self::Centre, Self::Exact]
+            .into_iter()
+            .find(|h| h.name() == s)
+    }
+    /// The scene key's value.
+    pub fn name(self) -> &'static str {
+        schema::HOLE_VOLUMES[self as usize]
+    }
 }
 
 /// The SLA solver (scene key `pd.engine`, whose names are [`schema::SLA_ENGINES`] in this
@@ -469,8 +480,36 @@ impl Method {
         match self {
             Method::Fem(_) => "fem",
             Method::Xfem(_) => "xfem",
-            Method::Pd(_) => "pd",
-            Method::CcmPd(_) => "ccm_pd",
+            Method::Pd(_) => PdVariant::Pd.name(),
+            Method::CcmPd(_) => PdVariant::CcmPd.name(),
+        }
+    }
+
+    /// Which of the two PD methods this is (None: FEM or XFEM).
+    pub fn pd_variant(&self) -> Option<PdVariant> {
+        match self {
+            Method::Pd(_) => Some(PdVariant::Pd),
+            Method::CcmPd(_) => Some(PdVariant::CcmPd),
+            Method::Fem(_) | Method::Xfem(_) => None,
+        }
+    }
+}
+
+/// The two PD methods without their options (a PD result's method).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PdVariant {
+    /// bond-based PD on the whole plate
+    Pd,
+    /// the splice CCM-PD coupling
+    CcmPd,
+}
+
+impl PdVariant {
+    /// Stable name: "pd" | "ccm_pd" (the method's, [`Method::name`]).
+    pub fn name(self) -> &'static str {
+        match self {
+            PdVariant::Pd => "pd",
+            PdVariant::CcmPd => "ccm_pd",
         }
     }
 }
