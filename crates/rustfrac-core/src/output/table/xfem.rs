@@ -10,6 +10,12 @@ pub(super) fn rows(t: &mut Table) {
     // --- XFEM ---
     t.at(xfem, Fields);
     t.add(
+        "reactions",
+        Floats(NODE_DOFS),
+        FORCE,
+        "nodal reactions K u - f of the standard dofs at the reference load, interleaved [r1, r2]",
+    );
+    t.add(
         "u_enriched",
         Floats(&[Var("n_dofs")]),
         LENGTH,
