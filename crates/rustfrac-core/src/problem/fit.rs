@@ -22,6 +22,13 @@ fn factorisation_s(n: f64) -> f64 {
     25.0 * (n / 2e6).powf(1.5)
 }
 
+impl Problem {
+    /// The warnings of the scene, made before the run ([`scene_warnings`]).
+    pub fn scene_warnings(&self) -> Vec<Warning> {
+        scene_warnings(self)
+    }
+}
+
 /// Every warning of the scene, made before anything is built.
 pub fn scene_warnings(p: &Problem) -> Vec<Warning> {
     let mut out = Vec::new();

@@ -563,11 +563,6 @@ impl Problem {
         }
     }
 
-    /// The warnings of the scene, made before the run ([`fit::scene_warnings`]).
-    pub fn scene_warnings(&self) -> Vec<crate::warning::Warning> {
-        fit::scene_warnings(self)
-    }
-
     /// The PD options of "pd" and "ccm_pd" (panics for another method: a programming error).
     pub fn pd_mut(&mut self) -> &mut PdMethod {
         match &mut self.method {
