@@ -71,7 +71,11 @@ def check_scene(scene: Any) -> dict[str, Any]:
     checked: method, name, every section the method reads with every key, "crack" as a list."""
 
 def crack_polylines(scene: Any) -> list[list[list[float]]]:
-    """The polylines [[x1, x2], ...] of a scene's cracks (empty for an uncracked scene)."""
+    """The polylines [[x1, x2], ...] of a scene's cracks as the method cuts them (a FEM seam on
+    its grid line; empty for an uncracked scene)."""
+
+def scene_warnings(scene: Any) -> list[tuple[str, str]]:
+    """The warnings of a valid scene before it runs: [(message, kind), ...]."""
 
 def run(
     scene: Any, progress: _ProgressCallback | None = None, condition: bool = True

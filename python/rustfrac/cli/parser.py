@@ -28,6 +28,17 @@ def log_level(args: argparse.Namespace) -> int:
     return {0: logging.WARNING, 1: logging.INFO}.get(args.verbose, logging.DEBUG)
 
 
+def _at_least_one(text: str) -> int:
+    """An integer >= 1 (a count of processes or timings: 0 would silently mean the default)."""
+    try:
+        n = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an integer >= 1, got {text!r}") from None
+    if n < 1:
+        raise argparse.ArgumentTypeError(f"expected an integer >= 1, got {n}")
+    return n
+
+
 def build_parser() -> argparse.ArgumentParser:
     from .. import __version__
 
@@ -153,7 +164,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     w.add_argument(
         "--repeats",
-        type=int,
+        type=_at_least_one,
         default=None,
         help="timings per point, the minimum kept (default 3)",
     )
@@ -166,7 +177,9 @@ def build_parser() -> argparse.ArgumentParser:
         help="run on dask.distributed: a scheduler address (tcp://host:port) or 'local' (a "
         "LocalCluster of --workers processes); default: local processes",
     )
-    w.add_argument("--workers", type=int, default=None, help="local processes (default: cores)")
+    w.add_argument(
+        "--workers", type=_at_least_one, default=None, help="local processes (default: cores)"
+    )
     w.add_argument("--quiet", "-q", action="store_true", help="print nothing but errors")
     e = sub.add_parser(
         "examples", help="list the example scenes shipped with rustfrac (name and path)"

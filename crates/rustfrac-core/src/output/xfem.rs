@@ -51,6 +51,7 @@ fn mesh_fields(rec: &mut Record, r: &mut XfemResult) {
     );
     f.set("u", Value::floats(r.u[..r.n_std].to_vec()));
     f.set("u_enriched", Value::floats(std::mem::take(&mut r.u)));
+    f.set("reactions", Value::floats(std::mem::take(&mut r.reactions)));
     f.set("enrichment", Value::floats(enrichment));
     f.set("heaviside_nodes", Value::indices(&r.heaviside_nodes));
     f.set("tip_nodes", Value::indices(&r.tip_nodes));

@@ -13,6 +13,7 @@
 //! the drivers match on them. Today they hold the paper's plate: the rectangle [0, W] x [0, L]
 //! loaded through its top and bottom edges (eq. 61).
 
+pub mod fit;
 pub mod general;
 pub mod grading;
 pub mod grid;
@@ -25,6 +26,8 @@ pub mod parse;
 pub mod pd_region;
 pub mod range;
 mod read;
+#[cfg(test)]
+mod refusals_test;
 pub mod regions;
 pub mod s0_calibration;
 pub mod scene_of;
@@ -591,6 +594,15 @@ impl Problem {
         match self.cracks.first() {
             Some(c) if c.kind == CrackKind::Center => 1,
             _ => 0,
+        }
+    }
+
+    /// The FEM or XFEM grid (None for the PD methods).
+    pub fn fe_grid(&self) -> Option<&FeGrid> {
+        match &self.method {
+            Method::Fem(f) => Some(&f.grid),
+            Method::Xfem(x) => Some(&x.grid),
+            Method::Pd(_) | Method::CcmPd(_) => None,
         }
     }
 

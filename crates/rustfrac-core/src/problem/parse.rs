@@ -6,7 +6,7 @@
 // the negated comparisons are deliberate: they refuse NaN too
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-use super::grading::graded_lines;
+use super::grading::{graded_count, graded_lines};
 pub use super::key_value::{crack_name, Section};
 use super::pd_region;
 use super::schema::{self, Kind, Val};
@@ -157,8 +157,22 @@ pub fn section(section: &str, name: &str, t: &Value) -> Result<Section> {
         out.insert(spec.key, v);
     }
     required_keys(section, name, &out, |k| t.contains_key(k))?;
+    if section == "mesh" {
+        grid_line_counts(&mut out);
+    }
     section_rules(section, name, &out)?;
     Ok(out)
+}
+
+/// Given grid lines set the element counts (`mesh.nx` is the count of `mesh.xs` - 1, `mesh.ny`
+/// of `mesh.ys`), so the checked scene reports the grid that runs.
+fn grid_line_counts(s: &mut Section) {
+    for (lines, count) in [("xs", "nx"), ("ys", "ny")] {
+        let n = s[lines].floats().len();
+        if n >= 2 {
+            s.insert(count, Val::Int(i64::try_from(n - 1).unwrap_or(i64::MAX)));
+        }
+    }
 }
 
 /// Refuses an entry that omits a key the schema requires of it ([`schema::Required`]: always,
@@ -468,6 +482,9 @@ pub fn check(t: &Table) -> Result<Checked> {
 
 /// Rules between keys of two sections, on the values as written.
 fn scene_rules(c: &Checked) -> Result<()> {
+    if let (Some(m), Some(plate)) = (c.sections.get("mesh"), c.sections.get("plate")) {
+        graded_size(m, plate)?;
+    }
     if let (Some(x), Some(plate)) = (c.sections.get("xfem"), c.sections.get("plate")) {
         let (a_stop, w) = (x["a_stop"].f(), plate["width"].f());
         if a_stop != 0.0 && !(a_stop < w) {
@@ -477,6 +494,39 @@ fn scene_rules(c: &Checked) -> Result<()> {
                 a_stop,
             ));
         }
+    }
+    Ok(())
+}
+
+/// A graded grid's element count, in closed form ([`graded_count`]) before a line is built: at
+/// most [`schema::max_elements`], else `mesh.refine_h` is refused.
+fn graded_size(m: &Section, plate: &Section) -> Result<()> {
+    let (b, h, g) = (m["refine"].floats(), m["refine_h"].f(), m["grading"].f());
+    if b.len() != 4 || !(h > 0.0) {
+        return Ok(());
+    }
+    let (w, ht) = (plate["width"].f(), plate["height"].f());
+    let (nx, ny) = (m["nx"].i() as f64, m["ny"].i() as f64);
+    let count = |given: &[f64], len: f64, lo: f64, hi: f64, n: f64| {
+        if given.is_empty() {
+            graded_count(len, lo, hi, h, g, len / n)
+        } else {
+            (given.len() as f64 - 1.0).max(1.0)
+        }
+    };
+    let cx = count(m["xs"].floats(), w, b[0], b[2], nx);
+    let cy = count(m["ys"].floats(), ht, b[1], b[3], ny);
+    let max = schema::max_elements() as f64;
+    if !(cx * cy <= max) {
+        return Err(Error::invalid(
+            "mesh.refine_h",
+            &format!(
+                "an element size whose graded grid has at most {} elements (a documented memory \
+                 guard)",
+                schema::max_elements()
+            ),
+            format!("{h:e} ({cx:.3e} x {cy:.3e} elements)"),
+        ));
     }
     Ok(())
 }

@@ -36,6 +36,8 @@ pub struct XfemResult {
     pub elements: Vec<[usize; 4]>,
     /// displacements of the initial crack at the reference load (standard then enriched dofs)
     pub u: Vec<f64>,
+    /// nodal reactions K u - f of the standard dofs at the reference load, interleaved [r1, r2]
+    pub reactions: Vec<f64>,
     pub n_dofs: usize,
     pub n_std: usize,
     /// Heaviside enrichments (nodes, summed over the cracks: a node enriched for two cracks
@@ -324,6 +326,7 @@ fn initial_result(
         coords: model.mesh.coords.clone(),
         elements: model.mesh.elements.clone(),
         u: first.u.clone(),
+        reactions: first.reactions.clone(),
         n_dofs: model.n_dofs,
         n_std: model.n_std,
         n_heaviside_nodes: model.heaviside_nodes.iter().map(Vec::len).sum(),

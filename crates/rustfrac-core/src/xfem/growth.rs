@@ -320,8 +320,9 @@ impl Growth {
             k_ii: 0.0,
             kink_angle: 0.0,
             tip: model.tips[0].pos,
-            r_i: 0.0,
-            condition: first.condition.map(|_| 0.0),
+            // nothing computed at the unloaded origin: NaN says so
+            r_i: f64::NAN,
+            condition: first.condition.map(|_| f64::NAN),
         }];
         let tip_history = vec![model
             .tips
@@ -331,7 +332,7 @@ impl Growth {
                 k_i: 0.0,
                 k_ii: 0.0,
                 kink_angle: 0.0,
-                r_i: 0.0,
+                r_i: f64::NAN,
                 grows: false,
             })
             .collect()];

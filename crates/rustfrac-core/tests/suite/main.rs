@@ -23,6 +23,7 @@ mod pd_validation;
 mod problem_description;
 mod s0_calibration;
 mod scale_invariance;
+mod scene_refusals;
 mod singular_detection;
 mod sla_long_validation;
 mod sla_screening;

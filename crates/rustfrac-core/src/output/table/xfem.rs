@@ -10,6 +10,12 @@ pub(super) fn rows(t: &mut Table) {
     // --- XFEM ---
     t.at(xfem, Fields);
     t.add(
+        "reactions",
+        Floats(NODE_DOFS),
+        FORCE,
+        "nodal reactions K u - f of the standard dofs at the reference load, interleaved [r1, r2]",
+    );
+    t.add(
         "u_enriched",
         Floats(&[Var("n_dofs")]),
         LENGTH,
@@ -155,13 +161,14 @@ pub(super) fn rows(t: &mut Table) {
         "tip_history_kink_angle",
         Floats(TIP_ROWS),
         RAD,
-        "every tip's kink angle (tip frame) of the maximum circumferential stress criterion",
+        "every tip's kink angle (tip frame) of the maximum circumferential stress criterion, in \
+         radians (the scene's crack.angle is in degrees)",
     );
     t.add(
         "tip_history_r_I",
         Floats(TIP_ROWS),
         LENGTH,
-        "every tip's SIF q-radius (0 at the origin)",
+        "every tip's SIF q-radius (NaN at the origin: not computed)",
     );
     t.add(
         "tip_history_grows",
@@ -325,7 +332,7 @@ pub(super) fn rows(t: &mut Table) {
         "kink_angle",
         Floats(ROWS),
         RAD,
-        "kink angle of the most critical tip's extension (tip frame)",
+        "kink angle of the most critical tip's extension (tip frame), in radians",
     )
     .when(GROWTH);
     t.add("tip_x", Floats(ROWS), LENGTH, "x1 of the most critical tip")
@@ -336,14 +343,15 @@ pub(super) fn rows(t: &mut Table) {
         "r_I",
         Floats(ROWS),
         LENGTH,
-        "the q-radius of the SIFs, shrunk where a hole would enter the domain (0 at the origin)",
+        "the q-radius of the SIFs, shrunk where a hole would enter the domain (NaN at the origin: \
+         not computed)",
     )
     .when(GROWTH);
     t.add(
         "condition",
         Floats(ROWS),
         ONE,
-        "condition estimate of each step's solve (0 at the origin)",
+        "condition estimate of each step's solve (NaN at the origin: no solve)",
     )
     .when("a growth run with the condition estimate (run(..., condition=True))");
 
