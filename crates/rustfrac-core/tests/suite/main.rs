@@ -13,6 +13,7 @@ mod ccm_pd_holes;
 mod coupling_validation;
 mod fem_validation;
 mod general_scenes;
+mod hole_reactions;
 mod hole_validation;
 mod hostile_input;
 mod near_incompressible;
