@@ -27,13 +27,8 @@ fn two_hole_plate(method: &str, nx: i64, ny: i64, cracks: bool) -> Table {
             ("fix", s(fix)),
         ])
     };
-    let edge_load = |side: &str| {
-        tbl(&[
-            ("region", s("edge")),
-            ("side", s(side)),
-            ("normal", f(1.0)),
-        ])
-    };
+    let edge_load =
+        |side: &str| tbl(&[("region", s("edge")), ("side", s(side)), ("normal", f(1.0))]);
     let crack = |side: &str, y: f64| {
         tbl(&[
             ("kind", s("edge")),
@@ -99,7 +94,10 @@ fn hole_nodes_carry_nothing(grids: &[(i64, i64)]) {
              supports' resultant {:.3e} {:.3e}, moment {:.3e} (relative to the edge load)",
             res[0], res[1], res[2]
         );
-        assert!(in_holes < 1e-10, "{nx} x {ny}: {in_holes:e} on {count} nodes");
+        assert!(
+            in_holes < 1e-10,
+            "{nx} x {ny}: {in_holes:e} on {count} nodes"
+        );
         for c in res {
             assert!(c.abs() < 1e-10, "{nx} x {ny}: the supports carry {res:?}");
         }
@@ -155,7 +153,10 @@ fn two_crack_plate_converges(grids: &[(i64, i64)], sym_tol: f64) {
         for c in 0..2 {
             let (d1, d2) = ((w[1][c] - w[0][c]).abs(), (w[2][c] - w[1][c]).abs());
             eprintln!("component {c}: changes {d1:.3e} then {d2:.3e}");
-            assert!(d2 < d1, "component {c}: {d1:e} then {d2:e} (not converging)");
+            assert!(
+                d2 < d1,
+                "component {c}: {d1:e} then {d2:e} (not converging)"
+            );
         }
     }
 }
