@@ -25,6 +25,7 @@ mod problem_description;
 mod s0_calibration;
 mod scale_invariance;
 mod singular_detection;
+mod sla_accuracy_guard;
 mod sla_long_validation;
 mod sla_screening;
 mod sla_sparse_validation;

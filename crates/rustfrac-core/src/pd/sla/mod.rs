@@ -71,3 +71,4 @@ pub use memory::peak_memory_bytes;
 pub use progress::SlaProgress;
 pub use result::{CcmPdResult, RegionSwitch, SlaStatus, SlaStep};
 pub use run::{run, run_model, run_reporting};
+pub use steps::stop_at_loaded_boundary;
