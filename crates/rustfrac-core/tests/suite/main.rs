@@ -19,6 +19,7 @@ mod hostile_input;
 mod near_incompressible;
 mod pd_extremes_validation;
 mod pd_general;
+mod pd_rigid_modes;
 mod pd_surface_correction;
 mod pd_validation;
 mod problem_description;
