@@ -150,8 +150,9 @@ fn two_crack_plate_converges(grids: &[(i64, i64)], sym_tol: f64) {
         ks.push(k[0]);
     }
     for w in ks.windows(3) {
-        for c in 0..2 {
+        for (c, name) in ["K_I", "K_II"].iter().enumerate() {
             let (d1, d2) = ((w[1][c] - w[0][c]).abs(), (w[2][c] - w[1][c]).abs());
+            eprint!("{name}: ");
             eprintln!("component {c}: changes {d1:.3e} then {d2:.3e}");
             assert!(
                 d2 < d1,
