@@ -65,8 +65,8 @@ pub fn sla_meaning(s: SlaStatus) -> &'static str {
         }
         SlaStatus::NoBondInTension => "no intact bond is in tension",
         SlaStatus::LoadedBoundaryReached => {
-            "the next critical bond ends at a PD node that carries a load or a prescribed \
-             displacement (a loaded or supported edge inside the PD region): bond-based PD breaks \
+            "the next critical bond ends at a PD node that carries an applied force (a loaded \
+             edge or point load inside the PD region): bond-based PD breaks \
              bonds there that the edge's nodal forces make (its nodes miss half their neighbours), \
              not the crack; the step is not taken. Keep the PD region off loaded and supported \
              edges (pd.center / pd.size; adaptive: a larger plate), or load through the FEM part"

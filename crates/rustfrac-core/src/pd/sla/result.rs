@@ -74,8 +74,7 @@ pub enum SlaStatus {
     Separated,
     /// no intact bond is in tension
     NoBondInTension,
-    /// the critical bond ends at a node carrying a load or a prescribed displacement (the step is
-    /// not taken)
+    /// the critical bond ends at a node carrying an applied force (the step is not taken)
     LoadedBoundaryReached,
     /// the progress callback asked to stop
     Cancelled,

@@ -141,19 +141,17 @@ pub fn stop_at_loaded_boundary(on: bool) {
     STOP_AT_HELD.with(|f| f.set(on));
 }
 
-/// Whether bond `b` ends at a node carrying the boundary conditions: an applied force or a
-/// prescribed displacement of the scene (a loaded or supported edge, a grip, a point support
-/// or load; not a hole's removed node nor a grounding). Breaking it would be a crack the load
-/// made: the step stops the run ([`SlaStatus::LoadedBoundaryReached`]).
+/// Whether bond `b` ends at a node carrying an applied force of the scene (a loaded edge, a
+/// traction grip, a point load). Breaking it would be a crack the load made (the edge's nodes
+/// miss half their neighbours and carry the concentrated nodal forces): the step stops the run
+/// ([`SlaStatus::LoadedBoundaryReached`]). Prescribed displacements act on volumetric boundary
+/// layers in pure PD (full families at the edge) and are not counted.
 fn held_end(model: &SpliceModel, b: usize) -> bool {
     let bond = &model.bonds[b];
     [bond.i as usize, bond.j as usize].into_iter().any(|n| {
-        let loaded = [2 * n, 2 * n + 1]
+        [2 * n, 2 * n + 1]
             .iter()
-            .any(|&d| model.f.get(d).is_some_and(|&v| v != 0.0));
-        let held = model.material.get(n).is_none_or(|&m| m)
-            && model.bc.dofs.iter().any(|&(d, _)| d / 2 == n);
-        loaded || held
+            .any(|&d| model.f.get(d).is_some_and(|&v| v != 0.0))
     })
 }
 
