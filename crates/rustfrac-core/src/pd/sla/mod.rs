@@ -76,3 +76,4 @@ pub use result::{
     RegionSwitch, RunSummary, SlaStatus, SlaStep, SolverUsed, SolverWork, Timings,
 };
 pub use run::{run_calibrated, run_model};
+pub use steps::stop_at_loaded_boundary;

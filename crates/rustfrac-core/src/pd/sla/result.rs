@@ -78,6 +78,8 @@ pub enum SlaStatus {
     Separated,
     /// no intact bond is in tension
     NoBondInTension,
+    /// the critical bond ends at a node carrying an applied force (the step is not taken)
+    LoadedBoundaryReached,
     /// the progress callback asked to stop
     Cancelled,
 }
@@ -90,6 +92,7 @@ impl SlaStatus {
             SlaStatus::CrackLengthReached => "crack_length_reached",
             SlaStatus::Separated => "separated",
             SlaStatus::NoBondInTension => "no_bond_in_tension",
+            SlaStatus::LoadedBoundaryReached => "loaded_boundary_reached",
             SlaStatus::Cancelled => "cancelled",
         }
     }

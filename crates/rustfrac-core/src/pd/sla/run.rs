@@ -49,11 +49,41 @@ pub fn run_model(
     })
 }
 
+/// The rigid-body modes of the model's stiffness, as FEM and XFEM check theirs: every connected
+/// part of the material (linked by the intact bonds and the FEM elements; the largest and every
+/// one of more than [`DEBRIS_LIMIT`] nodes, smaller fragments are grounded) held by the scene's conditions on its
+/// own material nodes ([`crate::fe::Dirichlet::check_rigid_modes_by_part`]: refused naming the
+/// free mode and the part, a body cut in two by a hole included).
+fn check_rigid_modes(model: &SpliceModel) -> Result<()> {
+    let mat = |n: usize| model.material.get(n).is_none_or(|&m| m);
+    let bc = crate::fe::Dirichlet {
+        dofs: (model.bc.dofs.iter().copied())
+            .filter(|&(d, _)| mat(d / 2))
+            .collect(),
+    };
+    let bonds = (model.bonds.iter().zip(&model.precrack_broken))
+        .filter(|(_, &pre)| !pre)
+        .map(|(b, _)| [b.i as usize, b.j as usize]);
+    let edges = model
+        .elements
+        .iter()
+        .flat_map(|e| (0..4).map(move |k| [e[k], e[(k + 1) % 4]]));
+    let xy: Vec<[f64; 2]> = (0..model.grid.n_nodes())
+        .map(|n| model.grid.xy(n))
+        .collect();
+    bc.check_rigid_modes_by_part(
+        &xy,
+        bonds.chain(edges).filter(|&[a, b]| mat(a) && mat(b)),
+        super::DEBRIS_LIMIT,
+    )
+}
+
 fn run_from(
     model0: &SpliceModel,
     t0: Instant,
     progress: &(dyn Fn(&SlaProgress) -> bool + Sync),
 ) -> Result<CcmPdResult> {
+    check_rigid_modes(model0)?;
     let sla = &model0.pd_method().sla;
     let adaptive = model0.pd_method().adaptive;
     let mut st = RunState::new(model0);
