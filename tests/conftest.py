@@ -14,12 +14,14 @@ ROOT = Path(__file__).resolve().parents[1]
 # loop. CI runs everything.
 FAMILIES = {
     "test_docs.py": "docs",
+    "test_doc_blocks.py": "docs",
     "test_notebook.py": "notebook",
     "test_packaging.py": "packaging",
 }
 # slow: 5 s or more in a CI run (pytest --durations=25, two workers on the loaded 2-core machine)
 SLOW = {
     "test_docs.py": {"*"},
+    "test_doc_blocks.py": {"test_every_python_block_runs"},
     "test_notebook.py": {"test_example_notebook_reproduces_fig7"},
     "test_packaging.py": {"test_core_stub_matches_the_native_module"},
     "test_fig7.py": {

@@ -328,3 +328,105 @@ def test_compare_on_the_adaptive_pd_region(tmp_path: Path) -> None:
     assert s["cost"]["ccm_pd"]["status"] == "crack_length_reached"
     with pytest.raises(rf.errors.InvalidParameterError):
         compare.plan(TINY_INCLINED, region="moving")
+
+
+#: the two-hole plate with one edge crack: holes r = 2 at (3, 7) and (17, 3), loaded on top and
+#: bottom, point supports at mid-width; the path's bounding box plus the margin reaches the holes
+#: and the loaded edges, so no rectangle holding the path in whole keeps off both
+TWO_HOLES_ONE_CRACK = {
+    "method": "xfem",
+    "name": "two-hole plate, one crack",
+    "plate": {"width": 20.0, "height": 10.0},
+    "material": {"E": 1.0, "nu": 0.3},
+    "crack": {"kind": "edge", "a0": 1.0, "y": 2.85},
+    "mesh": {"nx": 80, "ny": 40},
+    "hole": [{"center": [3.0, 7.0], "radius": 2.0}, {"center": [17.0, 3.0], "radius": 2.0}],
+    "support": [
+        {"region": "point", "point": [10.0, 0.0]},
+        {"region": "point", "point": [10.0, 10.0], "fix": "u1"},
+    ],
+    "load": [{"side": "top", "normal": 1.0}, {"side": "bottom", "normal": 1.0}],
+}
+
+
+def test_the_automatic_pd_region_keeps_off_the_holes_or_is_none() -> None:
+    """The rectangle :func:`pd_region.pd_region` gives takes each hole in whole or keeps the
+    hybrid band clear of it; where none holding the path with a horizon's margin can (the
+    two-hole plate: the top edge's clearance cuts hole[0]), it gives None."""
+    dx, m = 0.25, 4
+    holes = TWO_HOLES_ONE_CRACK["hole"]
+    path = np.array([[1.0, 2.975], [2.0, 2.975]])
+    held = ["top", "bottom"]
+    assert pd_region.pd_region(path, (20.0, 10.0), dx, m, holes=holes, held=held) is None
+    # a short path far from the holes: a rectangle, clear of both
+    far = np.array([[9.0, 5.0], [10.0, 5.0]])
+    box = pd_region.pd_region(far, (20.0, 10.0), dx, m, holes=holes, held=held)
+    band = (m + 1) * dx
+    assert box is not None and pd_region.cut_hole(box, holes, (20.0, 10.0), band) is None
+    assert box[0] <= 9.0 - m * dx and box[2] >= 10.0 + m * dx
+    assert box[1] <= 5.0 - m * dx and box[3] >= 5.0 + m * dx
+    assert box[0] >= 5.0 + band  # hole[0] was taken in whole, then left: the top edge cut it
+
+
+def test_compare_on_the_two_hole_plate_falls_back_to_the_adaptive_region(tmp_path: Path) -> None:
+    """No fixed rectangle fits the two-hole plate's path: compare says so in a note and runs the
+    adaptive PD region (the core refused the rectangle it chose before: "hole[0] ... cuts the
+    hybrid element")."""
+    s = compare.compare(TWO_HOLES_ONE_CRACK, tmp_path / "auto", quick=True, log=None)
+    assert s["scenes"]["ccm_pd"]["pd"]["region"] == "adaptive"
+    assert any("adaptive PD region instead" in n and "--region" in n for n in s["notes"]), s[
+        "notes"
+    ]
+    assert s["cost"]["ccm_pd"]["status"] == "crack_length_reached"
+
+
+def test_a_given_pd_rectangle_cutting_a_hole_is_refused_naming_the_region_option(
+    tmp_path: Path,
+) -> None:
+    """A rectangle the user gives that cuts a hole is refused before the runs, the message
+    naming what the user of compare can give instead (``--region``)."""
+    with pytest.raises(rf.InvalidParameterError) as e:
+        compare.compare(
+            TWO_HOLES_ONE_CRACK, tmp_path / "given", quick=True, log=None,
+            region=(0.0, 1.0, 8.0, 6.0),
+        )  # fmt: skip
+    assert e.value.param == "region"
+    assert "hole[0]" in str(e.value) and "--region" in str(e.value)
+    assert not (tmp_path / "given").exists() or not any((tmp_path / "given").iterdir())
+
+
+def test_compare_moves_the_pd_rectangle_off_a_hole_the_loaded_edges_clearance_cuts(
+    tmp_path: Path,
+) -> None:
+    """A centre crack right of hole[0] on the two-hole plate: the rectangle took hole[0] in
+    whole, the loaded top edge's clearance then cut it, and the core refused the run ("hole[0]
+    ... cuts the hybrid element"). Its left side now moves back off the hole, the path keeps its
+    margin, and the core runs the fixed rectangle."""
+    d = {
+        **TWO_HOLES_ONE_CRACK,
+        "material": {"E": 1.0, "nu": 0.25},
+        "crack": {"kind": "center", "a0": 0.5, "y": 5.1, "x": 9.5},
+    }
+    s = compare.compare(d, tmp_path / "out", quick=True, log=None)
+    pd = s["scenes"]["ccm_pd"]["pd"]
+    assert pd["region"] == "fixed" and s["cost"]["ccm_pd"]["status"] == "completed"
+    (cx, cy), (sx, sy) = pd["center"], pd["size"]
+    box = (cx - sx / 2, cy - sy / 2, cx + sx / 2, cy + sy / 2)
+    dx, m = s["discretisation"]["pd_dx"], s["discretisation"]["pd_m"]
+    assert pd_region.cut_hole(box, d["hole"], (20.0, 10.0), (m + 1) * dx) is None
+    assert box[0] >= 5.0 and box[0] <= 9.0 - m * dx  # off hole[0], a horizon left of the tip
+
+
+def test_the_command_refuses_a_rectangle_cutting_a_hole_naming_region(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """``rustfrac compare --region x0,y0,x1,y1`` with a rectangle cutting a hole: exit 2 before
+    the runs, the message naming the --region choices."""
+    scene = tmp_path / "two_holes.toml"
+    scene.write_text(rf.Scene.from_dict(TWO_HOLES_ONE_CRACK).to_toml())
+    out = tmp_path / "out"
+    args = ["compare", str(scene), "--out", str(out), "--quick", "-q", "--region", "0,1,8,6"]
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert "hole[0]" in err and "--region adaptive" in err and "--region auto" in err
+    assert not out.exists()

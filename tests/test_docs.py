@@ -95,3 +95,37 @@ def test_docs_stay_inside_the_repository(site: Path) -> None:
         body = page.read_text(encoding="utf-8")
         outside = re.findall(r'(?:href|src)="([a-z][a-z0-9+.-]*:[^"]*|//[^"]*)"', body)
         assert not outside, (page.relative_to(site), outside)
+
+
+def test_api_reference_documents_every_public_name(site: Path) -> None:
+    """Every name in ``__all__`` of the package and of its public modules is an object of the
+    API reference (Sphinx's inventory), and every public module is reachable as ``rf.NAME``."""
+    import importlib
+    import zlib
+
+    raw = (site / "objects.inv").read_bytes()
+    body = raw.split(b"\n", 4)[4]  # four header lines, then zlib-compressed "name domain:role ..."
+    documented = {line.split(" ", 1)[0] for line in zlib.decompress(body).decode().splitlines()}
+    missing = []
+    modules = ["rustfrac", *(f"rustfrac.{m}" for m in rf.LAZY_SUBMODULES)]
+    modules += [f"rustfrac.{m}" for m in ("scene", "scenes", "specimens", "result", "errors")]
+    modules += ["rustfrac.examples"]
+    loaded = {m: importlib.import_module(m) for m in [*modules, "rustfrac._core"]}
+    for mod_name in modules:
+        mod = loaded[mod_name]
+        if mod_name != "rustfrac":
+            assert getattr(rf, mod_name.removeprefix("rustfrac.")) is mod, mod_name
+        for name in getattr(mod, "__all__", ()):
+            obj = getattr(mod, name)
+            # documented where it is defined or where it is re-exported from
+            homes = {
+                m
+                for m, other in list(sys.modules.items())
+                if m.startswith("rustfrac") and getattr(other, name, None) is obj
+            }
+            home = getattr(obj, "__module__", None)
+            if isinstance(home, str) and home.startswith("rustfrac"):
+                homes.add(home)
+            if not {f"{h}.{name}" for h in homes} & documented:
+                missing.append(f"{mod_name}.{name}")
+    assert not missing, f"{len(missing)} public names missing from the API reference: {missing}"

@@ -153,3 +153,21 @@ def test_the_audit_needs_a_conjugate_load() -> None:
     single = rf.run(rf.scenes.edge_crack_plate(method="xfem"))
     with pytest.raises(rf.PlotDataError, match="load path"):
         energy.audit(single)
+
+
+def test_the_audit_states_its_units_from_the_result_schema() -> None:
+    """The audit's entries carry the units of the core's result table (no unit written in the
+    reader): energies as the strain energy, G0 as J (energy per area), lengths as the history's
+    crack length."""
+    table = {(e["group"], e["name"]): e["unit"] for e in rf.result_schema("xfem")}
+    table.update({(e["group"], e["name"]): e["unit"] for e in rf.result_schema("fem")})
+    res = rf.run(rf.scenes.edge_crack_plate(method="xfem", growth_steps=4))
+    units = energy.audit(res)["units"]
+    assert units == {
+        "G0": table["scalars", "J"],
+        "energy": table["scalars", "energy"],
+        "dissipated": table["scalars", "energy"],
+        "a": table["history", "a"],
+        "a0": table["history", "a"],
+    }
+    assert units["G0"] == f"{units['energy']}/area" and units["a"] == table["fields", "coords"]

@@ -395,10 +395,10 @@ def test_cli_plot_load_path(tmp_path: Path, capsys: pytest.CaptureFixture[str]) 
     assert "valid: " in capsys.readouterr().err
 
 
-def test_readme_general_section_shows_the_edge_shear_specimen(root: Path) -> None:
-    text = (root / "README.md").read_text(encoding="utf-8")
-    section = text.split("<!-- docs:general -->")[1].split("<!-- /docs:general -->")[0]
-    toml = section.split("```toml\n")[1].split("```")[0]
+def test_guide_general_section_shows_the_edge_shear_specimen(root: Path) -> None:
+    text = (root / "docs" / "guide" / "scenes.md").read_text(encoding="utf-8")
+    blocks = [b.split("```")[0] for b in text.split("```toml\n")[1:]]
+    (toml,) = [b for b in blocks if "edge crack under shear" in b]
     assert Scene.from_toml_str(toml) == specimens.edge_shear("xfem")
 
 

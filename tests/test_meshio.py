@@ -1,7 +1,9 @@
 """Results as meshio meshes and ParaView files: result.vtu written through
 meshio and read back, the XFEM cut cells on both crack faces, FEM element stresses, PD broken
-bonds, the time series result.pvd, the ASCII fallback without meshio, and the result folder as
-one unit with the new files."""
+bonds and FEM cells, the time series result.pvd (every growth state the whole plate with that
+state's crack, opening and stresses; every SLA snapshot with its broken bonds), the formats of
+other meshio readers (Gmsh, XDMF), the files without meshio, and the result folder as one unit
+with the new files."""
 
 from __future__ import annotations
 
@@ -16,7 +18,7 @@ import numpy as np
 import pytest
 
 import rustfrac as rf
-from rustfrac import _vtk
+from rustfrac import _vtk, handbook
 
 meshio = pytest.importorskip("meshio")
 
@@ -89,12 +91,17 @@ def test_direct_vtu_writer_reads_back_as_meshio_writes(
     states = [(None, _vtk.mesh_parts(res)), *_vtk.series_parts(res)]
     assert len(states) > (1 if name in ("growth", "ccm") else 0)
     for k, (_, parts) in enumerate(states):
-        points, cells, pdata, cdata = parts
+        points, cells, pdata, cdata, fdata = parts
         ours, ref = tmp_path / f"ours{k}.vtu", tmp_path / f"ref{k}.vtu"
         _vtk.write_vtu(ours, parts)
         mesh = meshio.Mesh(points, cells, point_data=pdata, cell_data=cdata)
         meshio.write(ref, mesh, file_format="vtu", binary=True, compression="zlib")
-        _assert_same_mesh(meshio.read(ours), meshio.read(ref))
+        back = meshio.read(ours)
+        _assert_same_mesh(back, meshio.read(ref))
+        # meshio's writer has no field data; ours writes it and meshio reads it back
+        assert set(back.field_data) == set(fdata)
+        for key, v in fdata.items():
+            np.testing.assert_array_equal(back.field_data[key], v, err_msg=key)
 
 
 def test_xfem_cut_cells_show_the_crack_opening(xfem: rf.Result, tmp_path: Path) -> None:
@@ -103,16 +110,20 @@ def test_xfem_cut_cells_show_the_crack_opening(xfem: rf.Result, tmp_path: Path) 
     n = len(f["coords"])
     u = m.point_data["displacement"]
     assert u.shape[1] == 3 and not np.isnan(u).any() and (u[:, 2] == 0).all()
+    # one block per cell type (meshio's other formats need it), no polygons
+    types = [b.type for b in m.cells]
+    assert len(types) == len(set(types)) and set(types) <= {"quad", "triangle", "line"}
     kinds = np.concatenate(m.cell_data["kind"])
     ids = np.concatenate(m.cell_data["element_id"])
-    # the cut cells exist, one per polygon of the result, and replace their parent elements
-    assert (kinds == _vtk.CUT).sum() == len(f["cut_element"]) > 0
-    assert sorted(ids[kinds == _vtk.CUT]) == sorted(f["cut_element"])
+    poly = np.concatenate(m.cell_data["cut_cell"])
+    # every cut polygon of the result is drawn (as one or more cells), replacing its element
+    assert sorted(set(poly[kinds == _vtk.CUT])) == list(range(len(f["cut_element"])))
+    assert (poly[kinds != _vtk.CUT] == -1).all()
+    np.testing.assert_array_equal(ids[kinds == _vtk.CUT], f["cut_element"][poly[kinds == _vtk.CUT]])
     std = ids[kinds == _vtk.STANDARD]
     assert not set(std) & set(f["cut_element"])
     assert len(std) + len(np.unique(f["cut_element"])) == len(f["elements"])
     # the standard cells sit on the mesh nodes and carry u there
-    # (meshio reads consecutive cells of one type as one block: select by the kind cell data)
     cut_pts: list[int] = []
     for ctype, conn, kind in cells_by(m, "kind"):
         sc = conn[kind == _vtk.STANDARD]
@@ -140,6 +151,59 @@ def test_xfem_cut_cells_show_the_crack_opening(xfem: rf.Result, tmp_path: Path) 
     assert set(enr[kinds == _vtk.CUT]) <= {1, 2} and (enr[kinds == _vtk.CRACK] == -1).all()
 
 
+def test_cut_polygons_of_an_inclined_crack_become_triangles(tmp_path: Path) -> None:
+    """A crack at an angle cuts cells into triangles and pentagons: the pentagons become fans
+    of triangles covering the polygon's area, and the mesh is written by meshio's Gmsh writer
+    (which refuses polygon cells)."""
+    res = rf.run(rf.Scene.from_toml(rf.examples.path("inclined_crack.toml")))
+    f = res.fields
+    points, blocks, _, cdata, _ = _vtk.mesh_parts(res)
+    assert [t for t, _ in blocks] == ["quad", "triangle", "line"]
+    sizes = np.diff(f["cut_offsets"])
+    assert (sizes == 5).any() and (sizes == 3).any()
+    # the cells of each cut polygon cover its area exactly (the shoelace formula)
+    area = np.zeros(len(sizes))
+    for (_, conn), poly in zip(blocks, cdata["cut_cell"]):
+        xy = points[conn, :2]
+        a = 0.5 * np.abs(
+            np.sum(
+                xy[:, :, 0] * np.roll(xy[:, :, 1], -1, 1)
+                - np.roll(xy[:, :, 0], -1, 1) * xy[:, :, 1],
+                axis=1,
+            )
+        )
+        np.add.at(area, poly[poly >= 0], a[poly >= 0])
+    ref = np.array(
+        [
+            0.5 * abs(np.sum(q[:, 0] * np.roll(q[:, 1], -1) - np.roll(q[:, 0], -1) * q[:, 1]))
+            for q in np.split(f["cut_points"], f["cut_offsets"][1:-1])
+        ]
+    )
+    np.testing.assert_allclose(area, ref, rtol=1e-12, atol=1e-15)
+    mesh = res.to_meshio()
+    meshio.write(tmp_path / "plate.msh", mesh, file_format="gmsh22", binary=False)
+    text = (tmp_path / "plate.msh").read_text().split("\n")
+    n_cells = sum(len(c) for _, c in blocks)
+    assert int(text[text.index("$Elements") + 1]) == n_cells
+    # meshio's Gmsh writer has no polygon cells: the mesh of the old layout is refused
+    with pytest.raises(KeyError):
+        meshio.write(
+            tmp_path / "old.msh",
+            meshio.Mesh(points, [("polygon", np.zeros((1, 5), dtype=np.int64))]),
+            file_format="gmsh22",
+            binary=False,
+        )
+
+
+def test_xfem_mesh_writes_as_xdmf_for_fenicsx(growth: rf.Result, tmp_path: Path) -> None:
+    pytest.importorskip("h5py")  # meshio's XDMF writer needs it
+    mesh = growth.to_meshio()
+    meshio.write(tmp_path / "plate.xdmf", mesh)
+    back = meshio.read(tmp_path / "plate.xdmf")
+    np.testing.assert_allclose(back.points, mesh.points)
+    assert [b.type for b in back.cells] == [b.type for b in mesh.cells]
+
+
 def test_fem_stress_is_the_element_mean_of_gauss_stress(fem: rf.Result, tmp_path: Path) -> None:
     m = read_back(fem, tmp_path)
     f = fem.fields
@@ -157,8 +221,7 @@ def test_fem_stress_is_the_element_mean_of_gauss_stress(fem: rf.Result, tmp_path
 def test_pd_broken_bond_counts(ccm: rf.Result, tmp_path: Path) -> None:
     m = read_back(ccm, tmp_path)
     f = ccm.fields
-    n = len(f["node_xy"])
-    assert [b.type for b in m.cells] == ["vertex"] and len(m.cells[0].data) == n
+    assert [b.type for b in m.cells] == ["quad", "vertex", "line"]
     counts = m.point_data["broken_bonds"]
     n_broken = int(f["broken"].sum())
     assert n_broken > 0 and int(counts.sum()) == 2 * n_broken
@@ -170,6 +233,22 @@ def test_pd_broken_bond_counts(ccm: rf.Result, tmp_path: Path) -> None:
     )
     np.testing.assert_array_equal(m.point_data["damage"][f["pd_nodes"]], f["damage"])
     assert int(m.point_data["is_pd"].sum()) == len(f["pd_nodes"])
+    quads, vertices, lines = (b.data for b in m.cells)
+    # the PD nodes as vertices, every broken bond as a line between its end nodes
+    np.testing.assert_array_equal(vertices[:, 0], np.sort(f["pd_nodes"]))
+    np.testing.assert_array_equal(lines, f["bond_nodes"][f["broken"]])
+    np.testing.assert_array_equal(m.cell_data["bond"][2], np.flatnonzero(f["broken"]))
+    # the FEM cells: grid cells of one spacing, each with a FEM corner, covering the plate
+    # outside the PD rectangle (whose inner cells have PD corners only)
+    xy = f["node_xy"]
+    is_pd = m.point_data["is_pd"]
+    assert ((is_pd[quads] == 0).any(axis=1)).all()
+    side = np.ptp(xy[quads], axis=1)
+    np.testing.assert_allclose(side, ccm.meta["scene"].get("pd", {}).get("dx", 1 / 15), rtol=1e-9)
+    w, h = np.ptp(xy, axis=0)
+    (x0, y0, x1, y1) = ccm.meta["pd_regions"][0]
+    inner = (x1 - x0 - 2 / 15) * (y1 - y0 - 2 / 15)  # the cells whose corners are all PD
+    assert len(quads) * (1 / 15) ** 2 == pytest.approx(w * h - inner, rel=0.05)
 
 
 def series_of(d: Path) -> list[tuple[float, Path]]:
@@ -183,23 +262,120 @@ def test_growth_series_has_one_state_per_history_row(growth: rf.Result, tmp_path
     states = series_of(tmp_path)
     rows = len(growth.history["a"])
     assert rows == 6 and [t for t, _ in states] == list(range(rows))
-    off, cells = growth.fields["snapshot_offsets"], growth.fields["snapshot_cells"]
-    disp = growth.fields["snapshot_disp"]
+    f = growth.fields
+    np.testing.assert_array_equal(f["state_rows"], np.arange(1, rows))
     for row, (_, p) in enumerate(states):
         assert p.is_file() and p.parent.name == "result_series", p
         m = meshio.read(p)
         u = m.point_data["displacement"][:, :2]
-        if row == 0:  # the unloaded origin: the first patch, undeformed
-            assert len(m.cells[0].data) == off[1] and (u == 0).all()
-        else:
-            k = row - 1
-            np.testing.assert_array_equal(
-                m.points[:, :2], cells[off[k] : off[k + 1]].reshape(-1, 2)
-            )
-            np.testing.assert_array_equal(u, disp[off[k] : off[k + 1]].reshape(-1, 2))
-    # the final state's crack has grown: one line per segment
-    lines = [b for b in meshio.read(tmp_path / "result.vtu").cells if b.type == "line"]
-    assert sum(len(b.data) for b in lines) == len(growth.fields["crack"]) - 1
+        kinds = np.concatenate(m.cell_data["kind"])
+        # the whole plate: every element is a standard cell or cut into cells
+        ids = np.concatenate(m.cell_data["element_id"])
+        assert set(ids[kinds != _vtk.CRACK]) == set(range(len(f["elements"])))
+        # history values as field data
+        assert int(m.field_data["row"][0]) == row
+        for key in ("a", "load_factor", "K_I", "K_II", "sigma22", "cmod"):
+            assert m.field_data[key][0] == growth.history[key][row], key
+        if row == 0:  # the unloaded origin: the first state's mesh, undeformed
+            assert (u == 0).all() and (np.concatenate(m.cell_data["stress"]) == 0).all()
+        else:  # the standard nodes carry that state's displacement
+            n = len(f["coords"])
+            np.testing.assert_array_equal(u[:n], f["state_u"][row - 1].reshape(-1, 2))
+    # the final state's crack (result.vtu and the last state) has grown: one line per segment
+    for p in (tmp_path / "result.vtu", states[-1][1]):
+        lines = [b for b in meshio.read(p).cells if b.type == "line"]
+        assert sum(len(b.data) for b in lines) == len(f["crack"]) - 1
+
+
+def _opening_profile(mesh: Any, tip: np.ndarray, direction: np.ndarray, h: float) -> np.ndarray:
+    """(r, opening) of the crack faces 0.5 .. 2.5 element lengths ``h`` behind ``tip`` (the crack
+    running along ``direction`` into the tip): the cut cells' vertices on the crack line, which
+    the two faces share as points of their own, and the jump of their displacement normal to the
+    crack."""
+    pts = np.asarray(mesh.points)[:, :2]
+    u = mesh.point_data["displacement"][:, :2]
+    normal = np.array([-direction[1], direction[0]])
+    cut = np.unique(
+        np.concatenate(
+            [b.data[k == _vtk.CUT].ravel() for b, k in zip(mesh.cells, mesh.cell_data["kind"])]
+        )
+    )
+    rel = pts[cut] - tip
+    r, off = -(rel @ direction), rel @ normal
+    on = cut[(np.abs(off) < 1e-9 * h) & (r > 0.5 * h) & (r < 2.5 * h)]
+    out = []
+    for key in np.unique(np.round(pts[on] / (1e-6 * h)), axis=0):
+        same = on[np.all(np.round(pts[on] / (1e-6 * h)) == key, axis=1)]
+        jumps = u[same] @ normal
+        if len(same) >= 2:
+            out.append((float(-(pts[same[0]] - tip) @ direction), float(np.ptp(jumps))))
+    return np.array(sorted(out))
+
+
+def _check_state(mesh: Any, res: rf.Result, row: int) -> None:
+    """The state of history row ``row`` read back: near its own tip the crack opens as LEFM says
+    for its own K_I, delta(r) = 8 K_I / E' sqrt(r / (2 pi)) (the Williams / Irwin near-tip field,
+    E' = E / (1 - nu^2) in plane strain), the largest s22 and the tip enrichment sit at its own
+    tip."""
+    scene = rf.Scene.from_dict(res.meta["scene"])
+    mat = scene.material
+    h = scene.plate.width / scene.mesh.nx
+    e_prime = handbook.e_prime(mat.E, mat.nu, mat.plane)
+    k_i = res.history["K_I"][row]
+    tip = np.array([res.history["tip_x"][row], res.history["tip_y"][row]])
+    lines = [b.data for b in mesh.cells if b.type == "line"]
+    seg = np.asarray(mesh.points)[lines[0][-1], :2]
+    direction = (seg[1] - seg[0]) / np.linalg.norm(seg[1] - seg[0])
+    prof = _opening_profile(mesh, tip, direction, h)
+    assert len(prof) >= 3, prof
+    lefm = 8 * k_i / e_prime * np.sqrt(prof[:, 0] / (2 * np.pi))
+    np.testing.assert_allclose(prof[:, 1], lefm, rtol=0.12)
+    # the stress peak is at this state's tip
+    best, at = -np.inf, None
+    pts = np.asarray(mesh.points)[:, :2]
+    for b, k, s in zip(mesh.cells, mesh.cell_data["kind"], mesh.cell_data["stress"]):
+        if b.type == "line":
+            continue
+        c = pts[b.data].mean(axis=1)
+        i = int(np.argmax(np.where(k != _vtk.CRACK, s[:, 1], -np.inf)))
+        if s[i, 1] > best:
+            best, at = s[i, 1], c[i]
+    assert at is not None and np.linalg.norm(at - tip) < 1.0 * h, (at, tip)
+    # the tip-enriched cells are those around this state's tip
+    enr = np.concatenate(mesh.cell_data["enrichment"])
+    c = np.concatenate([pts[b.data].mean(axis=1) for b in mesh.cells])
+    assert (enr == 2).any() and np.all(np.linalg.norm(c[enr == 2] - tip, axis=1) < 2.5 * h)
+
+
+def test_every_growth_state_opens_and_peaks_at_its_own_tip(tmp_path: Path) -> None:
+    """Each state of a growth read back from the series: the crack opening near its tip follows
+    the LEFM sqrt(r) profile with that state's own K_I and the s22 peak sits at that state's
+    tip; a file of the initial solve with the final crack lines (what result.vtu held before the
+    states were kept) fails the same check."""
+    res = rf.run(rf.scenes.edge_crack_plate("xfem", mesh=(44, 83), bc="traction", growth_steps=4))
+    res.save(tmp_path)
+    states = series_of(tmp_path)
+    assert [t for t, _ in states] == [0, 1, 2, 3, 4]
+    assert len(set(res.history["tip_x"][1:])) == 4  # the tip moves from state to state
+    for row, p in states[1:]:
+        _check_state(meshio.read(p), res, int(row))
+    _check_state(meshio.read(tmp_path / "result.vtu"), res, 4)
+    # the old file: the initial solve's cut cells and displacement, the final crack lines
+    old = _vtk.initial_state(res)
+    old = _vtk.XfemState(
+        4,
+        old.u,
+        old.stress,
+        old.cut_points,
+        old.cut_disp,
+        old.cut_offsets,
+        old.cut_element,
+        old.cut_stress,
+        res.crack_polylines,
+    )
+    _vtk.write_vtu(tmp_path / "old.vtu", _vtk.xfem_parts(res, old))
+    with pytest.raises(AssertionError):
+        _check_state(meshio.read(tmp_path / "old.vtu"), res, 4)
 
 
 def test_sla_series_has_one_state_per_damage_snapshot(ccm: rf.Result, tmp_path: Path) -> None:
@@ -207,9 +383,18 @@ def test_sla_series_has_one_state_per_damage_snapshot(ccm: rf.Result, tmp_path: 
     states = series_of(tmp_path)
     f = ccm.fields
     assert [t for t, _ in states] == [5.0, 10.0]
-    for (_, p), dmg in zip(states, f["damage_at"]):
+    crit = ccm.history["bond"][1:]  # the steps' critical bonds (tie_tol = 0: one a step)
+    pre = np.setdiff1d(np.flatnonzero(f["broken"]), crit)  # the pre-crack's
+    assert len(pre) > 0
+    for (step, p), dmg in zip(states, f["damage_at"]):
         m = meshio.read(p)
         np.testing.assert_array_equal(m.point_data["damage"][f["pd_nodes"]], dmg)
+        # the bonds broken by that step, as lines between their end nodes
+        (lines,) = [b.data for b in m.cells if b.type == "line"]
+        want = np.union1d(pre, crit[: int(step)])
+        np.testing.assert_array_equal(lines, f["bond_nodes"][want])
+        assert m.field_data["step"][0] == step
+        assert m.field_data["load_factor"][0] == ccm.history["load_factor"][int(step)]
     assert not np.array_equal(f["damage_at"][0], f["damage_at"][1])
 
 
@@ -312,28 +497,58 @@ def test_to_pyvista(fem: rf.Result) -> None:
 def test_xfem_cells_carry_the_enriched_stress(tmp_path: Path) -> None:
     # traction grips: far from the crack s22 is the applied traction; the cut cells along the
     # crack faces near the mouth carry the stress of their own side, which the traction-free
-    # faces make small (LEFM: s22 = 0 on the faces), with s12 of opposite signs on the two sides
+    # faces make small (LEFM: s22 = s12 = 0 on the faces), mirrored on the two sides
     res = rf.run(rf.scenes.edge_crack_plate("xfem", mesh=(44, 83), bc="traction"))
     mesh = read_back(res, tmp_path)
     t = res.sigma22
     pts = np.asarray(mesh.points)[:, :2]
-    for (ctype, conn), kind, stress in zip(
-        [(b.type, b.data) for b in mesh.cells],
-        mesh.cell_data["kind"],
-        mesh.cell_data["stress"],
-    ):
-        c = (
-            pts[conn].mean(axis=1)
-            if ctype != "polygon"
-            else np.array([pts[row].mean(axis=0) for row in conn])
+    kind = np.concatenate(mesh.cell_data["kind"])
+    stress = np.concatenate(mesh.cell_data["stress"])
+    c = np.concatenate([pts[b.data].mean(axis=1) for b in mesh.cells])
+    faces = (kind == _vtk.CUT) & (c[:, 0] < 0.6) & (np.abs(c[:, 1] - 10.5) < 0.1)
+    assert faces.any()
+    assert np.all(np.abs(stress[faces, 1]) < 0.05 * t), stress[faces]
+    above, below = faces & (c[:, 1] > 10.5), faces & (c[:, 1] < 10.5)
+    assert above.any() and above.sum() == below.sum()
+    # mode I: the two faces mirror each other, s12 of opposite signs (the cells pair by x1)
+    a = np.flatnonzero(above)[np.argsort(c[above, 0])]
+    b = np.flatnonzero(below)[np.argsort(c[below, 0])]
+    np.testing.assert_allclose(c[a, 0], c[b, 0], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(stress[a, :2], stress[b, :2], rtol=1e-6, atol=1e-6 * t)
+    np.testing.assert_allclose(stress[a, 2], -stress[b, 2], rtol=1e-6, atol=1e-6 * t)
+    assert np.all(np.abs(stress[faces, 2]) < 0.1 * t)
+    far = (kind == _vtk.STANDARD) & (np.abs(c[:, 1] - 3.0) < 0.3)
+    assert far.any() and np.allclose(stress[far, 1], t, rtol=0.02), stress[far, 1]
+
+
+@pytest.mark.parametrize("every", [0, 2])
+def test_state_every_limits_the_kept_states(every: int, tmp_path: Path) -> None:
+    """``xfem.state_every = k`` keeps every k-th growth step's state and the last one (the
+    series holds those and the origin); 0 keeps none: no series, and result.vtu is the single
+    solve with the initial crack (its own cut cells and opening, not the grown crack's lines)."""
+    scene = rf.scenes.edge_crack_plate("xfem", mesh=MESH, growth_steps=4)
+    res = rf.run(scene.replace(xfem__state_every=every))
+    rows = len(res.history["a"])
+    assert rows == 5
+    kept = list(res.fields["state_rows"])
+    assert kept == ([] if every == 0 else [1, 3, 4])
+    assert res.fields["state_u"].shape == (len(kept), len(res.fields["u"]))
+    assert res.fields["state_stress"].shape == (len(kept), len(res.fields["elements"]), 3)
+    res.save(tmp_path)
+    if every == 0:
+        assert not (tmp_path / "result.pvd").exists()
+        m = meshio.read(tmp_path / "result.vtu")
+        lines = [b for b in m.cells if b.type == "line"]
+        assert sum(len(b.data) for b in lines) == len(res.fields["crack_initial"]) - 1
+        np.testing.assert_array_equal(
+            m.point_data["displacement"][: len(res.coords), :2], res.displacement
         )
-        if kind[0] == _vtk.CUT:
-            faces = (c[:, 0] < 0.6) & (np.abs(c[:, 1] - 10.5) < 0.1)
-            assert faces.any()
-            assert np.all(np.abs(stress[faces, 1]) < 0.05 * t), stress[faces]
-            above = faces & (c[:, 1] > 10.5)
-            below = faces & (c[:, 1] < 10.5)
-            assert np.all(stress[above, 2] * stress[below, 2].mean() < 0)
-        elif kind[0] == _vtk.STANDARD:
-            far = np.abs(c[:, 1] - 3.0) < 0.3
-            assert np.allclose(stress[far, 1], t, rtol=0.02), stress[far, 1]
+    else:
+        assert [t for t, _ in series_of(tmp_path)] == [0, 1, 3, 4]
+
+
+def test_state_every_out_of_range_names_the_key() -> None:
+    scene = rf.scenes.edge_crack_plate("xfem", mesh=MESH, growth_steps=2)
+    with pytest.raises(rf.InvalidParameterError, match=r"\[0, 100000\]") as e:
+        rf.run(scene.replace(xfem__state_every=-1))
+    assert e.value.param == "xfem.state_every"

@@ -1,7 +1,8 @@
 """No module of ``python/rustfrac`` takes a private name (a leading underscore) of another one: a
 name two modules share is public in its home module (``from .x import _y`` and ``x._y`` are
-refused). Private modules (``_core``, ``_folder``, ...) are the package's own and may be
-imported; their public names too."""
+refused), and so is an attribute or method: ``obj._y`` where only another module defines ``_y``
+(a method or attribute of its classes) is refused too. Private modules (``_core``, ``_folder``,
+...) are the package's own and may be imported; their public names too."""
 
 from __future__ import annotations
 
@@ -73,6 +74,45 @@ def private_uses(source: str, module: str, is_package: bool = False) -> list[str
     return found
 
 
+def private_attributes(source: str) -> set[str]:
+    """The private attribute names ``source`` defines: its classes' methods and class-level
+    names, and every ``x._y`` it assigns (``self._y = ...`` in a method)."""
+    found: set[str] = set()
+    for node in ast.walk(ast.parse(source)):
+        if isinstance(node, ast.ClassDef):
+            for item in node.body:
+                if isinstance(item, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                    found.add(item.name)
+                elif isinstance(item, (ast.Assign, ast.AnnAssign)):
+                    targets = item.targets if isinstance(item, ast.Assign) else [item.target]
+                    found.update(t.id for t in targets if isinstance(t, ast.Name))
+        elif isinstance(node, ast.Attribute) and isinstance(node.ctx, ast.Store):
+            found.add(node.attr)
+    return {n for n in found if _private(n)}
+
+
+def private_attribute_uses(sources: dict[str, str]) -> list[str]:
+    """The private attributes or methods (``obj._y``) that a module of ``sources`` (module ->
+    text) reads while another module defines them, as "module:line: ._y (defined in other)":
+    ``self._y`` / ``cls._y`` only when the module does not define ``_y`` itself (a class's own
+    names), any other ``obj._y`` even when it does (``res._stage`` in a module with a
+    ``_stage`` of its own is still another module's)."""
+    defined = {m: private_attributes(src) for m, src in sources.items()}
+    found: list[tuple[str, int, str]] = []
+    for m, src in sources.items():
+        for node in ast.walk(ast.parse(src)):
+            if not (isinstance(node, ast.Attribute) and isinstance(node.ctx, ast.Load)):
+                continue
+            name = node.attr
+            own = isinstance(node.value, ast.Name) and node.value.id in ("self", "cls")
+            if not _private(name) or (own and name in defined[m]):
+                continue
+            homes = sorted(o for o, names in defined.items() if o != m and name in names)
+            if homes:
+                found.append((m, node.lineno, f".{name} (defined in {', '.join(homes)})"))
+    return [f"{m}:{line}: {what}" for m, line, what in sorted(found)]
+
+
 def test_the_checker_finds_a_private_name_taken_from_another_module() -> None:
     src = (
         "from . import fig7, _core\n"
@@ -103,4 +143,37 @@ def test_no_module_takes_a_private_name_of_another() -> None:
             f.read_text(encoding="utf-8"), _module_name(f), f.name == "__init__.py"
         )
     ]
+    assert not offenders, offenders
+
+
+def test_the_checker_finds_a_private_method_called_from_another_module() -> None:
+    home = (
+        "class Writer:\n"
+        "    def __init__(self):\n"
+        "        self._staged = {}\n"
+        "    def _commit(self):\n"
+        "        return self._staged\n"
+    )
+    user = (
+        "class Job:\n"
+        "    def _own(self):\n"
+        "        return 1\n"
+        "    def _commit(self, w):\n"
+        "        return self._own(), self._commit, w._commit()\n"
+        "def f(w, j):\n"
+        "    w._commit()\n"
+        "    return j._own(), w.__class__, w._staged\n"
+    )
+    assert private_attribute_uses({"rustfrac.a": home, "rustfrac.b": user}) == [
+        "rustfrac.b:5: ._commit (defined in rustfrac.a)",
+        "rustfrac.b:7: ._commit (defined in rustfrac.a)",
+        "rustfrac.b:8: ._staged (defined in rustfrac.a)",
+    ]
+
+
+def test_no_module_calls_a_private_method_of_another() -> None:
+    sources = {
+        _module_name(f): f.read_text(encoding="utf-8") for f in sorted(PACKAGE.rglob("*.py"))
+    }
+    offenders = private_attribute_uses(sources)
     assert not offenders, offenders

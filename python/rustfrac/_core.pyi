@@ -9,16 +9,14 @@ from typing import Any, Callable
 import numpy as np
 import numpy.typing as npt
 
-# the module's exports; _progress_demo and _panic_demo only in builds with "test-hooks" (the
-# stub check, tests/test_packaging.py::test_core_stub_matches_the_native_module, allows both)
+# the module's exports, the same in every build; the test hooks _progress_demo and _panic_demo
+# (builds with "test-hooks" only) are attributes outside __all__, typed at the end
 __all__ = [
     "COND_SINGULAR",
     "COND_WARN",
     "PROGRESS_INTERVAL_S",
     "WARNING_KINDS",
     "__version__",
-    "_panic_demo",
-    "_progress_demo",
     "check_scene",
     "check_section",
     "crack_polylines",
@@ -73,7 +71,11 @@ def check_scene(scene: Any) -> dict[str, Any]:
     checked: method, name, every section the method reads with every key, "crack" as a list."""
 
 def crack_polylines(scene: Any) -> list[list[list[float]]]:
-    """The polylines [[x1, x2], ...] of a scene's cracks (empty for an uncracked scene)."""
+    """The polylines [[x1, x2], ...] of a scene's cracks as the method cuts them (a FEM seam on
+    its grid line; empty for an uncracked scene)."""
+
+def scene_warnings(scene: Any) -> list[tuple[str, str]]:
+    """The warnings of a valid scene before it runs: [(message, kind), ...]."""
 
 def run(
     scene: Any, progress: _ProgressCallback | None = None, condition: bool = True

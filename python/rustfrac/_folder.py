@@ -199,7 +199,10 @@ class FolderWriter:
                 os.close(fd)
             self._synced.add(name)
 
-    def _commit(self) -> None:
+    def commit(self) -> None:
+        """Renames the staged files into place under the folder's lock (the hooks of
+        :meth:`under_lock` first, the ``last`` file last) and removes the owned names the new set
+        lacks; :func:`writing` calls it when its block ends."""
         self.sync()
         staged = {n: p for n, p in self._staged.items() if p.exists()}
         with locked(self.path, exclusive=True):
@@ -215,7 +218,8 @@ class FolderWriter:
                 _prune(self.path, self.path / name)
             _fsync_dir(self.path)
 
-    def _abort(self) -> None:
+    def abort(self) -> None:
+        """Removes the staged temporaries: the folder is left as it was."""
         for p in self._staged.values():
             _unlink(p)
             _prune(self.path, p)
@@ -242,12 +246,12 @@ def writing(
     w = FolderWriter(d, owned, last, inner)
     try:
         yield w
-        w._commit()
+        w.commit()
     except OutputError:
-        w._abort()
+        w.abort()
         raise
     except OSError as e:
-        w._abort()
+        w.abort()
         name = Path(e.filename).name if isinstance(e.filename, str) else None
         raise OutputError(
             f"cannot write output folder {d}: {why(e)}"
@@ -256,7 +260,7 @@ def writing(
             d,
         ) from e
     except BaseException:
-        w._abort()
+        w.abort()
         raise
 
 

@@ -30,9 +30,22 @@ from typing import Any
 import numpy as np
 
 from .errors import PlotDataError
-from .result import Result
+from .result import Result, result_entry
 
 __all__ = ["along", "audit"]
+
+
+def _units(res: Result, length_key: str) -> dict[str, str]:
+    """The units of the audit's entries, from the result schema (:func:`rustfrac.result_schema`):
+    the dissipated energies in the unit of the FEM strain energy, G0 in that of J (energy per
+    area), the crack lengths in that of the history column ``length_key``."""
+    energy, per_area = (result_entry("scalars", k) for k in ("energy", "J"))
+    assert energy is not None and per_area is not None  # both in the core's table
+    length = res.unit(length_key) or ""
+    return {
+        "G0": per_area["unit"], "energy": energy["unit"], "dissipated": energy["unit"],
+        "a": length, "a0": length,
+    }  # fmt: skip
 
 
 def _pair(res: Result) -> tuple[float, float]:
@@ -57,8 +70,8 @@ def audit(res: Result) -> dict[str, Any]:
     ``energy`` (total dissipated), ``crack_area`` (thickness times the crack advance),
     ``ratio`` (energy / crack_area / G0) and, per history interval, ``a`` (crack length at its
     end), ``dissipated`` and for XFEM ``ratio_per_step``; ``a0`` (the crack length at the start)
-    and ``thickness``. Raises
-    :class:`~rustfrac.errors.PlotDataError` for a result without a load path or a
+    and ``thickness``; ``units``: the units of ``G0``, ``energy``, ``dissipated``, ``a`` and
+    ``a0``, from the result schema. Raises :class:`~rustfrac.errors.PlotDataError` for a result without a load path or a
     work-conjugate load (traction grips, regions)."""
     a_, b_ = _pair(res)
     g0 = _g0(res)
@@ -78,6 +91,7 @@ def audit(res: Result) -> dict[str, Any]:
         out["a"], out["dissipated"] = a[1:], e
         a_start = a[0]
         advance = a[-1] - a[0]
+        out["units"] = _units(res, "a")
     elif res.method in ("pd", "ccm_pd"):
         if np.any(d <= 0):
             raise PlotDataError("the energy audit needs a load displacement > 0 at every step")
@@ -89,6 +103,7 @@ def audit(res: Result) -> dict[str, Any]:
         out["a"], out["dissipated"] = cl[1 : 1 + e.size], e
         a_start = cl[0]
         advance = cl[e.size] - cl[0]
+        out["units"] = _units(res, "crack_length")
     else:
         raise PlotDataError(f"no load path to audit for method {res.method!r}")
     energy = float(np.sum(e))

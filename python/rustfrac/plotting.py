@@ -7,10 +7,12 @@ headless. Axis labels carry units: rustfrac is unit-agnostic (any consistent set
 say "length" and "force/length^2" unless a :class:`Units` names them (``units=PAPER_UNITS``:
 the paper's N, mm and MPa).
 
-- :func:`plot_field`: the deformed mesh (FEM, XFEM) or grid nodes (PD, CCM-PD) coloured by a
-  stress or displacement component;
-- :func:`plot_crack_path`: the plate, the initial crack(s) and the crack path of any method
-  (XFEM polylines, the PD damage ridge, the FEM seam);
+- :func:`plot_field`: the deformed mesh (FEM; XFEM with its cut cells, of the single solve or of
+  any kept growth state) or grid nodes (PD, CCM-PD) coloured by a stress (s11, s22, s12, von
+  Mises) or displacement component;
+- :func:`plot_crack_path`: the plate with its holes, notches, supports and loads (as the scene
+  lays them out), the initial crack(s) and the crack path of any method (XFEM polylines, the PD
+  damage ridge, the FEM seam);
 - :func:`plot_load_path`: two history columns against each other (e.g. sigma22 against CMOD);
 - :func:`plot_damage`: the PD nodes coloured by their damage index;
 - :func:`plot_tip_deformation`: XFEM's deformed cells near the tip, magnified.
@@ -28,10 +30,12 @@ import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.collections import PolyCollection
 from matplotlib.figure import Figure
-from matplotlib.patches import Rectangle
+from matplotlib.patches import Circle, FancyArrow, Polygon, Rectangle
 
+from . import _vtk
 from .errors import InvalidParameterError, PlotDataError
 from .result import Result, result_entry
+from .scene import Scene
 
 __all__ = [
     "COMPONENTS",
@@ -40,6 +44,7 @@ __all__ = [
     "NotebookFigure",
     "Units",
     "damage_ridge",
+    "draw_layout",
     "field_components",
     "history_quantity",
     "plot_crack_path",
@@ -49,6 +54,7 @@ __all__ = [
     "plot_tip_deformation",
     "save_damage_plot",
     "save_plot",
+    "von_mises",
 ]
 
 
@@ -85,12 +91,18 @@ DEFAULT_UNITS = Units()
 #: the paper's units (N, mm, MPa)
 PAPER_UNITS = Units("mm", "N", "MPa")
 
-#: field components of :func:`plot_field`: name -> quantity kind
+#: field components of :func:`plot_field`: name -> what it is (its unit is that of the result
+#: field it is read from, in the result schema)
 COMPONENTS: dict[str, str] = {
-    **dict.fromkeys(("s11", "s22", "s12"), "stress"),
-    **dict.fromkeys(("u1", "u2"), "length"),
+    "s11": "stress s11",
+    "s22": "stress s22",
+    "s12": "shear stress s12",
+    "von_mises": "von Mises equivalent stress",
+    "u1": "displacement u1",
+    "u2": "displacement u2",
 }
 _STRESS_COLUMN = {"s11": 0, "s22": 1, "s12": 2}
+_STRESSES = (*_STRESS_COLUMN, "von_mises")
 
 #: the quantity kind of a result unit of the schema (:func:`rustfrac.result.result_schema`)
 _UNIT_QUANTITY: dict[str, str] = {
@@ -163,19 +175,39 @@ def _nodes(res: Result) -> tuple[np.ndarray, np.ndarray | None]:
     )
 
 
+def von_mises(stress: Any, nu: float, plane: str) -> np.ndarray:
+    """The von Mises equivalent stress of in-plane stresses ``stress`` (k, 3) [s11, s22, s12]:
+    sqrt(((s11 - s22)^2 + (s22 - s33)^2 + (s33 - s11)^2) / 2 + 3 s12^2), with s33 = nu (s11 +
+    s22) in plane strain and s33 = 0 in plane stress (``plane`` "strain" | "stress")."""
+    s = np.asarray(stress, dtype=float).reshape(-1, 3)
+    if plane not in ("strain", "stress"):
+        raise InvalidParameterError(
+            f"invalid plane: expected 'strain' or 'stress', got {plane!r}", "plane"
+        )
+    s11, s22, s12 = s[:, 0], s[:, 1], s[:, 2]
+    s33 = nu * (s11 + s22) if plane == "strain" else np.zeros_like(s11)
+    return np.sqrt(0.5 * ((s11 - s22) ** 2 + (s22 - s33) ** 2 + (s33 - s11) ** 2) + 3 * s12**2)
+
+
 def field_components(res: Result) -> list[str]:
-    """The components :func:`plot_field` can draw for ``res``: s11, s22, s12 where the result
-    has nodal stresses (FEM), u1, u2 where it has nodal displacements (every method)."""
+    """The components :func:`plot_field` can draw for ``res``: s11, s22, s12 and von_mises where
+    the result has stresses (FEM: nodal stresses; XFEM: the element and cut-cell stresses),
+    u1, u2 where it has nodal displacements (every method)."""
     out = []
-    if "nodal_stress" in res.fields:
-        out += list(_STRESS_COLUMN)
+    xfem = _is_xfem(res)
+    if "nodal_stress" in res.fields or (xfem and "gauss_stress" in res.fields):
+        out += list(_STRESSES)
     if "u" in res.fields:
         out += ["u1", "u2"]
     return out
 
 
-def _component_values(res: Result, component: str | None) -> tuple[str, np.ndarray]:
-    """(component, nodal values); None picks s22, or u2 without nodal stresses."""
+def _is_xfem(res: Result) -> bool:
+    return "coords" in res.fields and "cut_offsets" in res.fields
+
+
+def _checked_component(res: Result, component: str | None) -> str:
+    """``component`` (None: s22, or u2 without stresses), refused when unknown or absent."""
     valid = field_components(res)
     if component is None:
         component = "s22" if "s22" in valid else "u2"
@@ -187,57 +219,159 @@ def _component_values(res: Result, component: str | None) -> tuple[str, np.ndarr
     if component not in valid:
         raise InvalidParameterError(
             f"invalid component: a {res.method} result has no {component!r} field (no "
-            f"{'nodal stresses' if component in _STRESS_COLUMN else 'displacements'}); valid for "
+            f"{'stresses' if component in _STRESSES else 'displacements'}); valid for "
             f"it: {', '.join(valid) or 'none'}",
             "component",
         )
-    if component in _STRESS_COLUMN:
-        return component, res.fields["nodal_stress"][:, _STRESS_COLUMN[component]]
-    return component, res.displacement[:, 0 if component == "u1" else 1]
+    return component
+
+
+def _material(res: Result) -> tuple[float, str]:
+    """(nu, plane) of the scene that ran (``meta["scene"]``), for the von Mises stress."""
+    scene = res.meta.get("scene")
+    if not isinstance(scene, Mapping):
+        raise PlotDataError(
+            f"{res.method} result without its scene (meta['scene']): nu and the plane of the "
+            "von Mises stress are unknown"
+        )
+    m = Scene.from_dict(dict(scene)).material
+    return float(m.nu), str(m.plane)
+
+
+def _stress_values(res: Result, component: str, stress: np.ndarray) -> np.ndarray:
+    if component == "von_mises":
+        return von_mises(stress, *_material(res))
+    return stress[:, _STRESS_COLUMN[component]]
+
+
+def _quantity(res: Result, field: str) -> str:
+    """The quantity kind of a result field, from its unit in the result schema."""
+    return _UNIT_QUANTITY.get(res.unit(field, "fields") or "", "1")
+
+
+def _xfem_state(res: Result, state: int | None) -> _vtk.XfemState:
+    """The XFEM state ``state`` (a history row of a kept growth state, see
+    ``fields["state_rows"]``; None: the last kept state, else the single solve)."""
+    states = _vtk.xfem_states(res)
+    if state is None:
+        return states[-1] if states else _vtk.initial_state(res)
+    rows = [st.row for st in states]
+    if states and state == 0 and rows[0] == 1:
+        return states[0].unloaded()
+    if state not in rows:
+        raise InvalidParameterError(
+            f"invalid state: expected the history row of a kept growth state "
+            f"({', '.join(map(str, rows)) or 'none: a single solve, or xfem.state_every = 0'}), "
+            f"got {state!r}",
+            "state",
+        )
+    return states[rows.index(state)]
+
+
+def _xfem_cells(
+    res: Result, component: str, state: int | None
+) -> tuple[list[np.ndarray], list[np.ndarray], np.ndarray, list[np.ndarray], str, _vtk.XfemState]:
+    """An XFEM state's cells for :func:`plot_field`: (cell polygons (reference), their
+    displacements, their values, the crack lines, the unit field, the state)."""
+    st = _xfem_state(res, state)
+    points, blocks, pdata, cdata, _ = _vtk.xfem_parts(res, st)
+    disp = pdata["displacement"][:, :2]
+    xy = points[:, :2]
+    polys, vals, shift, lines = [], [], [], []
+    for (ctype, conn), stress in zip(blocks, cdata.get("stress", [None] * len(blocks))):
+        if ctype == "line":
+            lines += [xy[seg] for seg in conn]
+            continue
+        if component in _STRESSES:
+            if stress is None:
+                raise PlotDataError(f"{res.method} result has no stresses of this state")
+            vals.append(_stress_values(res, component, stress))
+        else:
+            vals.append(disp[conn, 0 if component == "u1" else 1].mean(axis=1))
+        polys += list(xy[conn])
+        shift += list(disp[conn])
+    field = ("state_stress" if st.row else "gauss_stress") if component in _STRESSES else "u"
+    return polys, shift, np.concatenate(vals), lines, field, st
 
 
 def plot_field(
     res: Result,
     component: str | None = None,
     *,
+    state: int | None = None,
     scale: float | None = None,
     ax: Axes | None = None,
     cmap: str = "viridis",
     units: Units = DEFAULT_UNITS,
 ) -> Figure:
-    """The deformed mesh (FEM, XFEM: element means of the nodal values) or the deformed grid nodes
-    (PD, CCM-PD: one dot per node, displacements at the reference load) coloured by a component.
+    """The deformed mesh (FEM; XFEM with its cut cells, each crack face with its own
+    displacement and stress) or the deformed grid nodes (PD, CCM-PD: one dot per node,
+    displacements at the reference load) coloured by a component.
+
+    FEM colours each element by the mean of its nodal values. XFEM draws what ``result.vtu``
+    holds (``rustfrac._vtk``): the standard elements coloured by their element stress (the mean
+    of their Gauss-point stresses) and the cut cells by the stress of their own side, the
+    cracks as red lines; by default of the last kept growth state (a single solve: the
+    reference load), ``state=`` another history row of a kept state (``fields["state_rows"]``;
+    0: the unloaded origin).
 
     Args:
-        component: "s11" | "s22" | "s12" (nodal stresses: FEM) or "u1" | "u2" (every method);
-            default "s22", or "u2" for results without nodal stresses (XFEM, PD, CCM-PD). A
-            component the result lacks raises :class:`~rustfrac.errors.InvalidParameterError`
-            listing the valid ones (:func:`field_components`).
+        component: "s11" | "s22" | "s12" | "von_mises" (FEM, XFEM; von Mises with s33 of the
+            scene's plane, :func:`von_mises`) or "u1" | "u2" (every method); default "s22", or
+            "u2" for results without stresses (PD, CCM-PD). A component the result lacks raises
+            :class:`~rustfrac.errors.InvalidParameterError` listing the valid ones
+            (:func:`field_components`).
+        state: XFEM growth runs: the history row of the state to draw (default: the last).
         scale: displacement magnification; default: max displacement = 2 % of the plate size.
         ax: axes to draw in; default: a new figure.
         units: unit names of the labels.
     """
-    component, values = _component_values(res, component)
-    xy, el = _nodes(res)
-    u = res.displacement
-    size = float(np.ptp(xy, axis=0).max())
-    umax = float(np.abs(u).max()) if u.size else 0.0
-    if scale is None:
-        scale = 0.02 * size / umax if umax > 0 else 1.0
-    xyd = xy + scale * u
-    ax = _new_axes(ax, (5, 8))
-    if el is not None:
-        art: Any = PolyCollection(
-            xyd[el], array=values[el].mean(axis=1), cmap=cmap, edgecolors="k", linewidths=0.1
+    component = _checked_component(res, component)
+    if state is not None and not _is_xfem(res):
+        raise InvalidParameterError(
+            f"invalid state: only XFEM growth results have states, not {res.method}", "state"
         )
+    ax = _new_axes(ax, (5, 8))
+    if _is_xfem(res):
+        polys, shift, values, lines, field, st = _xfem_cells(res, component, state)
+        xy = np.asarray(res.coords, dtype=float)
+        umax = max((float(np.abs(d).max()) for d in shift), default=0.0)
+        size = float(np.ptp(xy, axis=0).max())
+        if scale is None:
+            scale = 0.02 * size / umax if umax > 0 else 1.0
+        cells = [p + scale * d for p, d in zip(polys, shift)]
+        art: Any = PolyCollection(cells, array=values, cmap=cmap, edgecolors="k", linewidths=0.05)
         ax.add_collection(art)
+        for seg in lines:
+            ax.plot(seg[:, 0], seg[:, 1], "-", color="C3", lw=1.0)
         ax.autoscale_view()
+        where = f", row {st.row}" if st.row or _vtk.xfem_states(res) else ""
     else:
-        art = ax.scatter(xyd[:, 0], xyd[:, 1], c=values, s=2, cmap=cmap, linewidths=0)
+        if component in _STRESSES:
+            values = _stress_values(res, component, np.asarray(res.fields["nodal_stress"]))
+            field = "nodal_stress"
+        else:
+            values, field = res.displacement[:, 0 if component == "u1" else 1], "u"
+        xy, el = _nodes(res)
+        u = res.displacement
+        size = float(np.ptp(xy, axis=0).max())
+        umax = float(np.abs(u).max()) if u.size else 0.0
+        if scale is None:
+            scale = 0.02 * size / umax if umax > 0 else 1.0
+        xyd = xy + scale * u
+        if el is not None:
+            art = PolyCollection(
+                xyd[el], array=values[el].mean(axis=1), cmap=cmap, edgecolors="k", linewidths=0.1
+            )
+            ax.add_collection(art)
+            ax.autoscale_view()
+        else:
+            art = ax.scatter(xyd[:, 0], xyd[:, 1], c=values, s=2, cmap=cmap, linewidths=0)
+        where = ""
     ax.set_aspect("equal")
     _xy_labels(ax, units)
-    ax.set_title(f"{res.method}: {component} (displacements x {scale:.3g})")
-    _figure(ax).colorbar(art, ax=ax, label=units.label(component, COMPONENTS[component]))
+    ax.set_title(f"{res.method}: {component}{where} (displacements x {scale:.3g})")
+    _figure(ax).colorbar(art, ax=ax, label=units.label(component, _quantity(res, field)))
     return _figure(ax)
 
 
@@ -317,6 +451,101 @@ def damage_ridge(res: Result, threshold: float = 0.25) -> list[np.ndarray]:
     return [np.asarray(line) for line in lines]
 
 
+def _scene_of(res: Result) -> Scene | None:
+    scene = res.meta.get("scene")
+    return Scene.from_dict(dict(scene)) if isinstance(scene, Mapping) else None
+
+
+def _edge(side: str, lo: float, hi: float, w: float, h: float) -> np.ndarray:
+    """The segment of side ``side`` from ``lo`` to ``hi`` along it (x1 on bottom / top, x2 on
+    left / right)."""
+    if side in ("bottom", "top"):
+        y = 0.0 if side == "bottom" else h
+        return np.array([[lo, y], [hi, y]])
+    x = 0.0 if side == "left" else w
+    return np.array([[x, lo], [x, hi]])
+
+
+def _region_line(r: Any, w: float, h: float) -> np.ndarray | None:
+    """An edge or edge-part region's segment, None for points and boxes."""
+    if r.region == "edge":
+        return _edge(r.side, 0.0, w if r.side in ("bottom", "top") else h, w, h)
+    if r.region == "edge_part":
+        return _edge(r.side, r.from_, r.to, w, h)
+    return None
+
+
+#: length of a load arrow of :func:`draw_layout`, a fraction of the plate's larger side
+ARROW = 0.05
+
+
+def _draw_layout(ax: Axes, res: Result, w: float, h: float) -> None:
+    """The scene's holes, notches, supports and loads (``meta["scene"]``), if it has them."""
+    scene = _scene_of(res)
+    if scene is not None:
+        draw_layout(ax, scene, w, h)
+
+
+def draw_layout(ax: Axes, scene: Scene, w: float, h: float) -> None:
+    """Draws the holes (circles, rectangles, polygons) and notches (slots of ``width`` x
+    ``depth`` cut from their side at ``at``) of ``scene`` in grey, its supports in green
+    (a point support as a triangle, an edge, edge part or box as a thick line or box) and its
+    loads on regions in blue (a point force as an arrow, an edge load as a thick line with an
+    arrow of its traction's direction), on a plate ``w`` x ``h``, in the scene's coordinates."""
+    grey = {"fc": "0.85", "ec": "0.3", "lw": 0.6}
+    for k, hole in enumerate(scene.holes):
+        label = "hole / notch" if k == 0 else None
+        if hole.shape == "circle":
+            ax.add_patch(Circle(tuple(hole.center), hole.radius, label=label, **grey))
+        elif hole.shape == "rect":
+            (x0, y0), (x1, y1) = hole.min, hole.max
+            ax.add_patch(Rectangle((x0, y0), x1 - x0, y1 - y0, label=label, **grey))
+        else:
+            ax.add_patch(Polygon(np.asarray(hole.points, dtype=float), label=label, **grey))
+    for k, n in enumerate(scene.notches):
+        label = "hole / notch" if k == 0 and not scene.holes else None
+        lo, d = n.at - 0.5 * n.width, n.depth
+        x0, y0, dx, dy = {
+            "bottom": (lo, 0.0, n.width, d),
+            "top": (lo, h - d, n.width, d),
+            "left": (0.0, lo, d, n.width),
+            "right": (w - d, lo, d, n.width),
+        }[n.side]
+        ax.add_patch(Rectangle((x0, y0), dx, dy, label=label, **grey))
+    size = max(w, h)
+    for k, sup in enumerate(scene.supports):
+        label = "support" if k == 0 else None
+        line = _region_line(sup, w, h)
+        if line is not None:
+            ax.plot(line[:, 0], line[:, 1], "-", color="C2", lw=3.0, label=label)
+        elif sup.region == "point":
+            ax.plot(*sup.point, "^", color="C2", ms=8, label=label)
+        elif len(sup.box) == 4:
+            x0, y0, x1, y1 = sup.box
+            ax.add_patch(
+                Rectangle((x0, y0), x1 - x0, y1 - y0, fill=False, ec="C2", lw=1.5, label=label)
+            )
+    for k, load in enumerate(scene.loads):
+        label = "load" if k == 0 else None
+        line = _region_line(load, w, h)
+        if line is not None:
+            ax.plot(line[:, 0], line[:, 1], "-", color="C0", lw=3.0, label=label)
+            t = line[1] - line[0]
+            t = t / (np.linalg.norm(t) or 1.0)
+            outward = {"bottom": (0, -1), "top": (0, 1), "left": (-1, 0), "right": (1, 0)}
+            f = load.normal * np.asarray(outward[load.side], dtype=float) + load.shear * t
+            at = line.mean(axis=0)
+        else:
+            f, at = np.asarray(load.force, dtype=float), np.asarray(load.point, dtype=float)
+            ax.plot(*at, "o", color="C0", ms=4, label=label)
+        norm = float(np.linalg.norm(f))
+        if norm > 0:
+            d = ARROW * size * f / norm
+            ax.add_patch(
+                FancyArrow(*(at - d), *d, width=0.005 * size, length_includes_head=True, color="C0")
+            )
+
+
 def plot_crack_path(
     res: Result,
     *,
@@ -324,13 +553,16 @@ def plot_crack_path(
     threshold: float = 0.25,
     units: Units = DEFAULT_UNITS,
 ) -> Figure:
-    """The plate outline, the initial crack(s) (dashed) and the crack path of the result: XFEM's
-    final crack polylines (:attr:`Result.crack_polylines`), the damage ridge of PD / CCM-PD
+    """The plate outline with the scene's holes and notches (grey), supports (green triangles:
+    points; green lines: edges, edge parts and boxes) and loads on regions (blue arrows and
+    lines), in the scene's own coordinates (:func:`draw_layout`), the initial crack(s) (dashed)
+    and the crack path of the result: XFEM's final crack polylines (:attr:`Result.crack_polylines`), the damage ridge of PD / CCM-PD
     (:func:`damage_ridge`, ``threshold`` its damage index) with the CCM-PD rectangle, the seam of
     FEM (which does not grow)."""
     w, h = _plate(res)
     ax = _new_axes(ax, (5, 8))
     ax.add_patch(Rectangle((0.0, 0.0), w, h, fill=False, ec="k", lw=1.0, label="plate"))
+    _draw_layout(ax, res, w, h)
     regions = res.meta.get("pd_regions")  # CCM-PD: [[x0, y0, x1, y1]]; pure PD: a string
     for k, (x0, y0, x1, y1) in enumerate(regions if isinstance(regions, list) else []):
         ax.add_patch(
@@ -363,8 +595,9 @@ def plot_crack_path(
         paths, label = [], ""
     for k, c in enumerate(paths):
         ax.plot(c[:, 0], c[:, 1], "-", color="C3", lw=1.8, label=label if k == 0 else None)
-    ax.set_xlim(-0.03 * w, 1.03 * w)
-    ax.set_ylim(-0.03 * h, 1.03 * h)
+    pad = (ARROW + 0.01) * max(w, h)  # room for the load arrows outside the plate
+    ax.set_xlim(-pad, w + pad)
+    ax.set_ylim(-pad, h + pad)
     ax.set_aspect("equal")
     _xy_labels(ax, units)
     what = "uncracked" if not initial and not paths else "crack path"

@@ -13,10 +13,15 @@ import time
 from collections import deque
 from typing import Any, Callable, TextIO
 
-__all__ = ["ProgressBar", "ProgressCallback", "TqdmProgress", "callback"]
+__all__ = ["LOG_INTERVAL_S", "ProgressBar", "ProgressCallback", "TqdmProgress", "callback"]
 
 #: ``progress(done, total, message)``; called from the solver at most every ~0.1 s.
 ProgressCallback = Callable[[int, int, str], Any]
+
+#: on a stream that is not a terminal (a batch log, a pipe) each drawing of a
+#: :class:`ProgressBar` is a new line: at most one every LOG_INTERVAL_S seconds (its
+#: ``log_interval``), and the last report of each phase
+LOG_INTERVAL_S = 5.0
 
 
 class ProgressBar:
@@ -38,12 +43,15 @@ class ProgressBar:
         width: int = 30,
         delay: float = 0.5,
         clock: Callable[[], float] = time.perf_counter,
+        log_interval: float = LOG_INTERVAL_S,
     ) -> None:
         # default: the sys.stderr of the moment (not of import time: redirections apply)
         self.stream = sys.stderr if stream is None else stream
         self.width, self.delay, self.clock = width, delay, clock
+        self.log_interval = log_interval
         self.t0 = clock()
         self.drawn = False
+        self._drawn_at = 0.0  # clock() of the last drawing
         #: the last drawing ended with a carriage return (a terminal): the bar holds the line
         self.mid_line = False
         #: (time, done) of the reports counted for the rate: those of the current total, from
@@ -59,10 +67,15 @@ class ProgressBar:
         eta = self._eta(now, done, total)
         if elapsed < self.delay and not self.drawn:
             return
+        tty = self.stream.isatty()
+        phase_end = total > 0 and done >= total
+        if not tty and self.drawn and not phase_end and now - self._drawn_at < self.log_interval:
+            return
         frac = done / total if total > 0 else 0.0
         n = round(self.width * min(max(frac, 0.0), 1.0))
         bar = "#" * n + "." * (self.width - n)
-        end = "\r" if self.stream.isatty() else "\n"
+        end = "\r" if tty else "\n"
+        self._drawn_at = now
         self.stream.write(f"[{bar}] {100 * frac:5.1f}% {elapsed:7.1f} s  {message}{eta}{end}")
         self.stream.flush()
         self.drawn = True

@@ -8,14 +8,17 @@ then all renamed into place under the folder's lock, the JSON last):
   shapes and the SHA-256 of the other files;
 - ``fields.npz``: the arrays (mesh, displacement, stresses, ...) and the history;
 - ``result.vtu``: the result for ParaView (or meshio), a binary, zlib-compressed VTK unstructured
-  grid of the mesh :meth:`Result.to_meshio` gives, written directly (``_vtk.write_vtu``, meshio
-  not needed; FEM quads with displacement and stress; XFEM standard quads plus the enriched
-  elements' cut cells on each side of the crack, with their own displacements, and the crack
-  lines; PD and CCM-PD grid nodes as vertices with displacements, damage, a PD-node flag and
-  broken bonds per node; see ``rustfrac._vtk``);
+  grid of the mesh :meth:`Result.to_meshio` gives (the last state), written directly
+  (``_vtk.write_vtu``, meshio not needed; FEM quads with displacement and stress; XFEM standard
+  quads plus the enriched elements' cut cells on each side of the crack, with their own
+  displacements and stresses, and the crack lines; PD and CCM-PD grid nodes with the FEM cells,
+  the PD nodes and the broken bonds, displacements, damage, a PD-node flag and broken bonds per
+  node; see ``rustfrac._vtk``);
 - ``result.pvd`` + ``result_series/state_NNNN.vtu``: a ParaView time series, one state per
-  history row of an XFEM growth run (the deformed patch) or per damage snapshot of an SLA run
-  (``damage_at_steps``), timestep = the history row / the SLA step.
+  kept critical state of an XFEM growth run (the whole plate with that state's crack, opening
+  and stresses; ``xfem.state_every``) or per damage snapshot of an SLA run
+  (``damage_at_steps``), timestep = the history row / the SLA step, the history row as field
+  data.
 
 :func:`load` reads the JSON and NPZ back to the same numbers, after checking them.
 """
@@ -392,13 +395,17 @@ class Result:
     # -- meshes -------------------------------------------------------------------------------
 
     def to_meshio(self) -> Any:
-        """This result as a ``meshio.Mesh``, what ``result.vtu`` holds: FEM the Q4 mesh with point
-        data ``displacement`` and cell data ``stress`` (element means of the Gauss-point
-        stresses) and ``element_id``; XFEM the standard elements, the cut cells of the enriched
-        ones (points of their own on each side of the crack, with that side's displacement) and
-        the crack lines, cell data ``element_id``, ``kind``, ``enrichment``, ``crack``; PD and
-        CCM-PD the grid nodes as vertices with ``displacement``, ``displacement_final``,
-        ``damage``, ``is_pd`` and ``broken_bonds``. Vectors have 3 components (z = 0). Details:
+        """This result as a ``meshio.Mesh``, what ``result.vtu`` holds, one cell block per cell
+        type (so that meshio writes it as XDMF, Gmsh, MED, ...): FEM the Q4 mesh with point data
+        ``displacement`` and cell data ``stress`` (element means of the Gauss-point stresses) and
+        ``element_id``; XFEM the whole plate at the last state (a growth run's last kept
+        critical state, else the single solve): the standard elements, the cut cells of the
+        enriched ones (``quad`` and ``triangle`` cells on points of their own on each side of
+        the crack, with that side's displacement and stress) and the crack lines, cell data
+        ``element_id``, ``kind``, ``cut_cell``, ``crack``, ``stress``; PD and CCM-PD the grid
+        nodes with the FEM cells, the PD nodes as vertices and the broken bonds as lines, point
+        data ``displacement``, ``displacement_final``, ``damage``, ``is_pd`` and
+        ``broken_bonds``. Vectors have 3 components (z = 0). Details and the time series:
         ``rustfrac._vtk``.
 
         Raises:
@@ -435,12 +442,7 @@ class Result:
             OutputError: the folder cannot be written (it is a file, read-only, the disk is
                 full, ...); the folder is left as it was.
         """
-        return self._save(directory, vtu=vtu)
-
-    def _save(self, directory: PathLike, *, vtu: bool = True, save_id: str | None = None) -> Path:
-        with writing(directory, owned=OWNED_NAMES, last=JSON_NAME) as w:
-            self._stage(w, vtu=vtu, save_id=save_id)
-        return w.path
+        return save_result(self, directory, vtu=vtu)
 
     def _stage(self, w: FolderWriter, *, vtu: bool, save_id: str | None = None) -> str:
         """Stages this result's files into the pending folder ``w`` (the JSON last, with the
@@ -475,6 +477,23 @@ class Result:
         }
         w.stage(JSON_NAME).write_text(_dumps(_jsonable(doc)), encoding="utf-8")
         return str(doc["save_id"])
+
+
+def save_result(
+    res: Result, directory: PathLike, *, vtu: bool = True, save_id: str | None = None
+) -> Path:
+    """:meth:`Result.save` with a given save id (the package's jobs name their parts' saves in
+    their summaries); not part of the user API."""
+    with writing(directory, owned=OWNED_NAMES, last=JSON_NAME) as w:
+        stage_result(res, w, vtu=vtu, save_id=save_id)
+    return w.path
+
+
+def stage_result(res: Result, w: FolderWriter, *, vtu: bool, save_id: str | None = None) -> str:
+    """Stages ``res``'s files into the pending folder ``w`` (a job writing a result folder
+    beside its own files, ``rustfrac run --plot``); returns the save id. Not part of the user
+    API."""
+    return res._stage(w, vtu=vtu, save_id=save_id)
 
 
 def load(directory: PathLike) -> Result:

@@ -59,7 +59,8 @@ def run(
     Warns:
         AccuracyWarning: the run completed but a known discretisation limit makes it less
             accurate: :class:`LockingWarning` (plane-strain nu >= 0.49: Q4 locking) or
-            :class:`DiscretisationWarning` (PD m < 2, grounded nodes); the class follows the
+            :class:`DiscretisationWarning` (PD m < 2, grounded nodes; before the run: a default
+            sized for another plate, an estimated cost past its budget); the class follows the
             native warning kind (``meta["warning_kinds"]``), the messages are in
             ``meta["warnings"]``.
         IllConditionedWarning: a solve's condition estimate exceeded ``_core.COND_WARN``.
@@ -70,6 +71,13 @@ def run(
         )
     scene = as_scene(scene)
     logger.debug("run %s", scene.describe())
+    # the scene's own warnings (a default sized for another plate, the estimated cost past its
+    # budget) come before the run; the result carries them too
+    before = _core.scene_warnings(scene.to_dict())
+    for msg, kind in before:
+        warnings.warn(
+            f"{scene.method}: {msg}", WARNING_CLASSES.get(kind, AccuracyWarning), stacklevel=2
+        )
     cb = _progress.callback(progress, desc=f"rustfrac {scene.method}")
     t0 = time.perf_counter()
     try:
@@ -81,7 +89,10 @@ def run(
     res.meta.setdefault("timings", {})["total_s"] = time.perf_counter() - t0
     logger.debug("done %s", res.summary())
     msgs = res.meta.setdefault("warnings", [])
+    said = {msg for msg, _ in before}
     for msg, kind in zip(msgs, res.meta.get("warning_kinds", [None] * len(msgs))):
+        if msg in said:
+            continue
         warnings.warn(
             f"{scene.method}: {msg}", WARNING_CLASSES.get(kind, AccuracyWarning), stacklevel=2
         )

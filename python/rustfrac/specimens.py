@@ -27,12 +27,18 @@ e.g. ``support[0]`` or ``hole[0]``, and its message the valid range) when it is 
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, Callable, ClassVar
 
 from ._log import logger
-from .errors import InvalidTypeError, UnknownParameterError
+from .errors import (
+    DiscretisationWarning,
+    InvalidParameterError,
+    InvalidTypeError,
+    UnknownParameterError,
+)
 from .scene import METHODS, PD_NU, PdOptions, Scene
 from .scenes import edge_crack_plate
 
@@ -71,6 +77,39 @@ def _mesh(mesh: tuple[int, int] | None) -> dict[str, int]:
     except (TypeError, ValueError):
         raise InvalidTypeError(f"mesh must be a pair (nx, ny), got {mesh!r}", "mesh") from None
     return {"nx": nx, "ny": ny}
+
+
+def _material(
+    method: str,
+    E: float,
+    nu: float | None,
+    plane: str | None,
+    literature: tuple[float, str],
+    **more: float,
+) -> dict[str, Any]:
+    """The material of a specimen: the keywords given, else the literature's ``(nu, plane)``.
+    Bond-based PD (methods "pd", "ccm_pd") fixes nu = PD_NU in plane strain: a given other value
+    is refused by name, the literature's is replaced with a :class:`DiscretisationWarning`
+    saying so."""
+    if method not in ("pd", "ccm_pd"):
+        nu_, plane_ = literature
+        return {"E": E, "nu": nu_ if nu is None else nu, "plane": plane or plane_, **more}
+    for key, given, fixed in (("nu", nu, PD_NU), ("plane", plane, "strain")):
+        if given is not None and given != fixed:
+            raise InvalidParameterError(
+                f"invalid {key}: bond-based peridynamics (method {method!r}) fixes nu = "
+                f"{PD_NU} in plane strain (pd.model = 'lps', the state-based model of method 'pd', takes any), got "
+                f"{key} = {given!r}; use method 'fem' or 'xfem' for another {key}",
+                key,
+            )
+    if (nu, plane) != (PD_NU, "strain") and literature != (PD_NU, "strain"):
+        warnings.warn(
+            f"specimen: method {method!r} runs bond-based PD's nu = {PD_NU}, plane strain in "
+            f"place of the specimen's nu = {literature[0]}, plane {literature[1]}",
+            DiscretisationWarning,
+            stacklevel=3,
+        )
+    return {"E": E, "nu": PD_NU, "plane": "strain", **more}
 
 
 def _finish(d: dict[str, Any], overrides: Mapping[str, Any]) -> Scene:
@@ -210,8 +249,8 @@ def edge_shear(
     a: float = 3.5,
     shear: float = 1.0,
     E: float = 3.0e7,
-    nu: float = 0.25,
-    plane: str = "strain",
+    nu: float | None = None,
+    plane: str | None = None,
     mesh: tuple[int, int] | None = (28, 64),
     name: str = "edge crack under shear (Yau et al. 1980)",
     **overrides: Any,
@@ -232,7 +271,7 @@ def edge_shear(
         "method": method,
         "name": name,
         "plate": {"width": width, "height": height},
-        "material": {"E": E, "nu": nu, "plane": plane},
+        "material": _material(method, E, nu, plane, (0.25, "strain")),
         "crack": {"kind": "seam" if method == "fem" else "edge", "a0": a, "y": height / 2},
         "mesh": _mesh(mesh),
         "support": [{"region": "edge", "side": "bottom"}],
@@ -250,8 +289,8 @@ def senb(
     a: float = 0.5,
     force: float = 1.0,
     E: float = 1000.0,
-    nu: float = 0.3,
-    plane: str = "stress",
+    nu: float | None = None,
+    plane: str | None = None,
     thickness: float = 1.0,
     mesh: tuple[int, int] | None = None,
     name: str = "single-edge notched bend beam (ASTM E399)",
@@ -286,7 +325,7 @@ def senb(
         "method": method,
         "name": name,
         "plate": lay.plate(),
-        "material": {"E": E, "nu": nu, "plane": plane, "thickness": thickness},
+        "material": _material(method, E, nu, plane, (0.3, "stress"), thickness=thickness),
         "crack": lay.bottom_crack(method, mid, a),
         "mesh": _mesh(mesh) or _mesh((ny, nx) if lay.turned else (nx, ny)),
         "support": [
@@ -312,8 +351,8 @@ def plate_with_hole(
     a: float = 2.5,
     traction: float = 1.0,
     E: float = 1000.0,
-    nu: float = 0.3,
-    plane: str = "strain",
+    nu: float | None = None,
+    plane: str | None = None,
     mesh: tuple[int, int] | None = (40, 80),
     name: str = "edge-cracked plate with a hole, tension",
     **overrides: Any,
@@ -333,7 +372,7 @@ def plate_with_hole(
         "method": method,
         "name": name,
         "plate": {"width": width, "height": height},
-        "material": {"E": E, "nu": nu, "plane": plane},
+        "material": _material(method, E, nu, plane, (0.3, "strain")),
         "load": {"bc": "traction", "traction": traction},
         "crack": {"kind": "seam" if method == "fem" else "edge", "a0": a, "y": height / 2},
         "mesh": _mesh(mesh),
@@ -353,8 +392,8 @@ def bittencourt_beam(
     notch_depth: float = 1.5,
     force: float = 1.0,
     E: float = 29.0e6,
-    nu: float = 0.3,
-    plane: str = "stress",
+    nu: float | None = None,
+    plane: str | None = None,
     hole_centers: Sequence[Point] = ((6.0, 2.25), (6.0, 4.25), (6.0, 6.25)),
     hole_diameter: float = 0.5,
     mesh: tuple[int, int] | None = None,
@@ -386,7 +425,7 @@ def bittencourt_beam(
         "method": method,
         "name": name,
         "plate": lay.plate(),
-        "material": {"E": E, "nu": nu, "plane": plane},
+        "material": _material(method, E, nu, plane, (0.3, "stress")),
         "crack": lay.bottom_crack(method, mid - offset, notch_depth),
         "mesh": _mesh(mesh) or _mesh((64, 160) if lay.turned else (160, 64)),
         "support": [
@@ -411,8 +450,8 @@ def double_edge(
     a: float = 0.2,
     traction: float = 1.0,
     E: float = 1000.0,
-    nu: float = 0.3,
-    plane: str = "strain",
+    nu: float | None = None,
+    plane: str | None = None,
     mesh: tuple[int, int] | None = (40, 161),
     growth_steps: int = 4,
     name: str = "double-edge-cracked strip",
@@ -432,7 +471,7 @@ def double_edge(
         "method": method,
         "name": name,
         "plate": {"width": width, "height": height},
-        "material": {"E": E, "nu": nu, "plane": plane},
+        "material": _material(method, E, nu, plane, (0.3, "strain")),
         "load": {"bc": "traction", "traction": traction},
         "crack": [
             {"kind": "edge", "side": "left", "a0": a, "y": height / 2},
@@ -466,8 +505,6 @@ SPECIMENS: dict[str, Specimen] = {
 
 def get(name: str) -> Specimen:
     """The specimen ``name`` of :data:`SPECIMENS` (an unknown name lists the valid ones)."""
-    from .errors import InvalidParameterError
-
     if name not in SPECIMENS:
         raise InvalidParameterError(
             f"invalid name: no specimen {name!r}; valid: {', '.join(SPECIMENS)}", "name"

@@ -6,7 +6,8 @@
 //!
 //! `cargo bench -p rustfrac-core --bench sla`
 
-use rustfrac_core::pd::sla::{peak_memory_bytes, run};
+use rustfrac_core::pd::analysis::run;
+use rustfrac_core::pd::sla::peak_memory_bytes;
 use rustfrac_core::problem::Problem;
 use std::time::Instant;
 
@@ -28,15 +29,15 @@ fn main() {
     println!(
         "fast: {} steps, status {}, setup {:.3} s, SLA {:.3} s, total {:.3} s ({} dofs, {} PD nodes, {} bonds x {} B = {:.2} MB), peak RSS {:.0} MB",
         fast.history.len(),
-        fast.status,
-        fast.setup_seconds,
-        fast.sla_seconds,
+        fast.run.status,
+        fast.timings.setup_seconds,
+        fast.timings.sla_seconds,
         fast_total,
-        fast.n_dofs,
-        fast.n_pd_nodes,
-        fast.n_bonds,
-        fast.bytes_per_bond,
-        (fast.n_bonds * fast.bytes_per_bond) as f64 / 1e6,
+        fast.counts.n_dofs,
+        fast.counts.n_pd_nodes,
+        fast.counts.n_bonds,
+        fast.counts.bytes_per_bond,
+        (fast.counts.n_bonds * fast.counts.bytes_per_bond) as f64 / 1e6,
         mem_fast.unwrap_or(0) as f64 / 1e6
     );
     if let (Some(a), Some(b)) = (fast.history.first(), fast.history.last()) {
@@ -50,8 +51,8 @@ fn main() {
     let t = Instant::now();
     let oracle = run(&p, &|_, _| true).expect("oracle run");
     let oracle_total = t.elapsed().as_secs_f64();
-    let per_step = oracle.sla_seconds / oracle_steps.max(1) as f64;
-    let oracle_500 = oracle.setup_seconds + per_step * steps as f64;
+    let per_step = oracle.timings.sla_seconds / oracle_steps.max(1) as f64;
+    let oracle_500 = oracle.timings.setup_seconds + per_step * steps as f64;
     let mut worst = 0.0f64;
     for (a, b) in fast.history.iter().zip(&oracle.history) {
         assert_eq!(a.bonds, b.bonds, "different bond at step {}", a.step);
@@ -60,8 +61,8 @@ fn main() {
     println!(
         "oracle: {} steps, setup {:.3} s, SLA {:.3} s ({:.3} s/step), total {:.3} s; extrapolated {} steps {:.1} s",
         oracle.history.len(),
-        oracle.setup_seconds,
-        oracle.sla_seconds,
+        oracle.timings.setup_seconds,
+        oracle.timings.sla_seconds,
         per_step,
         oracle_total,
         steps,
@@ -71,7 +72,7 @@ fn main() {
         "speed-up (total, {} steps): {:.0}x; per SLA step: {:.0}x; max relative lambda difference over the first {} steps: {:.2e}; peak RSS {:.0} MB",
         steps,
         oracle_500 / fast_total,
-        per_step / (fast.sla_seconds / fast.history.len().max(1) as f64),
+        per_step / (fast.timings.sla_seconds / fast.history.len().max(1) as f64),
         oracle.history.len(),
         worst,
         peak_memory_bytes().unwrap_or(0) as f64 / 1e6

@@ -40,6 +40,7 @@ fn growth_params() -> Problem {
         a_stop: 0.7 * 11.0,
         kink_rule: rustfrac_core::problem::KinkRule::Hoop,
         max_steps: 1000,
+        state_every: 0,
     });
     p
 }

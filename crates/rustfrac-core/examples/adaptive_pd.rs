@@ -11,7 +11,8 @@
 //!
 //! `cargo run --release -p rustfrac-core --example adaptive_pd [-- --margin 2 --size 4
 //! --a-stop 7.6 --steps 20000 --grading 1 --fixed-cover]`
-use rustfrac_core::pd::sla::{run, CcmPdResult};
+use rustfrac_core::pd::analysis::run;
+use rustfrac_core::pd::sla::CcmPdResult;
 use rustfrac_core::problem::pd_region;
 use rustfrac_core::problem::{AdaptiveRegion, Problem};
 use std::time::Instant;
@@ -72,20 +73,20 @@ fn main() {
     println!(
         "adaptive (margin {margin}, size {size} horizons, fem_grading {grading}): {} steps ({}), crack {:.3} -> {:.3}, {} switches, {} PD nodes / {} unknowns at the end; set-up {:.2} s, SLA {:.2} s (of which switches {:.2} s), whole run {wall:.2} s; peak memory {:.0} MB; closest approach {:?} horizons",
         ad.history.len(),
-        ad.status,
-        ad.initial_crack_length,
+        ad.run.status,
+        ad.reference.crack_length,
         last.crack_length,
-        ad.switches.len(),
-        ad.n_pd_nodes,
-        ad.n_dofs,
-        ad.setup_seconds,
-        ad.sla_seconds,
-        ad.switches.iter().map(|s| s.seconds).sum::<f64>(),
-        ad.peak_memory_bytes.unwrap_or(0) as f64 / 1e6,
-        ad.interface_distance_min
+        ad.region.switches.len(),
+        ad.counts.n_pd_nodes,
+        ad.counts.n_dofs,
+        ad.timings.setup_seconds,
+        ad.timings.sla_seconds,
+        ad.region.switches.iter().map(|s| s.seconds).sum::<f64>(),
+        ad.timings.peak_memory_bytes.unwrap_or(0) as f64 / 1e6,
+        ad.region.interface_distance_min
     );
-    println!("  solver at the end: {}", ad.solver);
-    for s in &ad.switches {
+    println!("  solver at the end: {}", ad.run.solver.describe());
+    for s in &ad.region.switches {
         println!(
             "  switch before step {}: {} rectangles, {} PD nodes, {} unknowns, {:.3} s",
             s.step,
@@ -104,7 +105,7 @@ fn main() {
         "paper's rectangle: {} steps, {:.2} s, closest approach {:?} horizons",
         paper.history.len(),
         t.elapsed().as_secs_f64(),
-        paper.interface_distance_min
+        paper.region.interface_distance_min
     );
     compare("the paper's rectangle (its 500 steps)", &ad, &paper);
     if args.iter().any(|x| x == "--fixed-cover") {
@@ -117,10 +118,10 @@ fn main() {
         let fixed = run(&f, &|_, _| true).expect("the covering run");
         println!(
             "fixed region covering the path {bb:?}: {} PD nodes, {} steps, {:.2} s ({})",
-            fixed.n_pd_nodes,
+            fixed.counts.n_pd_nodes,
             fixed.history.len(),
             t.elapsed().as_secs_f64(),
-            fixed.solver
+            fixed.run.solver.describe()
         );
         compare("the fixed region covering the path", &ad, &fixed);
     }

@@ -6,7 +6,8 @@
 //!
 //! `cargo run --release -p rustfrac-core --example ccm_pd_graded -- [STEPS]` (default 500)
 
-use rustfrac_core::pd::sla::{run, CcmPdResult};
+use rustfrac_core::pd::analysis::run;
+use rustfrac_core::pd::sla::CcmPdResult;
 use rustfrac_core::problem::Problem;
 
 fn broken_xy(r: &CcmPdResult, k: usize) -> Vec<[[i64; 2]; 2]> {
@@ -15,8 +16,8 @@ fn broken_xy(r: &CcmPdResult, k: usize) -> Vec<[[i64; 2]; 2]> {
         .bonds
         .iter()
         .map(|&b| {
-            let [i, j] = r.bond_nodes[b];
-            [key(r.node_xy[i]), key(r.node_xy[j])]
+            let [i, j] = r.geometry.bond_nodes[b];
+            [key(r.geometry.node_xy[i]), key(r.geometry.node_xy[j])]
         })
         .collect();
     v.sort_unstable();
@@ -56,8 +57,8 @@ fn main() {
                     format!("graded {g}, cap {c} dx"),
                     format!(
                         "{same} of {n} steps (lambda within {lam:.1e}); sigma22 ref {:+.4} %, CMOD {:+.4} %, peak {:+.4} %",
-                        100.0 * (r.sigma22 / u.sigma22 - 1.0),
-                        100.0 * (r.cmod / u.cmod - 1.0),
+                        100.0 * (r.reference.sigma22 / u.reference.sigma22 - 1.0),
+                        100.0 * (r.reference.cmod / u.reference.cmod - 1.0),
                         100.0 * (peak / u.history.iter().map(|s| s.sigma22).fold(0.0, f64::max) - 1.0)
                     ),
                 )
@@ -65,7 +66,12 @@ fn main() {
         };
         println!(
             "| {name} | {} | {:.3} | {:.3} | {:.5} | {:.6e} | {:.4} | {vs} |",
-            r.n_dofs, r.setup_seconds, r.sla_seconds, r.sigma22, r.cmod, peak
+            r.counts.n_dofs,
+            r.timings.setup_seconds,
+            r.timings.sla_seconds,
+            r.reference.sigma22,
+            r.reference.cmod,
+            peak
         );
         if uniform.is_none() {
             uniform = Some(r);

@@ -6,7 +6,7 @@
 //! growth on 44 x 83, two cracks), CCM-PD (the paper's 500 SLA steps, fast solver) and pure PD and
 //! the oracle on a coarse grid.
 use rustfrac_core::fem_driver;
-use rustfrac_core::pd::sla;
+use rustfrac_core::pd::analysis;
 use rustfrac_core::problem::Side;
 use rustfrac_core::problem::{CrackSpec, Growth, Problem, SlaEngine, SlaParams};
 use rustfrac_core::problem::{Grip, PlateLoad};
@@ -95,6 +95,7 @@ fn growth(a_stop: f64, max_steps: usize) -> Option<Growth> {
         da: None,
         a_stop,
         kink_rule: rustfrac_core::problem::KinkRule::Hoop,
+        state_every: 0,
     })
 }
 
@@ -133,19 +134,19 @@ fn xfem_cases() {
 }
 
 fn sla_case(name: &str, p: &Problem) {
-    let r = sla::run(p, &|_, _| true).unwrap();
+    let r = analysis::run(p, &|_, _| true).unwrap();
     println!(
         "sla {name}: gamma {} c {} s0 {} sigma22 {} cmod {} u {} ufinal {} status {} n_dofs {} bonds {}",
-        h(r.gamma),
-        h(r.c),
-        h(r.s0),
-        h(r.sigma22),
-        h(r.cmod),
-        hs(&r.u),
-        hs(&r.u_final),
-        r.status,
-        r.n_dofs,
-        r.n_bonds
+        h(r.constants.pd.gamma),
+        h(r.constants.pd.c),
+        h(r.constants.pd.s0),
+        h(r.reference.sigma22),
+        h(r.reference.cmod),
+        hs(&r.reference.u),
+        hs(&r.final_state.u),
+        r.run.status,
+        r.counts.n_dofs,
+        r.counts.n_bonds
     );
     let lam: Vec<f64> = r.history.iter().map(|s| s.lambda).collect();
     let s22: Vec<f64> = r.history.iter().map(|s| s.sigma22).collect();
@@ -163,7 +164,7 @@ fn sla_case(name: &str, p: &Problem) {
         hs(&cm),
         hs(&cl),
         hs(&bonds),
-        hs(&r.damage)
+        hs(&r.final_state.damage)
     );
 }
 

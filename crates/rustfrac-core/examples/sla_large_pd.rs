@@ -9,7 +9,8 @@
 //!
 //! `cargo run --release -p rustfrac-core --example sla_large_pd [-- --steps 500 --oracle-steps 3
 //! --ccm-steps 100 --skip-pure]`
-use rustfrac_core::pd::sla::{run, CcmPdResult};
+use rustfrac_core::pd::analysis::run;
+use rustfrac_core::pd::sla::CcmPdResult;
 use rustfrac_core::problem::{Problem, SlaEngine};
 use std::time::Instant;
 
@@ -32,29 +33,32 @@ fn timed(p: &Problem, engine: SlaEngine, steps: usize) -> (CcmPdResult, f64) {
 fn report(case: &str, p: &Problem, steps: usize, oracle_steps: usize) {
     let (new, wall) = timed(p, SlaEngine::Auto, steps);
     let n = new.history.len().max(1) as f64;
-    println!("{case}: {} dofs, {} PD nodes", new.n_dofs, new.n_pd_nodes);
-    println!("  new engine: {}", new.solver);
+    println!(
+        "{case}: {} dofs, {} PD nodes",
+        new.counts.n_dofs, new.counts.n_pd_nodes
+    );
+    println!("  new engine: {}", new.run.solver.describe());
     println!(
         "  new engine: {} steps ({}), set-up {:.2} s, SLA {:.2} s ({:.4} s/step), whole run {:.2} s, {} factorisations",
         new.history.len(),
-        new.status,
-        new.setup_seconds,
-        new.sla_seconds,
-        new.sla_seconds / n,
+        new.run.status,
+        new.timings.setup_seconds,
+        new.timings.sla_seconds,
+        new.timings.sla_seconds / n,
         wall,
-        new.n_refactorisations
+        new.work.n_refactorisations
     );
     if oracle_steps == 0 {
         return; // the oracle's set-up alone is 50 s on the pure PD grid
     }
     let (old, _) = timed(p, SlaEngine::Oracle, oracle_steps);
-    let per = old.sla_seconds / old.history.len().max(1) as f64;
+    let per = old.timings.sla_seconds / old.history.len().max(1) as f64;
     println!(
         "  oracle: {} steps measured, set-up {:.2} s, {:.4} s/step; EXTRAPOLATED to {steps} steps: {:.1} s",
         old.history.len(),
-        old.setup_seconds,
+        old.timings.setup_seconds,
         per,
-        old.setup_seconds + per * steps as f64
+        old.timings.setup_seconds + per * steps as f64
     );
     let same = old
         .history
@@ -63,7 +67,7 @@ fn report(case: &str, p: &Problem, steps: usize, oracle_steps: usize) {
         .all(|(a, b)| a.bonds == b.bonds && ((a.lambda - b.lambda) / b.lambda).abs() < 1e-8);
     println!(
         "  per-step ratio oracle / new: {:.1}; first {} steps agree (bonds, lambda 1e-8): {same}",
-        per / (new.sla_seconds / n),
+        per / (new.timings.sla_seconds / n),
         old.history.len()
     );
 }

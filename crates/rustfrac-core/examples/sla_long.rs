@@ -5,7 +5,8 @@
 //!
 //! `cargo run --release -p rustfrac-core --example sla_long`
 
-use rustfrac_core::pd::sla::{peak_memory_bytes, run};
+use rustfrac_core::pd::analysis::run;
+use rustfrac_core::pd::sla::peak_memory_bytes;
 use rustfrac_core::problem::Problem;
 use std::time::Instant;
 
@@ -54,18 +55,18 @@ fn main() {
          re-condensation every {} updates, {} condensations, at most {} update vectors; {} detached \
          nodes; history {} B/step + bonds; peak RSS {:.1} MB",
         r.history.len(),
-        r.status,
-        r.n_dofs,
-        r.n_pd_nodes,
-        r.n_bonds,
-        r.bytes_per_bond,
-        r.setup_seconds,
-        r.sla_seconds,
-        r.refactor_interval,
-        r.n_refactorisations,
-        r.max_update_rank,
-        r.detached_nodes.len(),
+        r.run.status,
+        r.counts.n_dofs,
+        r.counts.n_pd_nodes,
+        r.counts.n_bonds,
+        r.counts.bytes_per_bond,
+        r.timings.setup_seconds,
+        r.timings.sla_seconds,
+        r.run.solver.refactor_interval,
+        r.work.n_refactorisations,
+        r.work.max_update_rank,
+        r.final_state.detached_nodes.len(),
         std::mem::size_of::<rustfrac_core::pd::sla::SlaStep>(),
-        r.peak_memory_bytes.unwrap_or(0) as f64 / 1e6
+        r.timings.peak_memory_bytes.unwrap_or(0) as f64 / 1e6
     );
 }

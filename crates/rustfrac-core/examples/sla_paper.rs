@@ -5,8 +5,8 @@
 //! oracle factorises with sparse LU) as raw little-endian CSC arrays `DIR/{col_ptr,row_idx}.u64`,
 //! `DIR/val.f64` and `DIR/n.txt`, for `benches/bench_sla_superlu.py` (scipy SuperLU).
 use rustfrac_core::la::Reduction;
-use rustfrac_core::pd::sla::run;
-use rustfrac_core::pd::splice::SpliceModel;
+use rustfrac_core::pd::analysis::run;
+use rustfrac_core::pd::analysis::splice_model;
 use rustfrac_core::problem::Problem;
 use std::io::Write;
 use std::time::Instant;
@@ -25,7 +25,7 @@ fn main() {
     if let Some(i) = args.iter().position(|a| a == "--dump") {
         let dir = std::path::PathBuf::from(args.get(i + 1).expect("--dump DIR"));
         std::fs::create_dir_all(&dir).expect("mkdir");
-        let model = SpliceModel::new(&p).expect("model");
+        let model = splice_model(&p).expect("model");
         let k = model.assemble(&model.precrack_broken);
         let a = Reduction::new(&k, &model.mask)
             .expect("reduction")
@@ -49,9 +49,9 @@ fn main() {
     println!(
         "fast: {} steps, status {}, setup {:.3} s, SLA {:.3} s, total {:.3} s; step {}: lambda {:.12}, CMOD {:.9}",
         r.history.len(),
-        r.status,
-        r.setup_seconds,
-        r.sla_seconds,
+        r.run.status,
+        r.timings.setup_seconds,
+        r.timings.sla_seconds,
         t.elapsed().as_secs_f64(),
         last.step,
         last.lambda,

@@ -226,6 +226,23 @@ fn probes(
         .collect()
 }
 
+/// The cracks as the FEM cuts them (a seam on the grid line nearest its y, from x1 = 0 to the
+/// first grid node at or beyond a0; a problem without a seam: as asked).
+pub fn cut_polylines(p: &Problem) -> Result<Vec<Vec<[f64; 2]>>> {
+    let mut lines = p.crack_polylines();
+    if let Method::Fem(method) = &p.method {
+        let m = seamed_mesh(p, method)?;
+        if let (Some(y), Some(len), Some(k)) = (
+            m.seam_y,
+            m.seam_length,
+            p.cracks.iter().position(|c| c.kind == CrackKind::Seam),
+        ) {
+            lines[k] = vec![[0.0, y], [len, y]];
+        }
+    }
+    Ok(lines)
+}
+
 /// The uniform grid over the plate; with a seam crack, its nodes duplicated along the grid line
 /// nearest the crack's y, from x1 = 0 to a0. The refusals that need the grid name the crack's
 /// scene keys.
@@ -280,18 +297,30 @@ fn seamed_mesh(p: &Problem, method: &FemMethod) -> Result<SeamedMesh> {
         ));
     }
     let length = mesh.xs[tip] - mesh.xs[0];
-    let warning = ((length - c.a0).abs() > 1e-9 * d.width).then(|| {
-        Warning::new(
-            WarningKind::Discretisation,
-            format!(
-                "the seam crack runs along grid lines from node to node: its real length is \
-                 {length:.6} (the first grid node at or beyond {}.a0 = {}); refine mesh.nx or \
-                 choose a0 on a node to cut exactly a0",
-                crack_name(k),
-                c.a0
-            ),
-        )
-    });
+    let y = mesh.ys[j];
+    let moved = (y - c.y).abs() > 1e-9 * d.height;
+    let mut warnings = Vec::new();
+    if (length - c.a0).abs() > 1e-9 * d.width {
+        warnings.push(format!(
+            "the seam crack runs along grid lines from node to node: its real length is \
+             {length:.6} (the first grid node at or beyond {}.a0 = {}); refine mesh.nx or \
+             choose a0 on a node to cut exactly a0",
+            crack_name(k),
+            c.a0
+        ));
+    }
+    if moved {
+        warnings.push(format!(
+            "the seam crack lies on a grid line: it is cut at x2 = {y:.6}, the grid line \
+             nearest {}.y = {} (moved by {:.6}); refine mesh.ny or choose y on a grid line to \
+             cut it where asked",
+            crack_name(k),
+            c.y,
+            y - c.y
+        ));
+    }
+    let warning = (!warnings.is_empty())
+        .then(|| Warning::new(WarningKind::Discretisation, warnings.join("; ")));
     Ok(SeamedMesh {
         seam_y: Some(m.ys[j]),
         seam_length: Some(length),

@@ -90,11 +90,17 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(scene::check_section, m)?)?;
     m.add_function(wrap_pyfunction!(scene::check_scene, m)?)?;
     m.add_function(wrap_pyfunction!(scene::crack_polylines, m)?)?;
+    m.add_function(wrap_pyfunction!(scene::scene_warnings, m)?)?;
     m.add_function(wrap_pyfunction!(fem::solve_fem_grid, m)?)?;
+    // the test hooks are attributes, not exports: `__all__` (and so the stub) is the same in
+    // every build
     #[cfg(feature = "test-hooks")]
     {
-        m.add_function(wrap_pyfunction!(hooks::_progress_demo, m)?)?;
-        m.add_function(wrap_pyfunction!(hooks::_panic_demo, m)?)?;
+        m.setattr(
+            "_progress_demo",
+            wrap_pyfunction!(hooks::_progress_demo, m)?,
+        )?;
+        m.setattr("_panic_demo", wrap_pyfunction!(hooks::_panic_demo, m)?)?;
     }
     Ok(())
 }

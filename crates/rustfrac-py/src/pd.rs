@@ -8,7 +8,8 @@ use crate::progress::Progress;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use rustfrac_core::error::Error as CoreError;
-use rustfrac_core::pd::sla::{self, SlaProgress};
+use rustfrac_core::pd::analysis;
+use rustfrac_core::pd::sla::SlaProgress;
 use rustfrac_core::problem::Problem;
 use std::time::Instant;
 
@@ -54,8 +55,8 @@ pub fn run<'py>(py: Python<'py>, p: &Problem, prog: &Progress) -> PyResult<Bound
                 false,
             ),
         };
-        let r = sla::run_reporting(p, &report)?;
-        let msg = format!("sla: {} after {} steps", r.status, r.history.len());
+        let r = analysis::run_reporting(p, &report)?;
+        let msg = format!("sla: {} after {} steps", r.run.status, r.history.len());
         prog.report(total, total, &msg, true);
         Ok(r)
     });

@@ -101,12 +101,27 @@ pub fn check_scene<'py>(py: Python<'py>, scene: &Bound<'py, PyAny>) -> PyResult<
     to_py(py, &Value::Table(tree))
 }
 
-/// The polylines [(x1, x2), ...] of a scene's cracks (empty list for an uncracked scene).
+/// The polylines [(x1, x2), ...] of a scene's cracks as the method cuts them (a FEM seam on its
+/// grid line, to its grid node; empty list for an uncracked scene).
 #[pyfunction]
 pub fn crack_polylines(py: Python<'_>, scene: &Bound<'_, PyAny>) -> PyResult<Vec<Vec<[f64; 2]>>> {
     let t = to_table(scene).map_err(|e| core_err(py, e))?;
     let p = parse::problem(&t).map_err(|e| core_err(py, e))?;
-    Ok(p.crack_polylines())
+    // a FEM seam as the grid cuts it (the scene's lines where it cannot be cut: the run refuses)
+    Ok(rustfrac_core::fem_driver::cut_polylines(&p).unwrap_or_else(|_| p.crack_polylines()))
+}
+
+/// The warnings of a valid scene, said before it runs: `[(message, kind), ...]` (a default
+/// sized for another plate, the estimated cost past its budget; the core's
+/// `Problem::scene_warnings`). The run's result carries them too.
+#[pyfunction]
+pub fn scene_warnings(py: Python<'_>, scene: &Bound<'_, PyAny>) -> PyResult<Vec<(String, String)>> {
+    let t = to_table(scene).map_err(|e| core_err(py, e))?;
+    let p = Problem::from_scene(&t).map_err(|e| core_err(py, e))?;
+    Ok(p.scene_warnings()
+        .into_iter()
+        .map(|w| (w.message, w.kind.name().to_string()))
+        .collect())
 }
 
 /// The scene tree of a Python dict, for the runners.

@@ -6,6 +6,7 @@ use crate::errors::detached;
 use crate::progress::Progress;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use rustfrac_core::problem::number::short;
 use rustfrac_core::problem::{Method, Problem};
 use rustfrac_core::xfem;
 use std::time::Instant;
@@ -23,7 +24,10 @@ pub fn run<'py>(py: Python<'py>, p: &Problem, prog: &Progress) -> PyResult<Bound
         prog.report(0, total, "xfem: enrich + assemble + solve", true);
         let r = xfem::run(p, &|done, _| match (est, &growth) {
             (Some(est), Some(g)) => {
-                let msg = format!("xfem: growth step {done} of ~{est} (a_stop {})", g.a_stop);
+                let msg = format!(
+                    "xfem: growth step {done} of ~{est} (a_stop {})",
+                    short(g.a_stop)
+                );
                 prog.report(done.min(est), est, &msg, false)
             }
             _ => true,

@@ -12,25 +12,35 @@ specimens`` / ``rustfrac specimen NAME [--method M] -o SCENE.toml`` (the literat
 
 Exit codes: 0 success, 1 the run failed (singular system, internal error) or its output could not
 be written at the end (the output is then saved to a temporary folder the message names), 2 bad
-input (unreadable or invalid scene file, bad arguments, an ``--out`` that cannot be written:
-checked before computing), 130 interrupted (what finished is written and the message, and for
+input (unreadable or invalid scene file, bad arguments, a missing or invalid result folder or
+checkpoint to read, an ``--out`` that cannot be written: checked before computing), 130 interrupted (what finished is written and the message, and for
 ``fig7`` / ``sweep`` / ``compare`` the summary, lists what is missing).
 
 One module per command: ``run.py``, ``sweep.py``, ``jobs.py`` (``fig7``, ``compare``) and
 ``tools.py`` (``plot``, ``specimens``, ``specimen``, ``examples``); their arguments in
 ``parser.py``, the scene file they read in ``common.py``; :func:`main` maps their errors to the
-exit codes.
+exit codes. ``-v`` / ``--log-level`` show the package's log (``logging.getLogger("rustfrac")``)
+on stderr.
 """
 
 from __future__ import annotations
 
+import argparse
 import gc
+import logging
 import sys
 
-from ..errors import InvalidParameterError, MethodNotAvailableError, OutputError, RustfracError
+from .._log import logger
+from ..errors import (
+    InvalidParameterError,
+    InvalidResultError,
+    MethodNotAvailableError,
+    OutputError,
+    RustfracError,
+)
 from ..progress import ProgressBar
 from .jobs import cmd_compare, cmd_fig7, job_console
-from .parser import build_parser
+from .parser import build_parser, log_level
 from .run import cmd_run
 from .sweep import cmd_sweep
 from .tools import cmd_examples, cmd_plot, cmd_specimen, cmd_specimens
@@ -41,6 +51,24 @@ __all__ = ["ProgressBar", "console", "job_console", "main"]
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``rustfrac`` console script; returns the exit code."""
     args = build_parser().parse_args(argv)
+    handler = _log_to_stderr(log_level(args))
+    try:
+        return _dispatch(args)
+    finally:
+        logger.removeHandler(handler)
+
+
+def _log_to_stderr(level: int) -> logging.Handler:
+    """The package's log on the stderr of the moment, at ``level`` (one handler per call)."""
+    handler = logging.StreamHandler(sys.stderr)
+    handler.setFormatter(logging.Formatter("rustfrac: %(levelname)s: %(message)s"))
+    handler.setLevel(level)
+    logger.addHandler(handler)
+    logger.setLevel(min(level, logger.level or logging.WARNING))
+    return handler
+
+
+def _dispatch(args: argparse.Namespace) -> int:
     commands = {
         "run": cmd_run,
         "fig7": cmd_fig7,
@@ -59,6 +87,9 @@ def main(argv: list[str] | None = None) -> int:
         print("rustfrac: interrupted", file=sys.stderr)
         return 130
     except (InvalidParameterError, MethodNotAvailableError) as e:
+        print(f"rustfrac: error: invalid input: {e}", file=sys.stderr)
+        return 2
+    except InvalidResultError as e:  # a result folder given to read: missing or not a result
         print(f"rustfrac: error: invalid input: {e}", file=sys.stderr)
         return 2
     except OutputError as e:  # at the end of a run: the message says where the output went

@@ -14,6 +14,31 @@ def _choices(name: str) -> list[str]:
     return list(_core.scene_constants()[name])
 
 
+#: the levels of ``--log-level``, quietest last
+LOG_LEVELS = ("debug", "info", "warning", "error")
+
+
+def log_level(args: argparse.Namespace) -> int:
+    """The ``logging`` level the options ask for: ``--log-level``, else one step below warning
+    per ``-v``."""
+    import logging
+
+    if args.log_level is not None:
+        return int(getattr(logging, args.log_level.upper()))
+    return {0: logging.WARNING, 1: logging.INFO}.get(args.verbose, logging.DEBUG)
+
+
+def _at_least_one(text: str) -> int:
+    """An integer >= 1 (a count of processes or timings: 0 would silently mean the default)."""
+    try:
+        n = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an integer >= 1, got {text!r}") from None
+    if n < 1:
+        raise argparse.ArgumentTypeError(f"expected an integer >= 1, got {n}")
+    return n
+
+
 def build_parser() -> argparse.ArgumentParser:
     from .. import __version__
 
@@ -21,6 +46,19 @@ def build_parser() -> argparse.ArgumentParser:
         prog="rustfrac", description="rustfrac: crack propagation (FEM, XFEM, CCM-PD)"
     )
     p.add_argument("--version", action="version", version=f"rustfrac {__version__}")
+    p.add_argument(
+        "-v",
+        "--verbose",
+        action="count",
+        default=0,
+        help="show the library's log on stderr: -v its steps (info), -vv details (debug)",
+    )
+    p.add_argument(
+        "--log-level",
+        choices=LOG_LEVELS,
+        default=None,
+        help="the level of the library's log on stderr (default: warning; overrides -v)",
+    )
     sub = p.add_subparsers(dest="command", required=True)
     r = sub.add_parser("run", help="run a scene TOML file and save its results")
     r.add_argument("scene", type=Path, help="scene file (TOML)")
@@ -126,7 +164,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     w.add_argument(
         "--repeats",
-        type=int,
+        type=_at_least_one,
         default=None,
         help="timings per point, the minimum kept (default 3)",
     )
@@ -139,7 +177,9 @@ def build_parser() -> argparse.ArgumentParser:
         help="run on dask.distributed: a scheduler address (tcp://host:port) or 'local' (a "
         "LocalCluster of --workers processes); default: local processes",
     )
-    w.add_argument("--workers", type=int, default=None, help="local processes (default: cores)")
+    w.add_argument(
+        "--workers", type=_at_least_one, default=None, help="local processes (default: cores)"
+    )
     w.add_argument("--quiet", "-q", action="store_true", help="print nothing but errors")
     e = sub.add_parser(
         "examples", help="list the example scenes shipped with rustfrac (name and path)"

@@ -19,7 +19,7 @@ if TYPE_CHECKING:
 
 
 def cmd_run(args: argparse.Namespace) -> int:
-    from ..result import JSON_NAME, OWNED_NAMES, PVD_NAME, Result
+    from ..result import JSON_NAME, OWNED_NAMES, PVD_NAME, Result, stage_result
     from ..runner import run
 
     log = (lambda *a: None) if args.quiet else (lambda *a: print(*a, flush=True))
@@ -27,6 +27,14 @@ def cmd_run(args: argparse.Namespace) -> int:
     if scene is None:
         return 2
     scene = _checkpoint_options(scene, args)
+    resume = scene.pd.resume_from if scene.method in ("pd", "ccm_pd") else None
+    if resume and not Path(resume).is_file():  # an input: refused before computing, exit 2
+        what = "missing" if not Path(resume).exists() else "not a regular file"
+        print(
+            f"rustfrac: error: invalid --resume (pd.resume_from): checkpoint {resume} is {what}",
+            file=sys.stderr,
+        )
+        return 2
     try:
         check_writable(args.out)  # before computing: a bad --out must not cost the run
     except OutputError as e:
@@ -114,7 +122,7 @@ def cmd_run(args: argparse.Namespace) -> int:
         plots.clear()
         missing.clear()
         with writing(d, owned=OWNED_NAMES, last=JSON_NAME) as w:
-            res._stage(w, vtu=not args.no_vtu)
+            stage_result(res, w, vtu=not args.no_vtu)
             if args.plot:
                 _stage_plots(res, w, plots, missing)
         return d
@@ -144,6 +152,7 @@ def _stage_plots(res: _Result, w: FolderWriter, plots: list[str], missing: list[
     """``rustfrac run --plot``: the PNGs of a result, staged into its folder; Ctrl-C drops the
     plot being drawn and lists it and the rest in ``missing`` (the result is still written)."""
     from ..plotting import (
+        field_components,
         plot_crack_path,
         plot_damage,
         plot_field,
@@ -151,9 +160,9 @@ def _stage_plots(res: _Result, w: FolderWriter, plots: list[str], missing: list[
         plot_tip_deformation,
     )
 
-    name = "s22.png" if "nodal_stress" in res.fields else "u2.png"
+    component = "s22" if "s22" in field_components(res) else "u2"
     todo: list[tuple[str, Callable[[], Any]]] = [
-        (name, lambda: plot_field(res)),
+        (f"{component}.png", lambda: plot_field(res, component)),
         ("crack_path.png", lambda: plot_crack_path(res)),
     ]
     if res.damage is not None:

@@ -81,6 +81,87 @@ impl Dirichlet {
         })
     }
 
+    /// [`Dirichlet::check_rigid_modes`] on every connected part of a body whose stiffness links
+    /// the nodes pairwise by `links` (PD bonds, FEM element edges): the largest part and each
+    /// of more than `small` nodes must be held against its own three rigid-body modes by the conditions on its
+    /// own nodes (a body cut in two by a hole is two parts; smaller fragments are left to the
+    /// caller, e.g. PD's debris grounding). Nodes in no link carry no stiffness and are skipped.
+    /// The error names the free mode(s), the part's node count and its bounding box.
+    pub fn check_rigid_modes_by_part(
+        &self,
+        node_xy: &[[f64; 2]],
+        links: impl IntoIterator<Item = [usize; 2]>,
+        small: usize,
+    ) -> Result<()> {
+        let n = node_xy.len();
+        let mut parent: Vec<usize> = (0..n).collect();
+        let mut linked = vec![false; n];
+        fn root(p: &mut [usize], mut a: usize) -> usize {
+            while p[a] != a {
+                p[a] = p[p[a]];
+                a = p[a];
+            }
+            a
+        }
+        for [a, b] in links {
+            if a >= n || b >= n {
+                continue;
+            }
+            linked[a] = true;
+            linked[b] = true;
+            let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
+            if ra != rb {
+                parent[ra.max(rb)] = ra.min(rb);
+            }
+        }
+        let mut parts: std::collections::BTreeMap<usize, Vec<usize>> = Default::default();
+        for k in (0..n).filter(|&k| linked[k]) {
+            parts.entry(root(&mut parent, k)).or_default().push(k);
+        }
+        let mut bc_of: Vec<Vec<(usize, f64)>> = vec![Vec::new(); n];
+        for &(d, v) in &self.dofs {
+            if d / 2 < n {
+                bc_of[d / 2].push((d, v));
+            }
+        }
+        let largest = parts.values().map(Vec::len).max().unwrap_or(0);
+        let checked = |p: &&Vec<usize>| p.len() > small || p.len() == largest;
+        let several = parts.len() > 1;
+        for nodes in parts.values().filter(checked) {
+            let part = Dirichlet {
+                dofs: nodes
+                    .iter()
+                    .flat_map(|&k| bc_of[k].iter().copied())
+                    .collect(),
+            };
+            if let Err(Error::Singular { detail }) = part.check_rigid_modes(node_xy) {
+                let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+                for &k in nodes {
+                    for c in 0..2 {
+                        lo[c] = lo[c].min(node_xy[k][c]);
+                        hi[c] = hi[c].max(node_xy[k][c]);
+                    }
+                }
+                let what = if several {
+                    "a part of the body (the holes or cracks cut it off)"
+                } else {
+                    "the body"
+                };
+                return Err(Error::Singular {
+                    detail: format!(
+                        "{what} of {} nodes in [{:.4}, {:.4}] x [{:.4}, {:.4}]: {detail}",
+                        nodes.len(),
+                        lo[0],
+                        hi[0],
+                        lo[1],
+                        hi[1]
+                    ),
+                });
+            }
+        }
+        Ok(())
+    }
+
     /// N = sum r r^T over the prescribed dofs of the nodes (see
     /// [`Dirichlet::check_rigid_modes`]), positions relative to `centre` divided by `half`.
     fn rigid_mode_normal_matrix(

@@ -24,13 +24,23 @@
 //!   reference coordinates (xi, eta) with weights in the reference measure (they sum to 4 x the
 //!   material fraction), so `w det J` is the physical weight as for every other rule.
 //! * Nodes: a node's *support fraction* is the material area of the elements containing it over
-//!   their area. A node below [`DEFAULT_MIN_SUPPORT_FRACTION`] (no material at all, or a sliver)
-//!   is *removed*: its dofs are prescribed to 0 and left out of the rigid-mode check
+//!   their area. Only a node with no material at all (every element containing it void) is
+//!   *removed*: its dofs are prescribed to 0 and left out of the rigid-mode check
 //!   ([`FictitiousDomain::constrain`]); a condition on such a node (a grip on a notched edge) is
-//!   dropped. Like the Heaviside small-area rule of [`crate::xfem::enrichment`] it removes dofs
-//!   that carry (almost) nothing; for plain Q4 the equilibrated condition estimate does not
-//!   need it and holding a sliver node at 0 costs accuracy above 1e-3, which sets the default
-//!   (measurements at the constant).
+//!   dropped. Such a node has no stiffness, so holding it at 0 holds no material: the reaction
+//!   on every removed dof is exactly 0. A node keeping a sliver of material keeps its standard
+//!   dofs: for plain Q4 the sliver costs no conditioning (the Jacobi-equilibrated condition
+//!   estimate, what governs the Cholesky solve, does not grow as the sliver thins; measured at
+//!   [`DEFAULT_MIN_SUPPORT_FRACTION`]), while holding it at 0 would make it a hidden support
+//!   (it would carry a reaction the scene does not have). The small-cut-element treatment is
+//!   therefore the element's own: an element whose material part is below round-off
+//!   ([`WHOLE`] of its area) is void, every other one keeps its material part. What a sliver
+//!   does make ill-conditioned is an *enrichment*: four branch functions (or a Heaviside
+//!   function) on a sliver are nearly constant there, nearly dependent on the node's standard
+//!   function, so below [`DEFAULT_MIN_SUPPORT_FRACTION`] a node's enriched dofs (XFEM) are
+//!   prescribed to 0 ([`FictitiousDomain::drops_enrichment`]), which leaves the enrichment out
+//!   of the space and holds no material (like the Heaviside small-area rule of
+//!   [`crate::xfem::enrichment`]).
 //! * Holes thinner than two elements: a node inside a hole whose support reaches material on
 //!   both faces ties the faces together, so a slot narrower than about two elements is glued
 //!   (measured, `tests/suite/hole_validation.rs`: an XFEM crack from the tip of a half-element slot
@@ -49,18 +59,14 @@ use crate::geometry::{clip_box, polygon_area, subtract_convex, triangulate};
 use crate::problem::{Domain, Hole, Shape};
 use crate::warning::{Warning, WarningKind};
 
-/// Nodes whose support holds less material than this fraction are removed (module
-/// documentation). Measured (`tests/suite/hole_validation.rs`, `small_fraction_rule_bounds_the_condition`):
-/// * the condition estimate (of the Jacobi-equilibrated matrix, what governs the Cholesky
-///   solve) does not grow as a sliver thins: 2.72e4 without a sliver, 2.88e4 at f = 1e-5 on a
-///   32 x 32 grid (plain Q4 has no near-dependence; only the unscaled matrix's condition grows
-///   like 1 / f), so conditioning does not set the threshold;
-/// * accuracy does, since a removed node is held at 0: on Kirsch's plate (64 x 64, the hole off
-///   the grid's symmetry) thresholds 1e-6, 1e-4, 1e-3, 1e-2 change the energy-norm error by
-///   +3e-11, +1.8e-5, +4.1e-4, +59 %.
-///
-/// 1e-3, the largest decade costing below 1e-3 of the error, drops the slivers whose stresses
-/// are meaningless (a node held by 1e-3 of its support) without a measurable loss.
+/// Nodes whose support holds some material but less than this fraction keep their standard
+/// dofs and lose their enrichment (module documentation). Measured
+/// (`tests/suite/hole_validation.rs`, `small_fraction_rule_bounds_the_condition`): the
+/// condition estimate of plain Q4 (of the Jacobi-equilibrated matrix, what governs the Cholesky
+/// solve) does not grow as a sliver thins: 2.72e4 without a sliver, 2.88e4 at f = 1e-5 on a
+/// 32 x 32 grid (only the unscaled matrix's condition grows like 1 / f), so the standard dofs
+/// need no threshold; an enrichment on such a node is nearly dependent on its standard
+/// function. 1e-3 is the Heaviside small-area rule's order (Dolbow 1999) for the whole support.
 pub const DEFAULT_MIN_SUPPORT_FRACTION: f64 = 1e-3;
 
 /// Quadtree leaves of a cut element are at most (smallest cut radius) / this: the chord polygon's
@@ -72,8 +78,8 @@ pub const CIRCLE_LEAVES_PER_RADIUS: f64 = 32.0;
 pub const MAX_CIRCLE_DEPTH: usize = 8;
 
 /// Material fractions within this of 1 (0) make an element material (void): a hole touching an
-/// element along an edge or at a point leaves it whole.
-const WHOLE: f64 = 1e-12;
+/// element along an edge or at a point leaves it whole, a part below round-off is no material.
+pub const WHOLE: f64 = 1e-12;
 
 /// How an element meets the holes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -103,9 +109,12 @@ pub struct FictitiousDomain {
     rules: Vec<Vec<QPoint>>,
     /// material fraction of every node's support
     pub node_fraction: Vec<f64>,
-    /// nodes removed (sorted): no material, or less than the threshold, in their support
+    /// nodes removed (sorted): no material in their support
     pub removed_nodes: Vec<usize>,
     removed: Vec<bool>,
+    /// nodes with material, but less than the threshold, in their support: their enrichment is
+    /// dropped ([`FictitiousDomain::drops_enrichment`])
+    sliver: Vec<bool>,
     /// holes and notches narrower than [`MIN_ELEMENTS_ACROSS`] elements (`narrow_holes`):
     /// their faces are tied, so the result is stiffer than the scene's
     pub warnings: Vec<Warning>,
@@ -171,7 +180,8 @@ fn degree_of(gauss: usize) -> usize {
 impl FictitiousDomain {
     /// The data of `mesh` and the holes of `domain` (None without holes); `gauss` is the model's
     /// Gauss points per direction (the degree of the cut elements' rule), `min_fraction` the
-    /// node removal threshold (0 <= t < 1; [`DEFAULT_MIN_SUPPORT_FRACTION`]). Refuses holes of
+    /// support fraction below which a node's enrichment is dropped (0 <= t < 1;
+    /// [`DEFAULT_MIN_SUPPORT_FRACTION`]; no node with material is removed). Refuses holes of
     /// invalid shape (naming the hole, `hole[k].radius`, `notch[k]`, ...) and holes that leave
     /// no material.
     pub fn new(
@@ -210,6 +220,7 @@ impl FictitiousDomain {
             node_fraction: Vec::new(),
             removed_nodes: Vec::new(),
             removed: Vec::new(),
+            sliver: Vec::new(),
             warnings: narrow_holes(mesh, domain),
         };
         for e in 0..ne {
@@ -235,7 +246,8 @@ impl FictitiousDomain {
         Ok(Some(fd))
     }
 
-    /// Support fractions and the removed nodes.
+    /// Support fractions, the removed nodes (no material) and the sliver nodes (below
+    /// `min_fraction`).
     fn node_support(&mut self, mesh: &Mesh, min_fraction: f64) {
         let n = mesh.n_nodes();
         let (mut mat, mut all) = (vec![0.0; n], vec![0.0; n]);
@@ -252,10 +264,11 @@ impl FictitiousDomain {
             .zip(&all)
             .map(|(m, a)| if *a > 0.0 { m / a } else { 0.0 })
             .collect();
-        self.removed = self
+        self.removed = self.node_fraction.iter().map(|&f| f <= 0.0).collect();
+        self.sliver = self
             .node_fraction
             .iter()
-            .map(|&f| f <= 0.0 || f < min_fraction)
+            .map(|&f| f > 0.0 && f < min_fraction)
             .collect();
         self.removed_nodes = (0..n).filter(|&k| self.removed[k]).collect();
     }
@@ -275,9 +288,15 @@ impl FictitiousDomain {
         (0..n_nodes).map(|n| !self.is_removed(n)).collect()
     }
 
-    /// Whether node `n` is removed (its dofs prescribed to 0).
+    /// Whether node `n` is removed (no material: its dofs prescribed to 0).
     pub fn is_removed(&self, n: usize) -> bool {
         self.removed[n]
+    }
+
+    /// Whether node `n`'s enriched dofs are prescribed to 0: removed, or a sliver (some material
+    /// but less than the threshold in its support; its standard dofs stay free).
+    pub fn drops_enrichment(&self, n: usize) -> bool {
+        self.removed[n] || self.sliver[n]
     }
 
     /// The stiffness rule of element `e`: `full` (its own rule) for a material element, empty
@@ -326,8 +345,9 @@ impl FictitiousDomain {
     /// The Dirichlet conditions of a model with these holes: the conditions `bc` less those on
     /// removed nodes, checked for the rigid-body modes ([`Dirichlet::check_rigid_modes`] on the
     /// node positions `node_xy`), then every dof of a removed node prescribed to 0: its standard
-    /// dofs and the further dofs `extra(node)` gives (XFEM enrichment). The forces `f` on those
-    /// dofs are zeroed.
+    /// dofs and the further dofs `extra(node)` gives (XFEM enrichment), and the further dofs of
+    /// every other node that [drops its enrichment](Self::drops_enrichment). The forces `f` on
+    /// those dofs are zeroed.
     pub fn constrain(
         &self,
         bc: Dirichlet,
@@ -344,12 +364,18 @@ impl FictitiousDomain {
                 .collect(),
         };
         kept.check_rigid_modes(node_xy)?;
-        for &n in &self.removed_nodes {
-            for d in [2 * n, 2 * n + 1].into_iter().chain(extra(n)) {
-                kept.dofs.push((d, 0.0));
-                if let Some(v) = f.get_mut(d) {
-                    *v = 0.0;
-                }
+        let mut hold = |d: usize| {
+            kept.dofs.push((d, 0.0));
+            if let Some(v) = f.get_mut(d) {
+                *v = 0.0;
+            }
+        };
+        for n in 0..self.removed.len() {
+            if self.removed[n] {
+                [2 * n, 2 * n + 1].into_iter().for_each(&mut hold);
+            }
+            if self.drops_enrichment(n) {
+                extra(n).into_iter().for_each(&mut hold);
             }
         }
         Ok(kept)

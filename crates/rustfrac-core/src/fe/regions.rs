@@ -27,6 +27,10 @@ pub struct RegionSet {
     /// the direction the region is driven in at the reference load (the applied force or the
     /// prescribed displacement; None when it is held at zero): responses are read along it
     pub drive: Option<[f64; 2]>,
+    /// a support's prescribed components (u1, u2); a load's none
+    pub fixed: [bool; 2],
+    /// a load's resultant (its own nodal forces summed); a support's zero
+    pub applied: [f64; 2],
 }
 
 /// Dirichlet set, force vector and region node sets of a scene's supports and loads.
@@ -41,7 +45,9 @@ pub struct RegionConditions {
 /// The responses of one region for a solution (u, reactions) at the reference load.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RegionResponse {
-    /// total force the region receives from outside (reaction + applied), over the thickness
+    /// the force the region receives from outside, over the thickness: a support's reaction
+    /// (K u - f summed over its nodes in the components it prescribes, zero in the free ones,
+    /// so no applied load's share), a load's resultant; every region's sum to zero
     pub force: [f64; 2],
     /// edge regions: the mean normal stress F . n / (L h)
     pub mean_stress: Option<f64>,
@@ -50,21 +56,32 @@ pub struct RegionResponse {
 }
 
 impl RegionSet {
+    /// The internal force K u = reactions + f summed over the region's nodes (the load path's
+    /// response, which the SLA engines condense as rows of K u: `pd::splice::response`).
+    fn internal_force(&self, reactions: &[f64], f: &[f64]) -> [f64; 2] {
+        let mut force = [0.0; 2];
+        for &n in &self.nodes {
+            for c in 0..2 {
+                force[c] += reactions[2 * n + c] + f[2 * n + c];
+            }
+        }
+        force
+    }
+
     /// The region's responses.
-    pub fn response(
-        &self,
-        u: &[f64],
-        reactions: &[f64],
-        f: &[f64],
-        thickness: f64,
-    ) -> RegionResponse {
+    pub fn response(&self, u: &[f64], reactions: &[f64], thickness: f64) -> RegionResponse {
         let mut force = [0.0; 2];
         let mut disp = [0.0; 2];
         for &n in &self.nodes {
             for c in 0..2 {
-                force[c] += reactions[2 * n + c] + f[2 * n + c];
+                if self.fixed[c] {
+                    force[c] += reactions[2 * n + c];
+                }
                 disp[c] += u[2 * n + c];
             }
+        }
+        if self.fixed == [false, false] {
+            force = self.applied;
         }
         let k = self.nodes.len().max(1) as f64;
         RegionResponse {
@@ -100,6 +117,7 @@ type EdgeGeometry = Option<(f64, [f64; 2])>;
 /// The nodes of a region (and its edge geometry), refusing a region with none.
 fn nodes_of(
     mesh: &Mesh,
+    domain: &Domain,
     active: &[bool],
     region: &Region,
     name: &str,
@@ -144,10 +162,15 @@ fn nodes_of(
                         && p[1] <= b[3] + tol
                 })
                 .collect();
-            if nodes.is_empty() {
+            // a box in a hole holds only fictitious nodes (the plate would be held there)
+            if !nodes
+                .iter()
+                .any(|&n| domain.level_set(mesh.coords[n]) > 0.0)
+            {
                 return Err(Error::invalid(
                     &format!("{name}.box"),
-                    "a box holding at least one node of the mesh",
+                    "a box holding at least one node of the mesh in the material (outside the \
+                     holes and notches)",
                     format!("{b:?}"),
                 ));
             }
@@ -248,7 +271,7 @@ pub fn region_conditions(
     let mut sets = Vec::with_capacity(supports.len() + loads.len());
     let mut owner: std::collections::HashMap<usize, &str> = std::collections::HashMap::new();
     for s in supports {
-        let (nodes, edge) = nodes_of(mesh, active, &s.region, &s.name)?;
+        let (nodes, edge) = nodes_of(mesh, domain, active, &s.region, &s.name)?;
         for (comp, v) in [(0, s.u1), (1, s.u2)] {
             let Some(v) = v else { continue };
             for &n in &nodes {
@@ -277,10 +300,20 @@ pub fn region_conditions(
             nodes,
             edge,
             drive: (dv != [0.0, 0.0]).then_some(dv),
+            fixed: [s.u1.is_some(), s.u2.is_some()],
+            applied: [0.0; 2],
         });
     }
+    let total = |f: &[f64]| -> [f64; 2] {
+        let mut t = [0.0; 2];
+        for (d, v) in f.iter().enumerate().take(2 * mesh.n_nodes()) {
+            t[d % 2] += v;
+        }
+        t
+    };
     for l in loads {
-        let (nodes, edge) = nodes_of(mesh, active, &l.region, &l.name)?;
+        let (nodes, edge) = nodes_of(mesh, domain, active, &l.region, &l.name)?;
+        let before = total(&f);
         let drive = match (l.kind, l.region) {
             (LoadKind::Force(fv), _) => {
                 for c in 0..2 {
@@ -315,11 +348,14 @@ pub fn region_conditions(
                 ))
             }
         };
+        let after = total(&f);
         sets.push(RegionSet {
             name: l.name.clone(),
             nodes,
             edge,
             drive: (drive != [0.0, 0.0]).then_some(drive),
+            fixed: [false; 2],
+            applied: [after[0] - before[0], after[1] - before[1]],
         });
     }
     Ok(RegionConditions { bc, f, sets })
@@ -346,13 +382,14 @@ impl RegionConditions {
         let Some(s) = self.primary() else {
             return (0.0, 0.0);
         };
-        let r = s.response(u, reactions, f, thickness);
+        let r = s.response(u, reactions, thickness);
+        let force = s.internal_force(reactions, f);
         let d = s.drive.unwrap_or([0.0, 0.0]);
         let dn = d[0].hypot(d[1]).max(f64::MIN_POSITIVE);
         let along = |v: [f64; 2]| (v[0] * d[0] + v[1] * d[1]) / dn;
         let resp = match s.edge {
-            Some((l, _)) => along(r.force) / (l * thickness),
-            None => along(r.force),
+            Some((l, _)) => along(force) / (l * thickness),
+            None => along(force),
         };
         (resp, along(r.displacement))
     }
@@ -407,7 +444,7 @@ impl RegionConditions {
             regions: self
                 .sets
                 .iter()
-                .map(|s| (s.name.clone(), s.response(u, reactions, f, thickness)))
+                .map(|s| (s.name.clone(), s.response(u, reactions, thickness)))
                 .collect(),
             probes: Vec::new(),
             load_displacement: self.primary_response(u, reactions, f, thickness).1,

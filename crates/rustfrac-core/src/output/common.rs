@@ -27,6 +27,12 @@ pub(super) fn start(p: &Problem, h: Headline, warnings: &[Warning]) -> Record {
     top.set("cmod", h.cmod);
     top.set("n_dofs", h.n_dofs);
     top.set("wall_time_s", h.wall_time_s);
+    // the scene's own warnings (said before the run too: `Problem::scene_warnings`), then the run's
+    let warnings: Vec<Warning> = p
+        .scene_warnings()
+        .into_iter()
+        .chain(warnings.iter().cloned())
+        .collect();
     let m = &mut r.meta;
     m.set("version", env!("CARGO_PKG_VERSION"));
     m.set("method", method);

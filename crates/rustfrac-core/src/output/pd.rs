@@ -1,33 +1,93 @@
-//! The record of a PD or CCM-PD run ([`CcmPdResult`]): the SLA history (the unloaded origin
-//! first), the grid's fields and damage, the PD constants, and how the SLA ran (status, engine,
-//! region growths, counts, timings).
+//! The record of a PD or CCM-PD run ([`CcmPdResult`]), read group by group: the SLA history
+//! (the unloaded origin first), the grid's fields and damage (geometry, reference and final
+//! state), the PD constants, and how the SLA ran (status, solver, region growths, solver work,
+//! counts, timings).
 
 use super::common::{self, Headline};
 use super::record::{Entries, Record, Value};
 use crate::error::{Error, Result};
-use crate::pd::sla::{CcmPdResult, SlaStep};
+use crate::pd::sla::{
+    CcmPdResult, Constants, FinalState, Geometry, ModelCounts, ReferenceState, RegionRecord,
+    SlaStep, SolverWork,
+};
 use crate::problem::schema::PD_REGIONS;
-use crate::problem::Problem;
+use crate::problem::{PdMethod, Problem};
 
 impl CcmPdResult {
-    /// The run's record (names: [`super::schema`]); `wall` is the run's wall time. Fails
-    /// (an internal error) when the damage snapshots are of unequal lengths.
+    /// The run's record (names: [`super::schema`]), group by group; `wall` is the run's wall
+    /// time. Fails (an internal error) when the damage snapshots are of unequal lengths.
     pub fn into_record(self, p: &Problem, wall: f64) -> Result<Record> {
         let h = Headline {
-            sigma22: self.sigma22,
-            cmod: self.cmod,
-            n_dofs: self.n_dofs,
+            sigma22: self.reference.sigma22,
+            cmod: self.reference.cmod,
+            n_dofs: self.counts.n_dofs,
             wall_time_s: wall,
         };
         let mut rec = common::start(p, h, &self.warnings);
-        let mut r = self;
-        history(&mut rec, &r);
-        fields(&mut rec, &mut r)?;
-        meta(&mut rec, &r, p, wall);
+        history(&mut rec, &self);
+        let CcmPdResult {
+            run,
+            counts,
+            constants,
+            geometry,
+            mut reference,
+            history,
+            final_state,
+            region,
+            work,
+            timings,
+            warnings: _,
+        } = self;
+        let anchor = (geometry.anchor_node, geometry.anchor_xy);
+        let u = std::mem::take(&mut reference.u);
+        fields(&mut rec, geometry, u, final_state)?;
+        for (k, v) in [
+            ("gamma", constants.pd.gamma),
+            ("c", constants.pd.c),
+            ("s0", constants.pd.s0),
+            ("delta", constants.pd.delta),
+        ] {
+            rec.scalars.set(k, v);
+        }
+        let Some(pd) = p.pd() else {
+            return Ok(rec);
+        };
+        scene_echo(&mut rec, p, pd, &reference, anchor);
+        let m = &mut rec.meta;
+        m.set("status", run.status.name());
+        m.set("solver", run.solver.describe());
+        m.set("sla_steps_done", history.len());
+        pd_region(m, pd, &region.regions);
+        corrections(m, pd, &constants);
+        growth(m, pd, &region);
+        m.set("precrack", Value::points(&p.pd_precrack()));
+        m.set(
+            "out_of_balance",
+            Value::float_list(&reference.out_of_balance),
+        );
+        solver_work(m, &work, run.solver.refactor_interval);
+        m.set("resumed_steps", run.resumed_steps);
+        m.set("n_checkpoints", run.n_checkpoints);
+        let path = |q: &Option<std::path::PathBuf>| q.as_ref().map(|x| x.display().to_string());
+        m.set("checkpoint_path", Value::opt(path(&pd.sla.checkpoint_path)));
+        m.set("resumed_from", Value::opt(path(&pd.sla.resume_from)));
+        m.set("peak_memory_bytes", Value::opt(timings.peak_memory_bytes));
+        m.set("counts", count_entries(&counts));
+        let switch_s = region.switches.iter().fold(0.0, |a, s| a + s.seconds);
+        common::timings(
+            &mut rec,
+            wall,
+            &[
+                ("setup_s", timings.setup_seconds),
+                ("sla_s", timings.sla_seconds),
+                ("region_switch_s", switch_s),
+            ],
+        );
         Ok(rec)
     }
 }
 
+/// The history's columns: one row per step, the unloaded origin first.
 fn history(rec: &mut Record, r: &CcmPdResult) {
     let o = r.origin();
     let h: Vec<&SlaStep> = std::iter::once(&o).chain(&r.history).collect();
@@ -47,7 +107,7 @@ fn history(rec: &mut Record, r: &CcmPdResult) {
     hs.set("node_j", Value::ints(h.iter().map(|x| node(x.nodes[1]))));
     hs.set("n_detached", idx(|x| x.detached.len() as i64));
     // the probes at every step's load (the origin: unloaded, zero)
-    for (k, (name, _)) in r.responses.probes.iter().enumerate() {
+    for (k, (name, _)) in r.reference.responses.probes.iter().enumerate() {
         for c in 0..2 {
             let v = h
                 .iter()
@@ -58,50 +118,46 @@ fn history(rec: &mut Record, r: &CcmPdResult) {
     }
 }
 
-/// The grid, the displacements and the damage (the arrays are moved out of the result, whose
-/// other parts [`meta`] reads).
-fn fields(rec: &mut Record, r: &mut CcmPdResult) -> Result<()> {
+/// The fields: the damage snapshots, the grid, the reference and final displacements, the
+/// final damage and broken bonds, the groundings.
+fn fields(rec: &mut Record, g: Geometry, u: Vec<f64>, fin: FinalState) -> Result<()> {
     let f = &mut rec.fields;
-    let p = r.damage.len();
+    let p = fin.damage.len();
     f.set(
         "damage_at_steps",
-        Value::ints(r.damage_at.iter().map(|(k, _)| *k as i64)),
+        Value::ints(fin.damage_at.iter().map(|(k, _)| *k as i64)),
     );
-    let snaps: Vec<f64> = r.damage_at.iter().flat_map(|(_, v)| v.clone()).collect();
-    if snaps.len() != r.damage_at.len() * p {
+    let n_snaps = fin.damage_at.len();
+    let snaps: Vec<f64> = fin.damage_at.into_iter().flat_map(|(_, v)| v).collect();
+    if snaps.len() != n_snaps * p {
         return Err(Error::Internal {
             detail: "damage_at: snapshots of unequal length".into(),
         });
     }
-    f.set("damage_at", Value::table(r.damage_at.len(), p, snaps));
-    f.set("node_xy", Value::rows(std::mem::take(&mut r.node_xy)));
-    f.set("u", Value::floats(std::mem::take(&mut r.u)));
-    f.set("u_final", Value::floats(std::mem::take(&mut r.u_final)));
-    f.set("pd_nodes", Value::indices(&r.pd_nodes));
-    f.set("pd_node_xy", Value::rows(std::mem::take(&mut r.pd_node_xy)));
-    f.set("damage", Value::floats(std::mem::take(&mut r.damage)));
-    f.set("broken", Value::Bools(std::mem::take(&mut r.broken)));
-    f.set(
-        "bond_nodes",
-        Value::index_rows(std::mem::take(&mut r.bond_nodes)),
-    );
-    let detached = r.detached_nodes.iter().map(|&(st, n)| [st, n]);
+    f.set("damage_at", Value::table(n_snaps, p, snaps));
+    f.set("node_xy", Value::rows(g.node_xy));
+    f.set("u", Value::floats(u));
+    f.set("u_final", Value::floats(fin.u));
+    f.set("pd_nodes", Value::indices(&g.pd_nodes));
+    f.set("pd_node_xy", Value::rows(g.pd_node_xy));
+    f.set("damage", Value::floats(fin.damage));
+    f.set("broken", Value::Bools(fin.broken));
+    f.set("bond_nodes", Value::index_rows(g.bond_nodes));
+    let detached = fin.detached_nodes.iter().map(|&(st, n)| [st, n]);
     f.set("detached_nodes", Value::index_rows(detached));
     Ok(())
 }
 
-fn meta(rec: &mut Record, r: &CcmPdResult, p: &Problem, wall: f64) {
-    for (k, v) in [
-        ("gamma", r.gamma),
-        ("c", r.c),
-        ("s0", r.s0),
-        ("delta", r.delta),
-    ] {
-        rec.scalars.set(k, v);
-    }
-    let Some(pd) = p.pd() else {
-        return;
-    };
+/// What the meta echoes of the scene: the conditions, the anchor (its node and position), the
+/// load's work-conjugate pair, and the general scene's responses of the pre-cracked model before
+/// any break (the history's sigma22 and u0 follow every break).
+fn scene_echo(
+    rec: &mut Record,
+    p: &Problem,
+    pd: &PdMethod,
+    reference: &ReferenceState,
+    (anchor_node, anchor_xy): (usize, [f64; 2]),
+) {
     if pd.regions.is_empty() {
         let d = format!(
             "{}; on volumetric PD boundary layers",
@@ -109,22 +165,19 @@ fn meta(rec: &mut Record, r: &CcmPdResult, p: &Problem, wall: f64) {
         );
         rec.meta.set("bc_description", d);
     }
-    common::anchor(rec, p, r.anchor_node);
+    common::anchor(rec, p, anchor_node);
     common::work_conjugate(rec, p);
-    // the general scene's responses of the pre-cracked model before any break (the history's
-    // sigma22 and u0 follow every break)
-    common::responses(rec, p, &r.responses);
-    let m = &mut rec.meta;
-    let anchor_xy = common::has_anchor(p).then(|| Value::float_list(&r.anchor_xy));
-    m.set("anchor_xy", Value::opt(anchor_xy));
-    m.set("status", r.status.name());
-    m.set("solver", r.solver.as_str());
-    m.set("sla_steps_done", r.history.len());
-    match r.regions.is_empty() {
-        false => m.set("pd_regions", Value::boxes(&r.regions)),
+    common::responses(rec, p, &reference.responses);
+    let anchor_xy = common::has_anchor(p).then(|| Value::float_list(&anchor_xy));
+    rec.meta.set("anchor_xy", Value::opt(anchor_xy));
+}
+
+/// The PD rectangles at the end and the scene key's own value ("fixed", "adaptive").
+fn pd_region(m: &mut Entries, pd: &PdMethod, regions: &[[f64; 4]]) {
+    match regions.is_empty() {
+        false => m.set("pd_regions", Value::boxes(regions)),
         true => m.set("pd_regions", "the whole plate"),
     }
-    // the scene key's own values ("fixed", "adaptive")
     let [fixed, adaptive] = PD_REGIONS;
     m.set(
         "pd_region",
@@ -134,9 +187,13 @@ fn meta(rec: &mut Record, r: &CcmPdResult, p: &Problem, wall: f64) {
             fixed
         },
     );
-    // the surface correction (scene key pd.surface_correction) and, with it, its factors
+}
+
+/// The surface correction (scene key `pd.surface_correction`) with its factors, and the
+/// critical stretch's rule: s0 = factor x eq. 48's, G_ref / G0 with eq. 48's s0.
+fn corrections(m: &mut Entries, pd: &PdMethod, c: &Constants) {
     m.set("surface_correction", pd.surface_correction.name());
-    if let Some(sc) = &r.surface_correction {
+    if let Some(sc) = &c.surface_correction {
         m.set("surface_nodes_corrected", sc.n_nodes_corrected);
         m.set(
             "surface_node_factor_range",
@@ -147,19 +204,21 @@ fn meta(rec: &mut Record, r: &CcmPdResult, p: &Problem, wall: f64) {
             Value::float_list(&sc.bond_factor_range),
         );
     }
-    // the critical stretch's rule: s0 = factor x eq. 48's, G_ref / G0 with eq. 48's s0
-    let cal = &r.s0_calibration;
+    let cal = &c.s0_calibration;
     let mut d = Entries::new();
     d.set("rule", cal.rule.name());
     d.set("factor", cal.factor);
     d.set("G_ref_over_G0", cal.g_ref_over_g0);
     m.set("s0_calibration", d);
-    // the adaptive region: where it started, its growths, and the closest approach of a broken
-    // bond to the FEM part (every CCM-PD run)
+}
+
+/// The adaptive region: where it started, its growths, and the closest approach of a broken
+/// bond to the FEM part (every CCM-PD run).
+fn growth(m: &mut Entries, pd: &PdMethod, region: &RegionRecord) {
     if pd.adaptive.is_some() {
         m.set("pd_regions_initial", Value::boxes(&pd.regions));
     }
-    let switches = r.switches.iter().map(|sw| {
+    let switches = region.switches.iter().map(|sw| {
         let mut d = Entries::new();
         d.set("step", sw.step);
         d.set("n_regions", sw.regions.len());
@@ -171,43 +230,33 @@ fn meta(rec: &mut Record, r: &CcmPdResult, p: &Problem, wall: f64) {
     m.set("region_switches", Value::List(switches.collect()));
     m.set(
         "interface_distance_min",
-        Value::opt(r.interface_distance_min),
+        Value::opt(region.interface_distance_min),
     );
-    m.set("precrack", Value::points(&p.pd_precrack()));
-    m.set("out_of_balance", Value::float_list(&r.out_of_balance));
-    m.set("n_refactorisations", r.n_refactorisations);
-    m.set("max_update_rank", r.max_update_rank);
-    m.set("inverse_columns", r.inverse_columns);
-    m.set("screened_steps", r.screened_steps);
-    m.set("screened_bonds", r.screened_bonds);
-    m.set("refactor_interval", r.refactor_interval);
-    m.set("resumed_steps", r.resumed_steps);
-    m.set("n_checkpoints", r.n_checkpoints);
-    let path = |q: &Option<std::path::PathBuf>| q.as_ref().map(|x| x.display().to_string());
-    m.set("checkpoint_path", Value::opt(path(&pd.sla.checkpoint_path)));
-    m.set("resumed_from", Value::opt(path(&pd.sla.resume_from)));
-    m.set("peak_memory_bytes", Value::opt(r.peak_memory_bytes));
+}
+
+/// The solver's work and its re-condensation interval.
+fn solver_work(m: &mut Entries, w: &SolverWork, refactor_interval: usize) {
+    m.set("n_refactorisations", w.n_refactorisations);
+    m.set("max_update_rank", w.max_update_rank);
+    m.set("inverse_columns", w.inverse_columns);
+    m.set("screened_steps", w.screened_steps);
+    m.set("screened_bonds", w.screened_bonds);
+    m.set("refactor_interval", refactor_interval);
+}
+
+/// The model's sizes.
+fn count_entries(c: &ModelCounts) -> Entries {
     let mut counts = Entries::new();
     for (k, v) in [
-        ("n_nodes", r.n_nodes),
-        ("n_dofs", r.n_dofs),
-        ("n_pd_nodes", r.n_pd_nodes),
-        ("n_bonds", r.n_bonds),
-        ("n_precrack_bonds", r.n_precrack_bonds),
-        ("n_removed_elements", r.n_removed_elements),
-        ("bytes_per_bond", r.bytes_per_bond),
+        ("n_nodes", c.n_nodes),
+        ("n_dofs", c.n_dofs),
+        ("n_pd_nodes", c.n_pd_nodes),
+        ("n_bonds", c.n_bonds),
+        ("n_precrack_bonds", c.n_precrack_bonds),
+        ("n_removed_elements", c.n_removed_elements),
+        ("bytes_per_bond", c.bytes_per_bond),
     ] {
         counts.set(k, v);
     }
-    m.set("counts", counts);
-    let switch_s = r.switches.iter().fold(0.0, |a, s| a + s.seconds);
-    common::timings(
-        rec,
-        wall,
-        &[
-            ("setup_s", r.setup_seconds),
-            ("sla_s", r.sla_seconds),
-            ("region_switch_s", switch_s),
-        ],
-    );
+    counts
 }

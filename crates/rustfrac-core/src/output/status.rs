@@ -25,11 +25,12 @@ pub const GROWTH_STATUSES: [GrowthStatus; 7] = [
 ];
 
 /// Every SLA status.
-pub const SLA_STATUSES: [SlaStatus; 5] = [
+pub const SLA_STATUSES: [SlaStatus; 6] = [
     SlaStatus::Completed,
     SlaStatus::CrackLengthReached,
     SlaStatus::Separated,
     SlaStatus::NoBondInTension,
+    SlaStatus::LoadedBoundaryReached,
     SlaStatus::Cancelled,
 ];
 
@@ -63,6 +64,13 @@ pub fn sla_meaning(s: SlaStatus) -> &'static str {
              cut)"
         }
         SlaStatus::NoBondInTension => "no intact bond is in tension",
+        SlaStatus::LoadedBoundaryReached => {
+            "the next critical bond ends at a PD node that carries an applied force (a loaded \
+             edge or point load inside the PD region): bond-based PD breaks \
+             bonds there that the edge's nodal forces make (its nodes miss half their neighbours), \
+             not the crack; the step is not taken. Keep the PD region off loaded and supported \
+             edges (pd.center / pd.size; adaptive: a larger plate), or load through the FEM part"
+        }
         SlaStatus::Cancelled => "the progress callback asked to stop (the steps so far are kept)",
     }
 }

@@ -225,7 +225,7 @@ fn sla_records() -> Vec<(String, Record)> {
     ]
     .into_iter()
     .map(|(n, p)| {
-        let r = crate::pd::sla::run(&p, &|_, _| true).expect("the SLA runs");
+        let r = crate::pd::analysis::run(&p, &|_, _| true).expect("the SLA runs");
         (n.to_string(), r.into_record(&p, 0.5).expect("a record"))
     })
     .collect()

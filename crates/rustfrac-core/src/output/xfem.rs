@@ -4,6 +4,7 @@
 use super::common::{self, Headline};
 use super::record::{Entries, Record, Value};
 use crate::problem::{Method, Problem};
+use crate::xfem::growth_state::node_enrichment;
 use crate::xfem::{GrowthStep, TipStep, XfemResult};
 
 impl XfemResult {
@@ -24,6 +25,7 @@ impl XfemResult {
         mesh_fields(&mut rec, &mut r);
         sif_fields(&mut rec, &r);
         growth_fields(&mut rec, &r);
+        state_fields(&mut rec, &mut r);
         if growth {
             history(&mut rec, &r, p, condition);
         }
@@ -37,13 +39,7 @@ impl XfemResult {
 fn mesh_fields(rec: &mut Record, r: &mut XfemResult) {
     let f = &mut rec.fields;
     let n_nodes = r.coords.len();
-    let mut enrichment = vec![0.0; n_nodes];
-    for &n in &r.heaviside_nodes {
-        enrichment[n] = 1.0;
-    }
-    for &n in &r.tip_nodes {
-        enrichment[n] = 2.0;
-    }
+    let enrichment = node_enrichment(n_nodes, &r.heaviside_nodes, &r.tip_nodes);
     let mut offsets: Vec<usize> = vec![0];
     for poly in &r.cut.polygons {
         offsets.push(offsets[offsets.len() - 1] + poly.len());
@@ -55,6 +51,7 @@ fn mesh_fields(rec: &mut Record, r: &mut XfemResult) {
     );
     f.set("u", Value::floats(r.u[..r.n_std].to_vec()));
     f.set("u_enriched", Value::floats(std::mem::take(&mut r.u)));
+    f.set("reactions", Value::floats(std::mem::take(&mut r.reactions)));
     f.set("enrichment", Value::floats(enrichment));
     f.set("heaviside_nodes", Value::indices(&r.heaviside_nodes));
     f.set("tip_nodes", Value::indices(&r.tip_nodes));
@@ -141,6 +138,78 @@ fn growth_fields(rec: &mut Record, r: &XfemResult) {
     f.set("snapshot_cells", Value::quads(cells));
     f.set("snapshot_disp", Value::quads(disp));
     f.set("snapshot_offsets", Value::ints(offsets));
+}
+
+/// The whole plate at every kept critical state of a growth ([`crate::xfem::GrowthState`]),
+/// state after state: the tables of fixed size per state as (n_states, ..) arrays, the cut cells
+/// and the cracks concatenated with offsets (empty arrays without growth).
+fn state_fields(rec: &mut Record, r: &mut XfemResult) {
+    let f = &mut rec.fields;
+    let states = std::mem::take(&mut r.states);
+    let n = states.len();
+    let (n_nodes, n_el) = (rows_of(f, "coords"), rows_of(f, "elements"));
+    let (mut u, mut stress, mut enrichment) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut cut_offsets, mut point_offsets): (Vec<usize>, Vec<usize>) = (vec![0], vec![0]);
+    let (mut points, mut disp, mut element) = (Vec::new(), Vec::new(), Vec::new());
+    let mut cut_stress = Vec::new();
+    let (mut crack_points, mut crack_offsets): (Vec<[f64; 2]>, Vec<usize>) = (Vec::new(), vec![0]);
+    for s in &states {
+        u.extend_from_slice(&s.u);
+        enrichment.extend_from_slice(&s.enrichment);
+        stress.extend(s.stress.iter().flatten());
+        for (poly, d) in s.cut.polygons.iter().zip(&s.cut.disp) {
+            points.extend_from_slice(poly);
+            disp.extend_from_slice(d);
+            point_offsets.push(points.len());
+        }
+        element.extend_from_slice(&s.cut.element);
+        cut_stress.extend_from_slice(&s.cut.stress);
+        cut_offsets.push(element.len());
+        for c in &s.cracks {
+            crack_points.extend_from_slice(c);
+            crack_offsets.push(crack_points.len());
+        }
+    }
+    let rows: Vec<usize> = states.iter().map(|s| s.row).collect();
+    f.set("state_rows", Value::indices(&rows));
+    f.set(
+        "state_u",
+        Value::Floats {
+            shape: vec![n, 2 * n_nodes],
+            data: u,
+        },
+    );
+    f.set(
+        "state_stress",
+        Value::Floats {
+            shape: vec![n, n_el, 3],
+            data: stress,
+        },
+    );
+    f.set(
+        "state_enrichment",
+        Value::Floats {
+            shape: vec![n, n_nodes],
+            data: enrichment,
+        },
+    );
+    f.set("state_cut_offsets", Value::indices(&cut_offsets));
+    f.set("state_cut_points", Value::rows(points));
+    f.set("state_cut_disp", Value::rows(disp));
+    f.set("state_cut_point_offsets", Value::indices(&point_offsets));
+    f.set("state_cut_element", Value::indices(&element));
+    f.set("state_cut_stress", Value::rows(cut_stress));
+    f.set("state_cracks", Value::rows(crack_points));
+    f.set("state_cracks_offsets", Value::indices(&crack_offsets));
+}
+
+/// The rows of the record's array `name` (the mesh's `coords` or `elements`, set before the
+/// states).
+fn rows_of(f: &Entries, name: &str) -> usize {
+    match f.get(name) {
+        Some(Value::Floats { shape, .. } | Value::Ints { shape, .. }) => shape[0],
+        _ => 0,
+    }
 }
 
 /// The growth's history (origin first), with the responses and, when computed, the condition.

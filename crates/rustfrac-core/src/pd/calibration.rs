@@ -131,12 +131,13 @@ pub fn reference_strip(
 /// 1/2 D_k^2 (K_k - K_k+1) (K after the last break 0) over t (W - a0) G0. Errors if the run does
 /// not end separated.
 pub fn strip_release_ratio(p: &Problem) -> Result<f64> {
-    let r = sla::run(p, &|_, _| true)?;
-    if r.status != SlaStatus::Separated {
+    // the strip's own rule is eq. 48 (`reference_strip` sets no pd.s0_calibration)
+    let r = sla::run_calibrated(p, Calibration::continuum(), &|_| true)?;
+    if r.run.status != SlaStatus::Separated {
         return Err(Error::Internal {
             detail: format!(
                 "s0 calibration 'sla': the reference strip did not separate ({} after {} steps)",
-                r.status.name(),
+                r.run.status.name(),
                 r.history.len()
             ),
         });

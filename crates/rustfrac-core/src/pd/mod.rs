@@ -13,7 +13,10 @@
 //! * [`cost`]: the cost model of the SLA's engines (their times and bytes), which the splice
 //!   model's memory bound reads too.
 //! * [`sla`]: the sequentially linear analysis (section 3), its two solvers and checkpoints.
+//! * [`analysis`]: a problem's PD or CCM-PD run: the s0 calibration, the splice model with it,
+//!   the SLA (the entry point; above [`calibration`], whose `"sla"` rule runs an SLA).
 
+pub mod analysis;
 pub mod bonds;
 pub mod calibration;
 pub mod constants;

@@ -118,10 +118,17 @@ fn region_on_plate(name: &str, r: &Region, w: f64, h: f64) -> Result<()> {
         Region::Edge(_) => Ok(()),
         Region::EdgePart { side, from, to } => {
             let l = side_len(side);
-            if !(from < to) || to <= 0.0 || from >= l {
+            // a part reaching past the side would be clipped, and its load with it
+            let tol = 1e-12 * l;
+            let key = if !(from >= -tol) || !(from < to) || from >= l {
+                "from"
+            } else {
+                "to"
+            };
+            if !(from < to) || !(from >= -tol) || !(to <= l + tol) {
                 return Err(Error::invalid(
-                    &format!("{name}.from"),
-                    &format!("a part from < to overlapping the side's [0, {l}]"),
+                    &format!("{name}.{key}"),
+                    &format!("a part 0 <= from < to <= {l} of the side (its length)"),
                     format!("[{from}, {to}]"),
                 ));
             }
@@ -147,8 +154,18 @@ fn boundary(p: &Problem) -> Result<()> {
         return Ok(());
     };
     let (w, h) = (p.domain.width, p.domain.height);
+    // a point in a hole would hold (or load) the plate at a fictitious node
+    let in_material = |name: &str, r: &Region| match *r {
+        Region::Point(q) if p.domain.level_set(q) < 0.0 => Err(Error::invalid(
+            &format!("{name}.point"),
+            "a point in the material (outside the holes and notches)",
+            format!("{q:?}"),
+        )),
+        _ => Ok(()),
+    };
     for s in supports {
         region_on_plate(&s.name, &s.region, w, h)?;
+        in_material(&s.name, &s.region)?;
         if s.u1.is_none() && s.u2.is_none() {
             return Err(Error::invalid(
                 &format!("{}.fix", s.name),
@@ -168,6 +185,7 @@ fn boundary(p: &Problem) -> Result<()> {
     }
     for l in loads {
         region_on_plate(&l.name, &l.region, w, h)?;
+        in_material(&l.name, &l.region)?;
         match (l.kind, l.region) {
             (LoadKind::Force(_), Region::Point(_)) => {}
             (LoadKind::Traction { .. }, Region::Edge(_) | Region::EdgePart { .. }) => {}
@@ -197,7 +215,7 @@ fn boundary(p: &Problem) -> Result<()> {
     Ok(())
 }
 
-/// Probes on the plate, in material, reading an existing crack.
+/// Probes on the plate, in material, reading an existing crack, each of its own name.
 fn probes(p: &Problem) -> Result<()> {
     let (w, h) = (p.domain.width, p.domain.height);
     for (k, pr) in p.probes.iter().enumerate() {
@@ -207,6 +225,18 @@ fn probes(p: &Problem) -> Result<()> {
                 &format!("probe[{k}].point"),
                 &format!("a point in the material of the plate [0, {w}] x [0, {h}]"),
                 format!("{q:?}"),
+            ));
+        }
+        // a response is read by its name: two probes of one name would keep one value
+        if let Some(j) = p.probes[..k].iter().position(|o| o.name == pr.name) {
+            return Err(Error::invalid(
+                &format!("probe[{k}].name"),
+                &format!(
+                    "a name no other probe has (probe[{j}] is named '{}'; a probe without a \
+                     name is named probe[k])",
+                    pr.name
+                ),
+                format!("'{}'", pr.name),
             ));
         }
         if let ProbeKind::Opening { crack, .. } = pr.kind {
@@ -244,8 +274,9 @@ fn supported(p: &Problem) -> Result<()> {
 /// Holes for FEM and XFEM arrive with the fictitious-domain integration (cut elements).
 const FICTITIOUS_DOMAIN_PENDING: bool = false;
 
-/// Tensor grid lines from 0 to the plate's size, strictly increasing.
-fn grid_lines(p: &Problem) -> Result<()> {
+/// Tensor grid lines from 0 to the plate's size, strictly increasing (checked before the
+/// grid's element counts, which they define).
+pub fn grid_lines(p: &Problem) -> Result<()> {
     let grid = match &p.method {
         Method::Fem(f) => &f.grid,
         Method::Xfem(x) => &x.grid,
@@ -283,7 +314,6 @@ fn grid_lines(p: &Problem) -> Result<()> {
 
 /// Every cross check of the general scene.
 pub fn check(p: &Problem) -> Result<()> {
-    grid_lines(p)?;
     holes(p)?;
     boundary(p)?;
     probes(p)?;

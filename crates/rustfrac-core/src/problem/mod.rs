@@ -13,6 +13,7 @@
 //! the drivers match on them. Today they hold the paper's plate: the rectangle [0, W] x [0, L]
 //! loaded through its top and bottom edges (eq. 61).
 
+pub mod fit;
 pub mod general;
 pub mod grading;
 pub mod grid;
@@ -20,11 +21,14 @@ pub mod grips;
 pub mod key_value;
 pub mod kink_rule;
 pub mod material;
+pub mod number;
 pub mod parse;
 pub mod pd_model;
 pub mod pd_region;
 pub mod range;
 mod read;
+#[cfg(test)]
+mod refusals_test;
 pub mod regions;
 pub mod s0_calibration;
 pub mod scene_of;
@@ -285,6 +289,9 @@ pub struct Growth {
     pub a_stop: f64,
     /// the direction rule of each extension (`xfem.kink_rule`)
     pub kink_rule: KinkRule,
+    /// keep the whole plate's state of every this many growth steps and of the last one
+    /// (`xfem.state_every`; 0: none; [`crate::xfem::GrowthState`])
+    pub state_every: usize,
 }
 
 /// XFEM (section 2.1).
@@ -356,13 +363,11 @@ pub enum SurfaceCorrection {
 }
 
 impl SurfaceCorrection {
-    /// From the scene key's value (one of [`schema::SURFACE_CORRECTIONS`]; anything else is
-    /// `None`).
-    pub fn from_name(s: &str) -> Self {
-        match s {
-            "energy" => Self::Energy,
-            _ => Self::None,
-        }
+    /// From the scene key's value (None: not one of [`schema::SURFACE_CORRECTIONS`]).
+    pub fn from_name(s: &str) -> Option<Self> {
+        [Self::None, Self::Energy]
+            .into_iter()
+            .find(|c| c.name() == s)
     }
     /// The scene key's value.
     pub fn name(self) -> &'static str {
@@ -379,6 +384,19 @@ pub enum HoleVolumes {
     Centre,
     /// the material part of its cell (exact for circles and rectangles, sub-sampled otherwise)
     Exact,
+}
+
+impl HoleVolumes {
+    /// From the scene key's value (None: not one of [`schema::HOLE_VOLUMES`]).
+    pub fn from_name(s: &str) -> Option<Self> {
+        [Self::Centre, Self::Exact]
+            .into_iter()
+            .find(|h| h.name() == s)
+    }
+    /// The scene key's value.
+    pub fn name(self) -> &'static str {
+        schema::HOLE_VOLUMES[self as usize]
+    }
 }
 
 /// The SLA solver (scene key `pd.engine`, whose names are [`schema::SLA_ENGINES`] in this
@@ -471,8 +489,36 @@ impl Method {
         match self {
             Method::Fem(_) => "fem",
             Method::Xfem(_) => "xfem",
-            Method::Pd(_) => "pd",
-            Method::CcmPd(_) => "ccm_pd",
+            Method::Pd(_) => PdVariant::Pd.name(),
+            Method::CcmPd(_) => PdVariant::CcmPd.name(),
+        }
+    }
+
+    /// Which of the two PD methods this is (None: FEM or XFEM).
+    pub fn pd_variant(&self) -> Option<PdVariant> {
+        match self {
+            Method::Pd(_) => Some(PdVariant::Pd),
+            Method::CcmPd(_) => Some(PdVariant::CcmPd),
+            Method::Fem(_) | Method::Xfem(_) => None,
+        }
+    }
+}
+
+/// The two PD methods without their options (a PD result's method).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PdVariant {
+    /// bond-based PD on the whole plate
+    Pd,
+    /// the splice CCM-PD coupling
+    CcmPd,
+}
+
+impl PdVariant {
+    /// Stable name: "pd" | "ccm_pd" (the method's, [`Method::name`]).
+    pub fn name(self) -> &'static str {
+        match self {
+            PdVariant::Pd => "pd",
+            PdVariant::CcmPd => "ccm_pd",
         }
     }
 }
@@ -554,6 +600,15 @@ impl Problem {
         match self.cracks.first() {
             Some(c) if c.kind == CrackKind::Center => 1,
             _ => 0,
+        }
+    }
+
+    /// The FEM or XFEM grid (None for the PD methods).
+    pub fn fe_grid(&self) -> Option<&FeGrid> {
+        match &self.method {
+            Method::Fem(f) => Some(&f.grid),
+            Method::Xfem(x) => Some(&x.grid),
+            Method::Pd(_) | Method::CcmPd(_) => None,
         }
     }
 

@@ -6,7 +6,7 @@
 // the negated comparisons are deliberate: they refuse NaN too
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-use super::grading::graded_lines;
+use super::grading::{graded_count, graded_lines};
 pub use super::key_value::{crack_name, Section};
 use super::pd_region;
 use super::schema::{self, Kind, Val};
@@ -157,8 +157,22 @@ pub fn section(section: &str, name: &str, t: &Value) -> Result<Section> {
         out.insert(spec.key, v);
     }
     required_keys(section, name, &out, |k| t.contains_key(k))?;
+    if section == "mesh" {
+        grid_line_counts(&mut out);
+    }
     section_rules(section, name, &out)?;
     Ok(out)
+}
+
+/// Given grid lines set the element counts (`mesh.nx` is the count of `mesh.xs` - 1, `mesh.ny`
+/// of `mesh.ys`), so the checked scene reports the grid that runs.
+fn grid_line_counts(s: &mut Section) {
+    for (lines, count) in [("xs", "nx"), ("ys", "ny")] {
+        let n = s[lines].floats().len();
+        if n >= 2 {
+            s.insert(count, Val::Int(i64::try_from(n - 1).unwrap_or(i64::MAX)));
+        }
+    }
 }
 
 /// Refuses an entry that omits a key the schema requires of it ([`schema::Required`]: always,
@@ -468,6 +482,9 @@ pub fn check(t: &Table) -> Result<Checked> {
 
 /// Rules between keys of two sections, on the values as written.
 fn scene_rules(c: &Checked) -> Result<()> {
+    if let (Some(m), Some(plate)) = (c.sections.get("mesh"), c.sections.get("plate")) {
+        graded_size(m, plate)?;
+    }
     if let (Some(x), Some(plate)) = (c.sections.get("xfem"), c.sections.get("plate")) {
         let (a_stop, w) = (x["a_stop"].f(), plate["width"].f());
         if a_stop != 0.0 && !(a_stop < w) {
@@ -477,6 +494,39 @@ fn scene_rules(c: &Checked) -> Result<()> {
                 a_stop,
             ));
         }
+    }
+    Ok(())
+}
+
+/// A graded grid's element count, in closed form ([`graded_count`]) before a line is built: at
+/// most [`schema::max_elements`], else `mesh.refine_h` is refused.
+fn graded_size(m: &Section, plate: &Section) -> Result<()> {
+    let (b, h, g) = (m["refine"].floats(), m["refine_h"].f(), m["grading"].f());
+    if b.len() != 4 || !(h > 0.0) {
+        return Ok(());
+    }
+    let (w, ht) = (plate["width"].f(), plate["height"].f());
+    let (nx, ny) = (m["nx"].i() as f64, m["ny"].i() as f64);
+    let count = |given: &[f64], len: f64, lo: f64, hi: f64, n: f64| {
+        if given.is_empty() {
+            graded_count(len, lo, hi, h, g, len / n)
+        } else {
+            (given.len() as f64 - 1.0).max(1.0)
+        }
+    };
+    let cx = count(m["xs"].floats(), w, b[0], b[2], nx);
+    let cy = count(m["ys"].floats(), ht, b[1], b[3], ny);
+    let max = schema::max_elements() as f64;
+    if !(cx * cy <= max) {
+        return Err(Error::invalid(
+            "mesh.refine_h",
+            &format!(
+                "an element size whose graded grid has at most {} elements (a documented memory \
+                 guard)",
+                schema::max_elements()
+            ),
+            format!("{h:e} ({cx:.3e} x {cy:.3e} elements)"),
+        ));
     }
     Ok(())
 }
@@ -609,19 +659,15 @@ fn region(s: &Section) -> Region {
 }
 
 /// The supports and loads on regions, or the paper's grips when there are none.
-fn boundary(c: &Checked, load: &Section) -> Boundary {
+fn boundary(c: &Checked, load: &Section) -> Result<Boundary> {
     let (sup, loads) = (&c.lists["support"], &c.lists["load"]);
     if sup.is_empty() && loads.is_empty() {
-        let grip = match load["bc"].s() {
-            "clamped" => Grip::Clamped,
-            "traction" => Grip::Traction,
-            _ => Grip::Free,
-        };
-        return Boundary::Grips(PlateLoad {
+        let grip = Grip::parse(load["bc"].s())?;
+        return Ok(Boundary::Grips(PlateLoad {
             grip,
             u0: load["u0"].f(),
             traction: load["traction"].f(),
-        });
+        }));
     }
     let fix = |s: &Section, comp: &str| {
         matches!(
@@ -630,7 +676,7 @@ fn boundary(c: &Checked, load: &Section) -> Boundary {
         )
         .then(|| s[comp].f())
     };
-    Boundary::Regions {
+    Ok(Boundary::Regions {
         supports: sup
             .iter()
             .enumerate()
@@ -657,7 +703,7 @@ fn boundary(c: &Checked, load: &Section) -> Boundary {
                 },
             })
             .collect(),
-    }
+    })
 }
 
 fn probes(c: &Checked) -> Vec<Probe> {
@@ -688,12 +734,33 @@ fn path_or_none(s: &str) -> Option<PathBuf> {
     (!s.is_empty()).then(|| PathBuf::from(s))
 }
 
-fn xfem_method(mesh: &Section, x: &Section, domain: &Domain) -> XfemMethod {
+/// The variant of choice key `key` whose value is `v` (`of`: the type's `from_name`), or the
+/// error naming the key and its choices (the schema admits only `choices`, so this is reached
+/// only where the schema's names and the type's disagree).
+fn named<T>(key: &str, choices: &[&str], v: &str, of: impl Fn(&str) -> Option<T>) -> Result<T> {
+    of(v).ok_or_else(|| Error::invalid(key, &schema::choice(choices), format!("'{v}'")))
+}
+
+fn xfem_method(mesh: &Section, x: &Section, domain: &Domain) -> Result<XfemMethod> {
     let nsub = x["nsub"].i() as usize;
     let tip = x["tip_nsub"].i() as usize;
     let steps = x["growth_steps"].i() as usize;
     let a_stop = x["a_stop"].f();
-    XfemMethod {
+    let growth = match steps {
+        0 => None,
+        _ => Some(Growth {
+            max_steps: steps,
+            da: positive_or_none(x["da"].f()),
+            a_stop: if a_stop > 0.0 {
+                a_stop
+            } else {
+                schema::DEFAULT_A_STOP_FRACTION * domain.width
+            },
+            kink_rule: KinkRule::from_name(x["kink_rule"].s())?,
+            state_every: x["state_every"].i() as usize,
+        }),
+    };
+    Ok(XfemMethod {
         grid: grid(mesh, domain),
         options: XfemOptions {
             nsub,
@@ -703,37 +770,59 @@ fn xfem_method(mesh: &Section, x: &Section, domain: &Domain) -> XfemMethod {
         },
         r_i: x["r_I"].f(),
         extra_radii: schema::XFEM_EXTRA_RADII.to_vec(),
-        growth: (steps > 0).then(|| Growth {
-            max_steps: steps,
-            da: positive_or_none(x["da"].f()),
-            a_stop: if a_stop > 0.0 {
-                a_stop
-            } else {
-                schema::DEFAULT_A_STOP_FRACTION * domain.width
-            },
-            // the schema admits only its names
-            kink_rule: KinkRule::from_name(x["kink_rule"].s()).unwrap_or_default(),
-        }),
+        growth,
         tip_tie_tol: x["tip_tie_tol"].f(),
         condition: true,
-    }
+    })
 }
 
-fn pd_method(pd: &Section, ccm: bool) -> PdMethod {
+fn pd_method(pd: &Section, ccm: bool) -> Result<PdMethod> {
     let [cx, cy] = pd["center"].pair();
     let [sx, sy] = pd["size"].pair();
-    PdMethod {
+    let (fast, engine) = (pd["fast"].b(), pd["engine"].s());
+    // `pd.fast = false` is `pd.engine = "oracle"` ([`schema::sla_engine`]); `section_rules`
+    // refuses a contradiction first
+    let engine = schema::sla_engine(fast, engine).ok_or_else(|| {
+        Error::invalid(
+            "pd.engine",
+            "'auto' or 'oracle' with fast = false (fast = false is another name of engine = \
+             'oracle')",
+            format!("'{engine}'"),
+        )
+    })?;
+    Ok(PdMethod {
         dx: pd["dx"].f(),
         m: pd["m"].i() as usize,
-        hole_volumes: if pd["hole_volumes"].s() == "exact" {
-            HoleVolumes::Exact
-        } else {
-            HoleVolumes::Centre
-        },
-        surface_correction: super::SurfaceCorrection::from_name(pd["surface_correction"].s()),
-        s0_calibration: S0Calibration::from_name(pd["s0_calibration"].s()),
-        model: super::PdModel::from_name(pd["model"].s()),
-        influence: super::Influence::from_name(pd["influence"].s()),
+        hole_volumes: named(
+            "pd.hole_volumes",
+            &schema::HOLE_VOLUMES,
+            pd["hole_volumes"].s(),
+            HoleVolumes::from_name,
+        )?,
+        surface_correction: named(
+            "pd.surface_correction",
+            &schema::SURFACE_CORRECTIONS,
+            pd["surface_correction"].s(),
+            super::SurfaceCorrection::from_name,
+        )?,
+        s0_calibration: named(
+            "pd.s0_calibration",
+            &schema::S0_CALIBRATIONS,
+            pd["s0_calibration"].s(),
+            S0Calibration::from_name,
+        )?,
+        model: named(
+            "pd.model",
+            &schema::PD_MODELS,
+            pd["model"].s(),
+            super::PdModel::from_name,
+        )?,
+        influence: named(
+            "pd.influence",
+            &schema::INFLUENCES,
+            pd["influence"].s(),
+            super::Influence::from_name,
+        )?,
         regions: ccm
             .then_some([cx - sx / 2.0, cy - sy / 2.0, cx + sx / 2.0, cy + sy / 2.0])
             .into_iter()
@@ -749,11 +838,12 @@ fn pd_method(pd: &Section, ccm: bool) -> PdMethod {
             stop_crack_length: positive_or_none(pd["stop_crack_length"].f()),
             tie_tol: pd["tie_tol"].f(),
             refactor_every: pd["refactor_every"].i() as usize,
-            // `pd.fast = false` is `pd.engine = "oracle"` ([`schema::sla_engine`]); the schema
-            // admits only the engine names and `section_rules` refuses a contradiction
-            engine: schema::sla_engine(pd["fast"].b(), pd["engine"].s())
-                .and_then(super::SlaEngine::from_name)
-                .unwrap_or(super::SlaEngine::Oracle),
+            engine: named(
+                "pd.engine",
+                &schema::SLA_ENGINES,
+                engine,
+                super::SlaEngine::from_name,
+            )?,
             damage_at_steps: pd["damage_at_steps"]
                 .ints()
                 .iter()
@@ -763,11 +853,11 @@ fn pd_method(pd: &Section, ccm: bool) -> PdMethod {
             checkpoint_path: path_or_none(pd["checkpoint_path"].s()),
             resume_from: path_or_none(pd["resume_from"].s()),
         },
-    }
+    })
 }
 
 /// The [`Problem`] of a checked scene.
-pub fn from_checked(c: &Checked) -> Problem {
+pub fn from_checked(c: &Checked) -> Result<Problem> {
     let s = &c.sections;
     let (plate, mat, load) = (&s["plate"], &s["material"], &s["load"]);
     let mut domain = Domain::rect(plate["width"].f(), plate["height"].f());
@@ -788,9 +878,9 @@ pub fn from_checked(c: &Checked) -> Problem {
             gauss: s["mesh"]["gauss"].i() as usize,
             condition: true,
         }),
-        "xfem" => Method::Xfem(xfem_method(&s["mesh"], &s["xfem"], &domain)),
-        "pd" => Method::Pd(pd_method(&s["pd"], false)),
-        _ => Method::CcmPd(pd_method(&s["pd"], true)),
+        "xfem" => Method::Xfem(xfem_method(&s["mesh"], &s["xfem"], &domain)?),
+        "pd" => Method::Pd(pd_method(&s["pd"], false)?),
+        _ => Method::CcmPd(pd_method(&s["pd"], true)?),
     };
     let mut p = Problem {
         name: c.name.clone(),
@@ -799,7 +889,7 @@ pub fn from_checked(c: &Checked) -> Problem {
             elastic,
             g0: mat["G0"].f(),
         },
-        boundary: boundary(c, load),
+        boundary: boundary(c, load)?,
         cracks: c.cracks.iter().filter_map(crack).collect(),
         probes: probes(c),
         method,
@@ -811,11 +901,46 @@ pub fn from_checked(c: &Checked) -> Problem {
             p.pd_mut().regions = regions;
         }
     }
-    p
+    Ok(p)
 }
 
 /// Kinds, ranges and defaults of a scene tree, read into a [`Problem`] (not yet
 /// cross-validated: [`Problem::from_scene`] does both).
 pub fn problem(t: &Table) -> Result<Problem> {
-    Ok(from_checked(&check(t)?))
+    from_checked(&check(t)?)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::problem::{SlaEngine, SurfaceCorrection};
+
+    /// Every choice key's names round-trip through its type's `from_name`, and an unknown name
+    /// is an error naming the key and its choices (no silent default).
+    #[test]
+    fn choice_names_round_trip_and_unknown_ones_are_refused() {
+        for n in schema::HOLE_VOLUMES {
+            assert_eq!(HoleVolumes::from_name(n).map(|h| h.name()), Some(n));
+        }
+        for n in schema::SURFACE_CORRECTIONS {
+            assert_eq!(SurfaceCorrection::from_name(n).map(|c| c.name()), Some(n));
+        }
+        for n in schema::SLA_ENGINES {
+            assert_eq!(SlaEngine::from_name(n).map(|e| e.name()), Some(n));
+        }
+        assert_eq!(HoleVolumes::from_name("centroid"), None);
+        assert_eq!(SurfaceCorrection::from_name("Energy"), None);
+        let e = named(
+            "pd.hole_volumes",
+            &schema::HOLE_VOLUMES,
+            "centroid",
+            HoleVolumes::from_name,
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.contains("pd.hole_volumes") && e.contains("'exact'"),
+            "{e}"
+        );
+    }
 }

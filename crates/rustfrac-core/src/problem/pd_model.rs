@@ -15,10 +15,11 @@ pub enum PdModel {
 
 impl PdModel {
     /// From the scene key's value (one of [`PD_MODELS`]; anything else is `Bond`).
-    pub fn from_name(s: &str) -> Self {
+    pub fn from_name(s: &str) -> Option<Self> {
         match s {
-            "lps" => Self::Lps,
-            _ => Self::Bond,
+            "bond" => Some(Self::Bond),
+            "lps" => Some(Self::Lps),
+            _ => None,
         }
     }
     /// The scene key's value.
@@ -39,10 +40,11 @@ pub enum Influence {
 
 impl Influence {
     /// From the scene key's value (one of [`INFLUENCES`]; anything else is `Constant`).
-    pub fn from_name(s: &str) -> Self {
+    pub fn from_name(s: &str) -> Option<Self> {
         match s {
-            "conical" => Self::Conical,
-            _ => Self::Constant,
+            "constant" => Some(Self::Constant),
+            "conical" => Some(Self::Conical),
+            _ => None,
         }
     }
     /// The scene key's value.
@@ -58,10 +60,10 @@ mod tests {
     #[test]
     fn names_round_trip() {
         for n in PD_MODELS {
-            assert_eq!(PdModel::from_name(n).name(), n);
+            assert_eq!(PdModel::from_name(n).unwrap().name(), n);
         }
         for n in INFLUENCES {
-            assert_eq!(Influence::from_name(n).name(), n);
+            assert_eq!(Influence::from_name(n).unwrap().name(), n);
         }
     }
 }

@@ -15,7 +15,7 @@ impl Problem {
     /// method reads, defaults filled in, the cracks as a list).
     pub fn checked(scene: &Table) -> Result<(Self, Table)> {
         let c = parse::check(scene)?;
-        let p = parse::from_checked(&c);
+        let p = parse::from_checked(&c)?;
         validate::problem(&p)?;
         Ok((p, c.to_tree()))
     }

@@ -15,13 +15,11 @@ pub enum S0Calibration {
 }
 
 impl S0Calibration {
-    /// From the scene key's value (one of the schema's choices; anything else is `Continuum`).
-    pub fn from_name(s: &str) -> Self {
-        match s {
-            "grid" => Self::Grid,
-            "sla" => Self::Sla,
-            _ => Self::Continuum,
-        }
+    /// From the scene key's value (None: not one of [`super::schema::S0_CALIBRATIONS`]).
+    pub fn from_name(s: &str) -> Option<Self> {
+        [Self::Continuum, Self::Grid, Self::Sla]
+            .into_iter()
+            .find(|c| c.name() == s)
     }
     /// The scene key's value.
     pub fn name(self) -> &'static str {
@@ -43,6 +41,17 @@ pub struct Calibration {
     pub g_ref_over_g0: f64,
 }
 
+impl Calibration {
+    /// The continuum rule's calibration: eq. 48's s0, unchanged.
+    pub fn continuum() -> Self {
+        Self {
+            rule: S0Calibration::Continuum,
+            factor: 1.0,
+            g_ref_over_g0: 1.0,
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -50,7 +59,8 @@ mod tests {
     #[test]
     fn names_round_trip() {
         for n in super::super::schema::S0_CALIBRATIONS {
-            assert_eq!(S0Calibration::from_name(n).name(), n);
+            assert_eq!(S0Calibration::from_name(n).map(|c| c.name()), Some(n));
         }
+        assert_eq!(S0Calibration::from_name("exact"), None);
     }
 }

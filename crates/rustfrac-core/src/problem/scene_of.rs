@@ -8,8 +8,8 @@ use super::key_value::{crack_name, Section};
 use super::schema::{self, Val};
 use super::value::{Table, Value};
 use super::{
-    Boundary, CrackKind, FeGrid, HoleVolumes, LoadKind, Method, PdMethod, Plane, ProbeKind,
-    Problem, Region, Shape, Side,
+    Boundary, CrackKind, FeGrid, LoadKind, Method, PdMethod, Plane, ProbeKind, Problem, Region,
+    Shape, Side,
 };
 
 /// One section of a problem's scene: its schema section, its scene name (`crack[1]`,
@@ -76,13 +76,7 @@ fn pd(p: &PdMethod) -> Vec<(&'static str, Val)> {
         ("sla_steps", int(sla.max_steps)),
         ("tie_tol", Val::Float(sla.tie_tol)),
         ("refactor_every", int(sla.refactor_every)),
-        (
-            "hole_volumes",
-            s(match p.hole_volumes {
-                HoleVolumes::Centre => "centre",
-                HoleVolumes::Exact => "exact",
-            }),
-        ),
+        ("hole_volumes", s(p.hole_volumes.name())),
         ("surface_correction", s(p.surface_correction.name())),
         ("fast", Val::Bool(true)),
         ("engine", s(sla.engine.name())),
@@ -253,6 +247,7 @@ pub fn scene_of(p: &Problem) -> Vec<Entry> {
                         ("da", Val::Float(g.da.unwrap_or(0.0))),
                         ("kink_rule", s(g.kink_rule.name())),
                         ("a_stop", Val::Float(g.a_stop)),
+                        ("state_every", int(g.state_every)),
                     ]);
                 }
                 out.push(one(&v));

@@ -409,6 +409,11 @@ fn build() -> Vec<KeySpec> {
         k("xfem", "a_stop", f(0.0), ZeroOr("0.7 plate.width", &POS),
           "growth stops once a crack length would exceed it (half-length for 'center')")
           .note("(less than plate.width)").role(Output),
+        k("xfem", "state_every", Val::Int(1), Int { lo: 0, hi: Some(MAX_GROWTH_STEPS as i64) },
+          "growth runs: keep the whole plate's state (displacements, element and cut-cell \
+           stresses, cut cells, cracks) of every this many growth steps and of the last one, for \
+           the ParaView series and the plots of each state (0 = none; a state holds about 5 \
+           floats per node)").role(Output),
         k("pd", "dx", f(1.0 / 15.0), POS,
           "PD grid spacing (length); the grid must fit the plate"),
         k("pd", "m", Val::Int(4), HORIZON_FACTOR, "horizon factor: delta = m dx"),

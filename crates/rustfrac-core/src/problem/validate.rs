@@ -20,6 +20,7 @@ use crate::geometry::segment_distance;
 
 /// Every cross-parameter rule of a problem.
 pub fn problem(p: &Problem) -> Result<()> {
+    super::general::grid_lines(p)?;
     schema_ranges(p)?;
     crack_kinds(p)?;
     let d = &p.domain;
@@ -211,6 +212,7 @@ fn xfem_ranges(x: &XfemMethod, int: &dyn Fn(usize) -> Val) -> Result<()> {
         }
         in_range("xfem", "xfem", "da", Val::Float(g.da.unwrap_or(0.0)))?;
         in_range("xfem", "xfem", "a_stop", Val::Float(g.a_stop))?;
+        in_range("xfem", "xfem", "state_every", int(g.state_every))?;
     }
     Ok(())
 }
@@ -647,6 +649,7 @@ fn peridynamics(p: &Problem, pd: &PdMethod) -> Result<()> {
         }
     }
     if let Some(c) = p.cracks.first() {
+        precrack_in_pd(p, pd, c)?;
         precrack_between_nodes(c, d, counts)?;
     }
     Ok(())
@@ -716,6 +719,64 @@ fn pd_model(p: &Problem, pd: &PdMethod, method: &str) -> Result<()> {
              solid')",
             format!("'{}'", pd.s0_calibration.name()),
         );
+    }
+    Ok(())
+}
+
+/// CCM-PD: a pre-crack's part in the FEM part removes the elements it cuts
+/// (`pd::splice::precrack`); along x1 or x2 they form a strip whose neighbours keep every node,
+/// but an inclined part cuts a staircase of elements that leaves nodes without stiffness. So an
+/// inclined pre-crack lies in a PD rectangle whole.
+fn precrack_in_pd(p: &Problem, pd: &PdMethod, c: &CrackSpec) -> Result<()> {
+    if pd.regions.is_empty() {
+        return Ok(());
+    }
+    let line = c.polyline(&p.domain);
+    let inside =
+        |r: &[f64; 4], q: [f64; 2]| r[0] <= q[0] && q[0] <= r[2] && r[1] <= q[1] && q[1] <= r[3];
+    for s in line.windows(2) {
+        let (dx, dy) = ((s[1][0] - s[0][0]).abs(), (s[1][1] - s[0][1]).abs());
+        let inclined = dy > 1e-12 * dx && dx > 1e-12 * dy;
+        // a rectangle is convex: it holds the segment when it holds both ends
+        let held = pd
+            .regions
+            .iter()
+            .any(|r| inside(r, s[0]) && inside(r, s[1]));
+        if inclined && !held {
+            let (lo, hi) = (
+                [s[0][0].min(s[1][0]), s[0][1].min(s[1][1])],
+                [s[0][0].max(s[1][0]), s[0][1].max(s[1][1])],
+            );
+            let (key, what) = if pd.adaptive.is_some() {
+                (
+                    "pd.region",
+                    "'fixed' with a PD rectangle (pd.center, pd.size) holding the whole inclined \
+                     pre-crack"
+                        .to_string(),
+                )
+            } else {
+                (
+                    "pd.center",
+                    format!(
+                        "a PD rectangle (pd.center, pd.size) holding the whole inclined pre-crack \
+                         [{:.6}, {:.6}] x [{:.6}, {:.6}] (its part in the FEM part would cut \
+                         elements into a staircase that leaves nodes without stiffness), or \
+                         crack.angle = 0",
+                        lo[0], hi[0], lo[1], hi[1]
+                    ),
+                )
+            };
+            let r = pd.regions[0];
+            return Err(Error::invalid(
+                key,
+                &what,
+                format!(
+                    "the rectangle [{:.6}, {:.6}] x [{:.6}, {:.6}] and the pre-crack from \
+                     ({:.6}, {:.6}) to ({:.6}, {:.6})",
+                    r[0], r[2], r[1], r[3], s[0][0], s[0][1], s[1][0], s[1][1]
+                ),
+            ));
+        }
     }
     Ok(())
 }

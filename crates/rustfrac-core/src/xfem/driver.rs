@@ -4,6 +4,7 @@
 
 use super::condensed::CondensedSolver;
 use super::growth::{grow, shrunk_warning, GrowthStatus, GrowthStep, TipStep};
+use super::growth_state::GrowthState;
 use super::interaction_integral::DomainSifs;
 use super::model::XfemModel;
 use super::patch::CutCells;
@@ -35,6 +36,8 @@ pub struct XfemResult {
     pub elements: Vec<[usize; 4]>,
     /// displacements of the initial crack at the reference load (standard then enriched dofs)
     pub u: Vec<f64>,
+    /// nodal reactions K u - f of the standard dofs at the reference load, interleaved [r1, r2]
+    pub reactions: Vec<f64>,
     pub n_dofs: usize,
     pub n_std: usize,
     /// Heaviside enrichments (nodes, summed over the cracks: a node enriched for two cracks
@@ -101,6 +104,9 @@ pub struct XfemResult {
     /// growth runs: the deformed patch around the growing tip at every critical state
     /// (displacements at the critical load, i.e. scaled by lambda), for Fig. 8b
     pub snapshots: Vec<DeformedPatch>,
+    /// growth runs: the whole plate at the kept critical states (`xfem.state_every`: every
+    /// k-th step and the last), in history order; empty without growth
+    pub states: Vec<GrowthState>,
     /// condition estimate of the initial crack's solve (see [`ConditionEstimate`]); None when
     /// not computed ([`XfemMethod::condition`] false)
     pub condition: Option<ConditionEstimate>,
@@ -167,6 +173,7 @@ fn run_with(
     res.response_history = growth.responses;
     res.tip_history = growth.tip_history;
     res.snapshots = growth.snapshots;
+    res.states = growth.states;
     res.warnings.extend(growth.warnings);
     if let Some(stop) = growth.status {
         res.status = stop;
@@ -319,6 +326,7 @@ fn initial_result(
         coords: model.mesh.coords.clone(),
         elements: model.mesh.elements.clone(),
         u: first.u.clone(),
+        reactions: first.reactions.clone(),
         n_dofs: model.n_dofs,
         n_std: model.n_std,
         n_heaviside_nodes: model.heaviside_nodes.iter().map(Vec::len).sum(),
@@ -350,6 +358,7 @@ fn initial_result(
         gauss_points,
         gauss_stress,
         snapshots: Vec::new(),
+        states: Vec::new(),
         condition: first.condition,
         warnings: p
             .material

@@ -31,6 +31,7 @@ use super::condensed::CondensedSolver;
 use super::crack::{Crack, CRACKS_APART};
 use super::criterion::{k_equivalent, kink_angle};
 use super::enrichment::TIPS_APART;
+use super::growth_state::{GrowthState, KeptStates};
 use super::interaction_integral::{DomainSifs, MIN_HOLE_FREE_RADIUS};
 use super::kink::{corrected_angle, trial_angles};
 use super::model::XfemModel;
@@ -133,6 +134,8 @@ pub(super) struct Growth {
     pub(super) history: Vec<GrowthStep>,
     pub(super) tip_history: Vec<Vec<TipStep>>,
     pub(super) snapshots: Vec<DeformedPatch>,
+    /// the whole plate at the kept critical states (`xfem.state_every`)
+    pub(super) states: Vec<GrowthState>,
     /// warnings of the growth steps' solves
     pub(super) warnings: Vec<Warning>,
     /// None only if the loop ran out without a stop (it cannot: the last step stops with
@@ -317,8 +320,9 @@ impl Growth {
             k_ii: 0.0,
             kink_angle: 0.0,
             tip: model.tips[0].pos,
-            r_i: 0.0,
-            condition: first.condition.map(|_| 0.0),
+            // nothing computed at the unloaded origin: NaN says so
+            r_i: f64::NAN,
+            condition: first.condition.map(|_| f64::NAN),
         }];
         let tip_history = vec![model
             .tips
@@ -328,7 +332,7 @@ impl Growth {
                 k_i: 0.0,
                 k_ii: 0.0,
                 kink_angle: 0.0,
-                r_i: 0.0,
+                r_i: f64::NAN,
                 grows: false,
             })
             .collect()];
@@ -336,6 +340,7 @@ impl Growth {
             history,
             tip_history,
             snapshots: Vec::new(),
+            states: Vec::new(),
             warnings: Vec::new(),
             status: None,
             cracks: Vec::new(),
@@ -344,7 +349,9 @@ impl Growth {
     }
 
     /// Records the critical state `crit` of one step (the solution `sol` scaled by its load
-    /// factor; `refs` = (u0, traction) of the reference load) and its deformed patch.
+    /// factor; `refs` = (u0, traction) of the reference load), its deformed patch and, when
+    /// `states` keeps any, the whole plate's state ([`GrowthState`]) of growth step `step`.
+    #[allow(clippy::too_many_arguments)]
     fn record(
         &mut self,
         model: &XfemModel,
@@ -352,6 +359,7 @@ impl Growth {
         st: &TipStates,
         crit: &Critical,
         (u0_ref, t_ref): (f64, f64),
+        (step, states): (usize, &mut KeptStates),
     ) -> Result<()> {
         let (t, lam, grows) = (crit.t, crit.lam, &crit.grows);
         let s = st.sifs[t];
@@ -387,6 +395,10 @@ impl Growth {
             *d *= lam;
         }
         self.snapshots.push(snap);
+        if states.any() {
+            let row = self.history.len() - 1;
+            states.push(step, GrowthState::new(model, &sol.u, lam, row)?);
+        }
         Ok(())
     }
 }
@@ -438,6 +450,7 @@ pub(super) fn grow(
         _ => (plate.load.u0, 0.0),
     };
     let mut out = Growth::origin(&model, &first);
+    let mut states = KeptStates::new(g.state_every);
     let mut sol = first;
     // (history row, tip, radius in element sizes) of every domain shrunk clear of a hole
     let mut shrunk: Vec<(usize, usize, f64)> = Vec::new();
@@ -478,7 +491,7 @@ pub(super) fn grow(
             out.status = Some(GrowthStatus::CrackCloses);
             break;
         };
-        out.record(&model, &sol, &st, &crit, refs(&sol))?;
+        out.record(&model, &sol, &st, &crit, refs(&sol), (step, &mut states))?;
         if !progress(step + 1, g.max_steps) {
             out.status = Some(GrowthStatus::Cancelled);
             break;
@@ -527,6 +540,7 @@ pub(super) fn grow(
         };
     }
     out.cracks = model.cracks.iter().map(|c| c.points.clone()).collect();
+    out.states = states.finish();
     out.warnings
         .extend(shrunk_warning(&shrunk, r_i_factor, "growth"));
     Ok(out)

@@ -18,6 +18,8 @@
 //!   the q-function (eq. 29) and the boundary term of a clipped domain.
 //! * [`criterion`]: the maximum circumferential stress criterion (kink angle, K_eq).
 //! * [`growth`]: the growth loop and its stop statuses.
+//! * [`growth_state`]: the whole plate at the growth's critical states (files and plots of
+//!   every state).
 //! * [`kink`]: the direction rules of growth (`xfem.kink_rule`, [`crate::problem::KinkRule`]):
 //!   the criterion at the tip, or a predictor-corrector that removes the zig-zag of curving paths.
 //! * [`paths`]: comparing grown paths (turning angles, deviation over a common length).
@@ -85,6 +87,7 @@ pub mod criterion;
 pub mod driver;
 pub mod enrichment;
 pub mod growth;
+pub mod growth_state;
 pub mod integration;
 pub mod interaction_integral;
 pub mod kink;
@@ -100,6 +103,7 @@ pub use criterion::{k_equivalent, kink_angle};
 pub use driver::{run, run_reference, RadiusSifs, XfemResult};
 pub use enrichment::{branch_functions, branch_functions_snapped, DEFAULT_AREA_THRESHOLD};
 pub use growth::{GrowthStatus, GrowthStep, TipStep};
+pub use growth_state::GrowthState;
 pub use interaction_integral::{DomainIntegral, DomainSifs, MIN_HOLE_FREE_RADIUS};
 pub use model::{XfemModel, XfemOptions};
 pub use patch::{CutCells, DeformedPatch};

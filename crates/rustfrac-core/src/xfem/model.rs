@@ -288,7 +288,7 @@ impl XfemModel {
 
     /// [`XfemModel::new_multi`] on the material of `domain`: with holes, cut elements are
     /// integrated over their material part ([`crate::xfem::integration`]), nodes without
-    /// material are prescribed to 0 ([`XfemModel::constrain`]) and a crack end on a hole is a
+    /// material are prescribed to 0, sliver nodes lose their enrichment ([`XfemModel::constrain`]) and a crack end on a hole is a
     /// mouth ([`Crack::named_in`]). Without holes, the plain model.
     pub fn new_in_domain(
         mesh: Arc<Mesh>,
@@ -455,8 +455,9 @@ impl XfemModel {
     }
 
     /// The Dirichlet conditions `bc` checked for rigid-body modes; with holes, the removed
-    /// nodes' conditions dropped and all their dofs (standard and enriched) prescribed to 0,
-    /// their forces in `f` zeroed ([`FictitiousDomain::constrain`]).
+    /// nodes' conditions dropped and all their dofs (standard and enriched) prescribed to 0, the
+    /// enriched dofs of sliver nodes too ([`FictitiousDomain::drops_enrichment`]), their forces
+    /// in `f` zeroed ([`FictitiousDomain::constrain`]).
     pub fn constrain(&self, bc: Dirichlet, f: &mut [f64]) -> Result<Dirichlet> {
         let Some(fd) = &self.fictitious else {
             bc.check_rigid_modes(&self.mesh.coords)?;
@@ -467,7 +468,7 @@ impl XfemModel {
             let Some(en) = self.enriched(e) else { continue };
             for (k, func) in en.funcs.iter().enumerate() {
                 if let Func::Heav { k: node, .. } | Func::Branch { k: node, .. } = *func {
-                    if fd.is_removed(conn[node]) {
+                    if fd.drops_enrichment(conn[node]) {
                         let v = enriched.entry(conn[node]).or_default();
                         v.extend([en.dofs[2 * k], en.dofs[2 * k + 1]]);
                     }

@@ -44,6 +44,8 @@ pub(super) struct PlateSolve {
     pub(super) cmod: f64,
     pub(super) anchor: usize,
     pub(super) condition: Option<ConditionEstimate>,
+    /// the nodal reactions K u - f of the standard dofs, interleaved [r1, r2]
+    pub(super) reactions: Vec<f64>,
     /// supports, loads and probes at the reference load
     pub(super) responses: SceneResponses,
 }
@@ -125,6 +127,7 @@ impl PlateProblem {
         responses.probes = self.probe_values(model, &u)?;
         let cmod = model.cmod(&u)?;
         Ok(PlateSolve {
+            reactions: reactions[..model.n_std.min(reactions.len())].to_vec(),
             u,
             sigma22: s22,
             cmod,

@@ -6,9 +6,10 @@
 //! the path; the reported closest approach of a fixed region.
 
 use crate::common;
+use rustfrac_core::pd::analysis::run;
 
 use common::{coarse, go_on, same_sla_history};
-use rustfrac_core::pd::sla::{run, CcmPdResult};
+use rustfrac_core::pd::sla::CcmPdResult;
 use rustfrac_core::problem::{Hole, Problem, Shape};
 
 /// The coarse paper case (dx = 0.2, m = 4: delta = 0.8) with an adaptive region of `margin`
@@ -44,42 +45,42 @@ fn bbox(r: &CcmPdResult) -> [f64; 4] {
 fn adaptive_region_grows_ahead_of_the_crack_and_keeps_the_margin() {
     let (margin, size) = (1.5, 2.5);
     let r = run(&adaptive(true, 900, margin, size), &go_on).unwrap();
-    let first = r.switches.first().map(|s| s.step);
+    let first = r.region.switches.first().map(|s| s.step);
     println!(
         "coarse adaptive (margin {margin}, size {size}): {} steps, {} switches (first at step {first:?}), PD nodes {} at the end, crack length {:.3}, closest approach {:.3} horizons, regions {:?}",
         r.history.len(),
-        r.switches.len(),
-        r.n_pd_nodes,
+        r.region.switches.len(),
+        r.counts.n_pd_nodes,
         r.history.last().unwrap().crack_length,
-        r.interface_distance_min.unwrap(),
-        r.regions
+        r.region.interface_distance_min.unwrap(),
+        r.region.regions
     );
     assert_eq!(r.history.len(), 900);
-    assert!(r.switches.len() >= 2, "{}", r.switches.len());
+    assert!(r.region.switches.len() >= 2, "{}", r.region.switches.len());
     // the region only grows: PD nodes increase switch by switch
-    for w in r.switches.windows(2) {
+    for w in r.region.switches.windows(2) {
         assert!(w[1].n_pd_nodes > w[0].n_pd_nodes);
         assert!(w[1].step >= w[0].step);
     }
     // no bond broke within the margin of the FEM part
-    let closest = r.interface_distance_min.unwrap();
+    let closest = r.region.interface_distance_min.unwrap();
     assert!(closest >= margin * (1.0 - 1e-9), "{closest}");
     // the history is in the final model's numbering: its bonds are the broken ones
-    let mut from_history = vec![false; r.n_bonds];
+    let mut from_history = vec![false; r.counts.n_bonds];
     for st in &r.history {
         for &b in &st.bonds {
             assert!(
-                r.broken[b] && !from_history[b],
+                r.final_state.broken[b] && !from_history[b],
                 "bond {b} of step {}",
                 st.step
             );
             from_history[b] = true;
         }
     }
-    let n_broken = r.broken.iter().filter(|&&b| b).count();
+    let n_broken = r.final_state.broken.iter().filter(|&&b| b).count();
     assert_eq!(
         n_broken,
-        r.n_precrack_bonds + from_history.iter().filter(|&&b| b).count()
+        r.counts.n_precrack_bonds + from_history.iter().filter(|&&b| b).count()
     );
 }
 
@@ -99,12 +100,12 @@ fn adaptive_region_against_a_fixed_region_covering_the_path() {
     let peak = |r: &CcmPdResult| r.history.iter().map(|s| s.sigma22).fold(0.0, f64::max);
     println!(
         "adaptive ({} PD nodes at the end, {} switches) vs fixed bounding box ({} PD nodes): same bonds for {same} of {n} steps, worst lambda difference {worst:.3e}, peak {:.4} / {:.4}; vs the coarse fixed rectangle ({} PD nodes): {same_p} steps, {worst_p:.3e}, peak {:.4}",
-        ad.n_pd_nodes,
-        ad.switches.len(),
-        fixed.n_pd_nodes,
+        ad.counts.n_pd_nodes,
+        ad.region.switches.len(),
+        fixed.counts.n_pd_nodes,
         peak(&ad),
         peak(&fixed),
-        paper.n_pd_nodes,
+        paper.counts.n_pd_nodes,
         peak(&paper)
     );
     // at the first divergence both runs break at nearly the same load: a near tie
@@ -133,10 +134,10 @@ fn adaptive_fast_engine_matches_the_oracle_across_switches() {
     let n = 320;
     let fast = run(&adaptive(true, n, 1.5, 2.5), &go_on).unwrap();
     let oracle = run(&adaptive(false, n, 1.5, 2.5), &go_on).unwrap();
-    assert!(!fast.switches.is_empty());
-    assert_eq!(fast.switches, {
-        let mut s = oracle.switches.clone();
-        for (a, b) in s.iter_mut().zip(&fast.switches) {
+    assert!(!fast.region.switches.is_empty());
+    assert_eq!(fast.region.switches, {
+        let mut s = oracle.region.switches.clone();
+        for (a, b) in s.iter_mut().zip(&fast.region.switches) {
             a.seconds = b.seconds;
         }
         s
@@ -144,7 +145,7 @@ fn adaptive_fast_engine_matches_the_oracle_across_switches() {
     let worst = same_sla_history(&fast, &oracle, n);
     println!(
         "adaptive fast vs oracle: {n} steps, {} switches, the same bonds, worst relative difference {worst:.2e}",
-        fast.switches.len()
+        fast.region.switches.len()
     );
     assert!(worst < 1e-8, "{worst}");
 }
@@ -160,23 +161,23 @@ fn adaptive_region_on_a_graded_grid_follows_the_uniform_grid() {
     let mut p = adaptive(true, n, 1.5, 2.5);
     p.pd_mut().fem_grading = 1.2;
     let gr = run(&p, &go_on).unwrap();
-    let sw = |r: &CcmPdResult| r.switches.iter().map(|s| s.step).collect::<Vec<_>>();
+    let sw = |r: &CcmPdResult| r.region.switches.iter().map(|s| s.step).collect::<Vec<_>>();
     let (same, worst) = agreement(&gr, &uni);
     println!(
         "adaptive, graded ({} unknowns) vs uniform ({} unknowns): switches {:?} / {:?}, same bonds for {same} of {n} steps, worst lambda difference {worst:.3e}",
-        gr.n_dofs,
-        uni.n_dofs,
+        gr.counts.n_dofs,
+        uni.counts.n_dofs,
         sw(&gr),
         sw(&uni)
     );
-    assert!(!gr.switches.is_empty() && gr.n_dofs < uni.n_dofs / 2);
+    assert!(!gr.region.switches.is_empty() && gr.counts.n_dofs < uni.counts.n_dofs / 2);
     assert_eq!(
-        gr.u.len(),
-        2 * gr.n_nodes,
+        gr.reference.u.len(),
+        2 * gr.counts.n_nodes,
         "the reference field on the final grid"
     );
-    assert_eq!(gr.u.len(), gr.u_final.len());
-    assert!(gr.u.iter().all(|v| v.is_finite()));
+    assert_eq!(gr.reference.u.len(), gr.final_state.u.len());
+    assert!(gr.reference.u.iter().all(|v| v.is_finite()));
     // the switch comes at the same step, and the history keeps the uniform grid's bonds well
     // past it (measured: the same bonds for 383 of 400 steps, the switch at 303, lambda within
     // 7.4e-4; the lambda tolerance is the fixed graded region's)
@@ -194,7 +195,7 @@ fn adaptive_checkpoint_and_resume_across_switches_are_bit_for_bit() {
     let mut base = adaptive(true, total, 1.5, 2.5);
     base.pd_mut().sla.damage_at_steps = vec![10, 450, total];
     let straight = run(&base, &go_on).unwrap();
-    assert!(straight.switches.len() >= 2);
+    assert!(straight.region.switches.len() >= 2);
     // stop after 460 steps (switches before and after the checkpoint at 450), then resume
     let mut p = base.clone();
     p.pd_mut().sla.max_steps = 460;
@@ -204,13 +205,19 @@ fn adaptive_checkpoint_and_resume_across_switches_are_bit_for_bit() {
     let mut q = base.clone();
     q.pd_mut().sla.resume_from = Some(path.clone());
     let resumed = run(&q, &go_on).unwrap();
-    assert_eq!(resumed.resumed_steps, 450);
+    assert_eq!(resumed.run.resumed_steps, 450);
     assert_eq!(straight.history, resumed.history);
-    assert_eq!(straight.damage_at, resumed.damage_at);
-    assert_eq!(straight.broken, resumed.broken);
-    assert_eq!(straight.regions, resumed.regions);
-    assert_eq!(straight.detached_nodes, resumed.detached_nodes);
-    let sw = |r: &CcmPdResult| r.switches.iter().map(|s| s.step).collect::<Vec<_>>();
+    assert_eq!(
+        straight.final_state.damage_at,
+        resumed.final_state.damage_at
+    );
+    assert_eq!(straight.final_state.broken, resumed.final_state.broken);
+    assert_eq!(straight.region.regions, resumed.region.regions);
+    assert_eq!(
+        straight.final_state.detached_nodes,
+        resumed.final_state.detached_nodes
+    );
+    let sw = |r: &CcmPdResult| r.region.switches.iter().map(|s| s.step).collect::<Vec<_>>();
     assert_eq!(sw(&straight), sw(&resumed));
     println!(
         "adaptive: {total} steps straight = checkpoint at 450 + resume, bit for bit (switches at {:?})",
@@ -232,29 +239,30 @@ fn adaptive_region_takes_in_a_hole_in_the_path() {
     }];
     let r = run(&p, &go_on).unwrap();
     let inside = r
+        .region
         .regions
         .iter()
         .any(|q| q[0] <= 4.1 && q[1] <= 10.0 && 5.1 <= q[2] && 11.0 <= q[3]);
     println!(
         "adaptive with a hole ahead: {} switches, regions {:?}, status {}, closest approach {:?}",
-        r.switches.len(),
-        r.regions,
-        r.status.name(),
-        r.interface_distance_min
+        r.region.switches.len(),
+        r.region.regions,
+        r.run.status.name(),
+        r.region.interface_distance_min
     );
-    assert!(inside, "{:?}", r.regions);
-    assert!(r.interface_distance_min.unwrap() >= 1.5 - 1e-9);
+    assert!(inside, "{:?}", r.region.regions);
+    assert!(r.region.interface_distance_min.unwrap() >= 1.5 - 1e-9);
 }
 
 #[test]
 fn fixed_region_reports_its_closest_approach() {
     let r = run(&coarse(true, 40), &go_on).unwrap();
-    let d = r.interface_distance_min.unwrap();
+    let d = r.region.interface_distance_min.unwrap();
     println!("coarse fixed rectangle: closest approach {d:.3} horizons");
     // the crack line is 1.2 = 1.5 horizons below the rectangle's top: no broken bond is
     // further from the interface than that
     assert!(d > 0.0 && d <= 1.5 + 1e-9, "{d}");
-    assert!(r.switches.is_empty());
+    assert!(r.region.switches.is_empty());
 }
 
 /// The inclined edge crack under tension (benches/compare/inclined_edge_tension.toml) in
@@ -316,16 +324,16 @@ fn adaptive_region_on_a_mixed_mode_path_against_a_covering_fixed_region() {
     println!(
         "inclined crack, adaptive: {} steps, {} switches, {} PD nodes at the end (covering box {bb:?}: {}), tip node {:?}; same bonds as the covering fixed region for {same} of {m} steps (divergence lambda gap {:?}), worst lambda difference {worst:.3e}; closest approach {:?} / fixed {:?}",
         ad.history.len(),
-        ad.switches.len(),
-        ad.n_pd_nodes,
-        fixed.n_pd_nodes,
-        ad.node_xy[last.nodes[0]],
+        ad.region.switches.len(),
+        ad.counts.n_pd_nodes,
+        fixed.counts.n_pd_nodes,
+        ad.geometry.node_xy[last.nodes[0]],
         (same < m).then(|| ad.history[same].lambda / fixed.history[same].lambda - 1.0),
-        ad.interface_distance_min,
-        fixed.interface_distance_min
+        ad.region.interface_distance_min,
+        fixed.region.interface_distance_min
     );
-    assert!(!ad.switches.is_empty());
-    assert!(ad.interface_distance_min.unwrap() >= 1.5 - 1e-9);
+    assert!(!ad.region.switches.is_empty());
+    assert!(ad.region.interface_distance_min.unwrap() >= 1.5 - 1e-9);
     // measured: 205 of 600 steps with the same bonds (then two bonds within 2e-5 of each
     // other swap), lambda within 1.2e-3 over them
     assert!(same >= 150, "{same}");
@@ -364,8 +372,8 @@ fn adaptive_region_starts_at_both_tips_of_a_centre_crack() {
     println!(
         "centre crack: start {start:?}; {} steps, {} switches, final box {bb:?}, closest approach {:?}",
         r.history.len(),
-        r.switches.len(),
-        r.interface_distance_min
+        r.region.switches.len(),
+        r.region.interface_distance_min
     );
     // one square per tip to start with; the crack grows out of them (measured: the left tip
     // runs, the SLA's lowest-index rule breaks the left twin of each mirror pair first and the
@@ -373,6 +381,6 @@ fn adaptive_region_starts_at_both_tips_of_a_centre_crack() {
     assert_eq!(start.len(), 2);
     let (lo, hi) = (start[0][0].min(start[1][0]), start[0][2].max(start[1][2]));
     assert!(bb[0] < lo - 0.5 || bb[2] > hi + 0.5, "{bb:?}");
-    assert!(!r.switches.is_empty());
-    assert!(r.interface_distance_min.unwrap() >= 1.5 - 1e-9);
+    assert!(!r.region.switches.is_empty());
+    assert!(r.region.interface_distance_min.unwrap() >= 1.5 - 1e-9);
 }

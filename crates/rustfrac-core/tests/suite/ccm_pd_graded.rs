@@ -4,10 +4,13 @@
 //! the graded model, and the refusals.
 
 use crate::common;
+use rustfrac_core::pd::analysis::run;
+use rustfrac_core::pd::analysis::splice_model;
+use rustfrac_core::problem::Calibration;
 
 use common::{coarse, go_on, same_sla_history};
 use rustfrac_core::la::{Lu, Reduction};
-use rustfrac_core::pd::sla::{run, CcmPdResult};
+use rustfrac_core::pd::sla::CcmPdResult;
 use rustfrac_core::pd::splice::SpliceModel;
 use rustfrac_core::problem::{Domain, Problem};
 
@@ -31,7 +34,7 @@ fn inf(v: &[f64]) -> f64 {
 
 #[test]
 fn graded_grid_keeps_dx_around_the_pd_part_and_grows_beyond() {
-    let model = SpliceModel::new(&graded_patch()).unwrap();
+    let model = splice_model(&graded_patch()).unwrap();
     let g = &model.grid;
     assert!(!g.is_uniform());
     let h: Vec<f64> = g.xs.windows(2).map(|w| w[1] - w[0]).collect();
@@ -59,7 +62,7 @@ fn graded_grid_keeps_dx_around_the_pd_part_and_grows_beyond() {
     // the uniform default: the same grid as before (lines i dx)
     let mut p = graded_patch();
     p.pd_mut().fem_grading = 1.0;
-    let u = SpliceModel::new(&p).unwrap();
+    let u = splice_model(&p).unwrap();
     assert!(u.grid.is_uniform() && u.grid.nx == 60 && u.own_ke.is_empty());
 }
 
@@ -68,7 +71,7 @@ type Field = fn([f64; 2]) -> [f64; 2];
 
 #[test]
 fn graded_rigid_motions_give_zero_internal_forces() {
-    let model = SpliceModel::new(&graded_patch()).unwrap();
+    let model = splice_model(&graded_patch()).unwrap();
     let k = model.assemble(&model.precrack_broken);
     let nn = model.grid.n_nodes();
     let fields: [(&str, Field); 3] = [
@@ -94,7 +97,7 @@ fn graded_rigid_motions_give_zero_internal_forces() {
 /// rectangular grid of any spacing and of the splice coupling on its uniform part.
 #[test]
 fn graded_uniform_strain_reproduced_everywhere() {
-    let model = SpliceModel::new(&graded_patch()).unwrap();
+    let model = splice_model(&graded_patch()).unwrap();
     let (e11, e22, e12) = (1e-3, -4e-4, 2.5e-4);
     let field = |p: [f64; 2]| [e11 * p[0] + e12 * p[1], e12 * p[0] + e22 * p[1]];
     let k = model.assemble(&model.precrack_broken);
@@ -137,13 +140,13 @@ fn graded_sla_history_follows_the_uniform_grid() {
     let n = 100;
     let uni = run(&coarse(true, n), &go_on).unwrap();
     let gr = run(&graded_coarse(true, n, 1.2), &go_on).unwrap();
-    assert_eq!(gr.n_pd_nodes, uni.n_pd_nodes);
-    assert_eq!(gr.n_bonds, uni.n_bonds);
+    assert_eq!(gr.counts.n_pd_nodes, uni.counts.n_pd_nodes);
+    assert_eq!(gr.counts.n_bonds, uni.counts.n_bonds);
     assert!(
-        gr.n_dofs < uni.n_dofs / 2,
+        gr.counts.n_dofs < uni.counts.n_dofs / 2,
         "{} vs {}",
-        gr.n_dofs,
-        uni.n_dofs
+        gr.counts.n_dofs,
+        uni.counts.n_dofs
     );
     let same = (0..n)
         .take_while(|&k| gr.broken_positions(k, None) == uni.broken_positions(k, None))
@@ -156,7 +159,7 @@ fn graded_sla_history_follows_the_uniform_grid() {
     let peak = |r: &CcmPdResult| r.history.iter().map(|s| s.sigma22).fold(0.0, f64::max);
     println!(
         "coarse case: uniform {} dofs, graded {} dofs; same broken bonds for {same} of {n} steps; worst relative lambda difference {worst:.3e}; sigma22 ref {:.5} / {:.5}, CMOD {:.6e} / {:.6e}; peak sigma22 {:.4} / {:.4}",
-        uni.n_dofs, gr.n_dofs, gr.sigma22, uni.sigma22, gr.cmod, uni.cmod, peak(&gr), peak(&uni)
+        uni.counts.n_dofs, gr.counts.n_dofs, gr.reference.sigma22, uni.reference.sigma22, gr.reference.cmod, uni.reference.cmod, peak(&gr), peak(&uni)
     );
     // measured: the same bonds in the first 84 steps (then two nearly tied bonds swap order),
     // lambda within 5.4e-4, CMOD within 4.8e-4 (the coarser far field); tolerances leave a
@@ -167,7 +170,7 @@ fn graded_sla_history_follows_the_uniform_grid() {
         same + 1
     );
     assert!(worst < 1.5e-3, "{worst}");
-    assert!((gr.cmod / uni.cmod - 1.0).abs() < 1.5e-3);
+    assert!((gr.reference.cmod / uni.reference.cmod - 1.0).abs() < 1.5e-3);
 }
 
 #[test]
@@ -178,7 +181,7 @@ fn graded_fast_sla_matches_oracle() {
     let worst = same_sla_history(&fast, &oracle, n);
     println!(
         "graded coarse case ({} dofs): fast {:.3} s, oracle {:.3} s; worst relative difference {worst:.2e}",
-        fast.n_dofs, fast.sla_seconds, oracle.sla_seconds
+        fast.counts.n_dofs, fast.timings.sla_seconds, oracle.timings.sla_seconds
     );
     assert!(worst < 1e-8, "{worst}");
 }
@@ -188,27 +191,36 @@ fn graded_grid_refusals_name_the_key() {
     // pure PD has no FEM part
     let mut p = Problem::paper("pd");
     p.pd_mut().fem_grading = 1.2;
-    let e = SpliceModel::new(&p).err().expect("refused").to_string();
+    let e = splice_model(&p).err().expect("refused").to_string();
     assert!(e.contains("pd.fem_grading"), "{e}");
     // out of range
     let mut p = coarse(true, 0);
     p.pd_mut().fem_grading = 2.5;
-    let e = SpliceModel::new(&p).err().expect("refused").to_string();
+    let e = splice_model(&p).err().expect("refused").to_string();
     assert!(e.contains("pd.fem_grading"), "{e}");
     let mut p = coarse(true, 0);
     p.pd_mut().fem_grading = 1.2;
     p.pd_mut().fem_coarse = 0.5;
-    let e = SpliceModel::new(&p).err().expect("refused").to_string();
+    let e = splice_model(&p).err().expect("refused").to_string();
     assert!(e.contains("pd.fem_coarse"), "{e}");
     // an inclined pre-crack segment through the graded part
     let p = graded_coarse(true, 0, 1.2);
-    let e = SpliceModel::with_precrack(&p, vec![[0.05, 6.05], [1.1, 10.5]])
-        .err()
-        .expect("refused")
-        .to_string();
+    let e = SpliceModel::with_precrack(
+        &p,
+        vec![[0.05, 6.05], [1.1, 10.5]],
+        Calibration::continuum(),
+    )
+    .err()
+    .expect("refused")
+    .to_string();
     assert!(e.contains("precrack"), "{e}");
     // the same segment on the uniform grid is accepted
-    assert!(SpliceModel::with_precrack(&coarse(true, 0), vec![[0.05, 6.05], [1.1, 10.5]]).is_ok());
+    assert!(SpliceModel::with_precrack(
+        &coarse(true, 0),
+        vec![[0.05, 6.05], [1.1, 10.5]],
+        Calibration::continuum()
+    )
+    .is_ok());
 }
 
 /// A 6 x 6 plate with a circular hole (r = 0.5 at (4, 3)) in the FEM part, pulled by u1 = -+0.003
@@ -256,12 +268,12 @@ fn holed_plate(ratio: f64) -> Problem {
 /// 2.4e-4, cap 3: 1.35e-3; displacements 3.5e-3 of max |u|).
 #[test]
 fn graded_grid_with_a_fem_hole_and_supports_on_regions() {
-    let um = SpliceModel::new(&holed_plate(1.0)).unwrap();
+    let um = splice_model(&holed_plate(1.0)).unwrap();
     let us = um.solve(&um.precrack_broken).unwrap();
     for (cap, tol_response, tol_u) in [(1.0, 1e-10, 1e-10), (2.0, 1.5e-3, 7e-3)] {
         let mut gp = holed_plate(1.2);
         gp.pd_mut().fem_coarse = cap;
-        let gm = SpliceModel::new(&gp).unwrap();
+        let gm = splice_model(&gp).unwrap();
         let gs = gm.solve(&gm.precrack_broken).unwrap();
         // the graded field (bilinear in its cell) against the uniform grid's nodal values at
         // points near the hole, in the PD rectangle and far away (nodes of the uniform grid)

@@ -4,10 +4,11 @@
 //! fast engine equals the oracle); the refusal of a hole cutting a hybrid element.
 
 use crate::common;
+use rustfrac_core::pd::analysis::splice_model;
 
 use common::{coarse, go_on};
 use rustfrac_core::fem_driver;
-use rustfrac_core::pd::sla::run;
+use rustfrac_core::pd::analysis::run;
 use rustfrac_core::pd::splice::SpliceModel;
 use rustfrac_core::problem::Side;
 use rustfrac_core::problem::{Boundary, Domain, Hole, Problem, Region, Shape, Support};
@@ -87,7 +88,7 @@ fn kirsch(s: f64, g: f64, nu: f64, a: f64, r: f64, t: f64) -> [f64; 2] {
 /// The CCM-PD solution (model, u, right support's force) and the FEM one (u, force).
 fn solve(with_hole: bool) -> (SpliceModel, Vec<f64>, f64, Vec<f64>, f64) {
     let p = plate("ccm_pd", with_hole);
-    let model = SpliceModel::new(&p).unwrap();
+    let model = splice_model(&p).unwrap();
     let s = model.solve(&model.precrack_broken).unwrap();
     let r = model.scene_responses(&s.u, &s.reactions).unwrap();
     let fem = fem_driver::run(&plate("fem", with_hole)).unwrap();
@@ -185,7 +186,7 @@ fn notch_on_the_gripped_edge_holds_its_removed_nodes() {
             max: [8.5, 22.0],
         },
     }];
-    let m = SpliceModel::new(&p).unwrap();
+    let m = splice_model(&p).unwrap();
     let s = m.solve(&m.precrack_broken).unwrap();
     let top_removed: Vec<usize> = m
         .edges
@@ -199,7 +200,7 @@ fn notch_on_the_gripped_edge_holds_its_removed_nodes() {
         assert_eq!(s.u[2 * n + 1], 0.0);
     }
     let p0 = coarse(true, 1);
-    let m0 = SpliceModel::new(&p0).unwrap();
+    let m0 = splice_model(&p0).unwrap();
     let s0 = m0.solve(&m0.precrack_broken).unwrap();
     println!(
         "sigma22 with the notch {:.6e}, without {:.6e}; residual {:.1e}",
@@ -257,7 +258,7 @@ fn hole_cutting_a_hybrid_element_is_refused() {
             radius: 0.2,
         },
     }];
-    let e = SpliceModel::new(&p).err().expect("refused");
+    let e = splice_model(&p).err().expect("refused");
     assert_eq!(e.param(), Some("hole[0]"), "{e}");
     assert!(e.to_string().contains("hybrid element"), "{e}");
 }

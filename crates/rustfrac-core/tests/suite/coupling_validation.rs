@@ -4,6 +4,7 @@
 
 use rustfrac_core::la::Lu;
 use rustfrac_core::la::Reduction;
+use rustfrac_core::pd::analysis::splice_model;
 use rustfrac_core::pd::splice::SpliceModel;
 use rustfrac_core::problem::{Domain, Problem};
 
@@ -27,7 +28,7 @@ fn inf(v: &[f64]) -> f64 {
 
 #[test]
 fn rigid_motions_give_zero_internal_forces() {
-    let model = SpliceModel::new(&spec("ccm_pd")).unwrap();
+    let model = splice_model(&spec("ccm_pd")).unwrap();
     let k = model.assemble(&model.precrack_broken);
     let kmax = inf(&k.val);
     println!("splice matrix asymmetry measure: {:.3e}", k.asymmetry());
@@ -94,7 +95,7 @@ fn solve_with_boundary_field(
 
 #[test]
 fn uniform_strain_reproduced_everywhere() {
-    let model = SpliceModel::new(&spec("ccm_pd")).unwrap();
+    let model = splice_model(&spec("ccm_pd")).unwrap();
     let (e11, e22, e12) = (1e-3, -4e-4, 2.5e-4);
     let field = move |p: [f64; 2]| [e11 * p[0] + e12 * p[1], e12 * p[0] + e22 * p[1]];
     // FEM outside: the outer boundary nodes only
@@ -112,7 +113,7 @@ fn uniform_strain_reproduced_everywhere() {
 fn linear_strain_field_error_reported() {
     // u = a (x^2 - y^2, -2 x y): divergence-free and harmonic, so it is an elastic solution without
     // body force for any nu, with a strain field linear in x and y
-    let model = SpliceModel::new(&spec("ccm_pd")).unwrap();
+    let model = splice_model(&spec("ccm_pd")).unwrap();
     let a = 1e-3;
     let field = move |p: [f64; 2]| {
         let (x, y) = (p[0] - 1.5, p[1] - 1.5);
@@ -139,7 +140,7 @@ fn linear_strain_field_error_reported() {
 fn pure_pd_reproduces_linear_fields_with_volumetric_layers() {
     // every node PD; the field is imposed on a boundary layer of thickness delta, so every free
     // node has its full family and the linear field is the exact discrete solution
-    let model = SpliceModel::new(&spec("pd")).unwrap();
+    let model = splice_model(&spec("pd")).unwrap();
     let delta = model.pd.delta;
     let (e11, e22, e12) = (1e-3, -4e-4, 2.5e-4);
     let field = move |p: [f64; 2]| [e11 * p[0] + e12 * p[1] + 0.1, e12 * p[0] + e22 * p[1] - 0.2];

@@ -3,10 +3,13 @@
 //! nodes whose bonds all break, and the step at which the ligament separates (fast and oracle).
 
 use crate::common;
+use rustfrac_core::pd::analysis::run;
+use rustfrac_core::pd::analysis::splice_model;
+use rustfrac_core::problem::Calibration;
 
 use common::XfemCase;
 use common::{go_on, pd_plate, pd_strip, quiet, rel, set_precrack};
-use rustfrac_core::pd::sla::{run, run_model, CcmPdResult};
+use rustfrac_core::pd::sla::{run_model, CcmPdResult};
 use rustfrac_core::pd::splice::SpliceModel;
 use rustfrac_core::problem::Grip;
 use rustfrac_core::problem::{Method, Problem, SlaParams};
@@ -35,18 +38,22 @@ fn horizon_factors_1_to_8() {
         let s1 = &r.history[0];
         println!(
             "  {m} | {:6} | {}        | {:.4} ({:+.2} %) | {:.6} ({:+.2} %) | {:.5}, {:.4}, {:.6}",
-            r.n_bonds,
+            r.counts.n_bonds,
             r.warnings.len(),
-            r.sigma22,
-            100.0 * (r.sigma22 / x.sigma22 - 1.0),
-            r.cmod,
-            100.0 * (r.cmod / x.cmod - 1.0),
+            r.reference.sigma22,
+            100.0 * (r.reference.sigma22 / x.sigma22 - 1.0),
+            r.reference.cmod,
+            100.0 * (r.reference.cmod / x.cmod - 1.0),
             s1.lambda,
             s1.sigma22,
             s1.cmod
         );
-        assert!(r.sigma22.is_finite() && r.cmod.is_finite() && s1.lambda.is_finite());
-        assert_eq!(r.status.name(), "completed");
+        assert!(
+            r.reference.sigma22.is_finite()
+                && r.reference.cmod.is_finite()
+                && s1.lambda.is_finite()
+        );
+        assert_eq!(r.run.status.name(), "completed");
         // m < 2 warns (too few bonds), m >= 2 does not
         assert_eq!(r.warnings.len(), usize::from(m < 2), "{:?}", r.warnings);
         if m < 2 {
@@ -59,16 +66,16 @@ fn horizon_factors_1_to_8() {
         }
         // the far field is FEM: sigma22 within 1 % of XFEM for every m; the CMOD (PD at the
         // mouth's surroundings, a crack of width ~dx) within 12 % (m >= 2) or 25 % (m = 1)
-        assert!(rel(r.sigma22, x.sigma22) < 0.01, "m = {m}");
+        assert!(rel(r.reference.sigma22, x.sigma22) < 0.01, "m = {m}");
         let tol = if m < 2 { 0.25 } else { 0.12 };
         assert!(
-            rel(r.cmod, x.cmod) < tol,
+            rel(r.reference.cmod, x.cmod) < tol,
             "m = {m}: {}",
-            rel(r.cmod, x.cmod)
+            rel(r.reference.cmod, x.cmod)
         );
         // step 1 lies on the linear branch: sigma22 and CMOD scale with lambda
-        assert!(rel(s1.sigma22, s1.lambda * r.sigma22) < 1e-9);
-        assert!(rel(s1.cmod, s1.lambda * r.cmod) < 1e-9);
+        assert!(rel(s1.sigma22, s1.lambda * r.reference.sigma22) < 1e-9);
+        assert!(rel(s1.cmod, s1.lambda * r.reference.cmod) < 1e-9);
     }
 }
 
@@ -87,7 +94,7 @@ fn pd_region_thinner_than_two_horizons_is_refused() {
             assert!(expected.contains("0.533333"), "{expected}");
             println!("refused: {expected}");
         }
-        other => panic!("{:?}", other.map(|r| r.status)),
+        other => panic!("{:?}", other.map(|r| r.run.status)),
     }
     // the same rectangle is fine with m = 3 (2 m dx = 0.4)... and refused along x1 too
     p.pd_mut().m = 3;
@@ -104,7 +111,7 @@ fn pd_region_thinner_than_two_horizons_is_refused() {
     p.pd_mut().sla.max_steps = 0;
     match run(&p, &go_on) {
         Err(Error::InvalidInput { param, .. }) => assert_eq!(param, "plate.width"),
-        other => panic!("{:?}", other.map(|r| r.status)),
+        other => panic!("{:?}", other.map(|r| r.run.status)),
     }
 }
 
@@ -128,9 +135,9 @@ fn check_loads(r: &CcmPdResult, p: &Problem) {
         1
     };
     let h = p.domain.height;
-    for (n, xy) in r.node_xy.iter().enumerate() {
-        let v = r.u[2 * n + 1];
-        assert!(v.is_finite() && r.u[2 * n].is_finite());
+    for (n, xy) in r.geometry.node_xy.iter().enumerate() {
+        let v = r.reference.u[2 * n + 1];
+        assert!(v.is_finite() && r.reference.u[2 * n].is_finite());
         if xy[1] >= h - (layers as f64 - 0.5) * pd.dx {
             assert_eq!(v, u0, "top node {n} at {xy:?}");
         }
@@ -139,7 +146,7 @@ fn check_loads(r: &CcmPdResult, p: &Problem) {
         }
     }
     if load.grip == Grip::Free {
-        assert_eq!(r.u[2 * r.anchor_node], 0.0);
+        assert_eq!(r.reference.u[2 * r.geometry.anchor_node], 0.0);
     }
 }
 
@@ -175,13 +182,13 @@ fn pd_regions_on_the_boundary_and_pure_pd_match_the_continuum() {
         let p = uncracked(regions, "ccm_pd", Grip::Free);
         let r = run(&p, &go_on).unwrap();
         check_loads(&r, &p);
-        let e = rel(r.sigma22, exact);
+        let e = rel(r.reference.sigma22, exact);
         println!(
             "  {name:30}: {} PD nodes, sigma22 = {:.6} ({:+.3} %), out of balance {:.2e}",
-            r.n_pd_nodes,
-            r.sigma22,
-            100.0 * (r.sigma22 / exact - 1.0),
-            r.out_of_balance[1].abs()
+            r.counts.n_pd_nodes,
+            r.reference.sigma22,
+            100.0 * (r.reference.sigma22 / exact - 1.0),
+            r.reference.out_of_balance[1].abs()
         );
         assert!(e < tol, "{name}: {e}");
     }
@@ -195,14 +202,14 @@ fn pd_regions_on_the_boundary_and_pure_pd_match_the_continuum() {
         let exact_pd = e_prime * 2.0 * 0.01 / gauge;
         println!(
             "  pure PD ({:7}): sigma22 = {:.6}, continuum over the gauge length {gauge}: {exact_pd:.6} ({:+.3} %)",
-            r.grip,
-            r.sigma22,
-            100.0 * (r.sigma22 / exact_pd - 1.0)
+            r.run.grip.map_or("regions", |g| g.name()),
+            r.reference.sigma22,
+            100.0 * (r.reference.sigma22 / exact_pd - 1.0)
         );
         assert!(
-            rel(r.sigma22, exact_pd) < 0.03,
+            rel(r.reference.sigma22, exact_pd) < 0.03,
             "{}",
-            rel(r.sigma22, exact_pd)
+            rel(r.reference.sigma22, exact_pd)
         );
     }
     // cracked: the paper's plate with the PD rectangle extended to the crack mouth (left edge)
@@ -218,10 +225,10 @@ fn pd_regions_on_the_boundary_and_pure_pd_match_the_continuum() {
     let edge = run(&p, &go_on).unwrap();
     println!(
         "cracked paper plate: XFEM sigma22 {:.4} CMOD {:.6}; PD rectangle inside: {:.4} {:.6}; touching the left edge (crack mouth in PD): {:.4} {:.6}",
-        x.sigma22, x.cmod, inner.sigma22, inner.cmod, edge.sigma22, edge.cmod
+        x.sigma22, x.cmod, inner.reference.sigma22, inner.reference.cmod, edge.reference.sigma22, edge.reference.cmod
     );
-    assert!(rel(edge.sigma22, x.sigma22) < 0.01);
-    assert!(rel(edge.cmod, x.cmod) < 0.12);
+    assert!(rel(edge.reference.sigma22, x.sigma22) < 0.01);
+    assert!(rel(edge.reference.cmod, x.cmod) < 0.12);
     assert_eq!(edge.history.len(), 3);
     assert!(edge.history.iter().all(|s| s.lambda.is_finite()));
 }
@@ -243,27 +250,28 @@ fn node_with_every_bond_broken_is_detached_not_singular() {
             engine: common::engine(fast),
             ..SlaParams::default()
         };
-        let model = SpliceModel::with_precrack(&p, square).unwrap();
+        let model = SpliceModel::with_precrack(&p, square, Calibration::continuum()).unwrap();
         let r = run_model(&model, &go_on).unwrap();
         let node = r
+            .geometry
             .node_xy
             .iter()
             .position(|xy| (xy[0] - 1.0).abs() < 1e-9 && (xy[1] - 1.4).abs() < 1e-9)
             .unwrap();
         println!(
             "fast = {fast}: detached {:?}, status {}, {} steps, sigma22 {:.5}; warnings {:?}",
-            r.detached_nodes,
-            r.status,
+            r.final_state.detached_nodes,
+            r.run.status,
             r.history.len(),
-            r.sigma22,
+            r.reference.sigma22,
             r.warnings
         );
-        assert!(r.detached_nodes.contains(&(0, node)));
-        assert_eq!(r.status.name(), "completed");
+        assert!(r.final_state.detached_nodes.contains(&(0, node)));
+        assert_eq!(r.run.status.name(), "completed");
         assert_eq!(r.history.len(), 30);
-        assert!(r.u.iter().all(|v| v.is_finite()));
-        assert_eq!(r.u[2 * node], 0.0);
-        assert_eq!(r.u[2 * node + 1], 0.0);
+        assert!(r.reference.u.iter().all(|v| v.is_finite()));
+        assert_eq!(r.reference.u[2 * node], 0.0);
+        assert_eq!(r.reference.u[2 * node + 1], 0.0);
         assert!(r
             .warnings
             .iter()
@@ -303,17 +311,17 @@ fn ligament_separates_at_the_right_step_fast_and_oracle() {
         for fast in [true, false] {
             let p = pd_strip(fast, grip);
             let r = run(&p, &go_on).unwrap();
-            assert_eq!(r.status.name(), "separated");
+            assert_eq!(r.run.status.name(), "separated");
             // replay the broken bonds and find the first step after which no load is carried
-            let model = SpliceModel::new(&p).unwrap();
+            let model = splice_model(&p).unwrap();
             let mut broken = model.precrack_broken.clone();
-            assert!(carries_load(&model, &broken, r.sigma22));
+            assert!(carries_load(&model, &broken, r.reference.sigma22));
             let mut first_cut = None;
             for s in &r.history {
                 for &b in &s.bonds {
                     broken[b] = true;
                 }
-                if carries_load(&model, &broken, r.sigma22) {
+                if carries_load(&model, &broken, r.reference.sigma22) {
                     assert!(
                         first_cut.is_none(),
                         "load carried again after step {first_cut:?}"
@@ -324,11 +332,11 @@ fn ligament_separates_at_the_right_step_fast_and_oracle() {
             }
             println!(
                 "grip {:7} fast = {fast:5}: status {} after {} steps; load path cut at step {:?} (direct solve); {} detached nodes",
-                r.grip,
-                r.status,
+                r.run.grip.map_or("regions", |g| g.name()),
+                r.run.status,
                 r.history.len(),
                 first_cut,
-                r.detached_nodes.len()
+                r.final_state.detached_nodes.len()
             );
             assert_eq!(first_cut, Some(r.history.len()));
             for (k, s) in r.history.iter().enumerate() {

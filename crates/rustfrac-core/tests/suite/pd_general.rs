@@ -4,11 +4,12 @@
 //! pd_general::`).
 
 use crate::common;
+use rustfrac_core::pd::analysis::run;
+use rustfrac_core::pd::analysis::splice_model;
 
 use common::{go_on, pd_plate};
 use rustfrac_core::pd::cell_fraction;
-use rustfrac_core::pd::sla::{force_screening, run};
-use rustfrac_core::pd::splice::SpliceModel;
+use rustfrac_core::pd::sla::force_screening;
 use rustfrac_core::problem::Side;
 use rustfrac_core::problem::{CrackKind, CrackSpec, HoleVolumes, Problem, SlaParams};
 
@@ -48,7 +49,7 @@ fn edge(side: Side, x: f64, y: f64, a0: f64, angle: f64) -> CrackSpec {
 /// cross it, found by brute force over all node pairs; the SLA's first broken bond lies at one of
 /// `tips` (none given: a crack along the grips' pull, which does not open).
 fn check_precrack(p: &Problem, tips: &[[f64; 2]]) {
-    let model = SpliceModel::new(p).unwrap();
+    let model = splice_model(p).unwrap();
     let line = p.pd_precrack();
     let g = &model.grid;
     let m = model.pd.m as f64;
@@ -126,7 +127,7 @@ fn edge_precracks_from_every_side_and_centre_cracks() {
     let line = p.crack_polylines()[0].clone();
     check_precrack(&p, &line);
     // the CMOD is read at the centre: opening > 0 under the grips' tension
-    let model = SpliceModel::new(&p).unwrap();
+    let model = splice_model(&p).unwrap();
     let s = model.solve(&model.precrack_broken).unwrap();
     assert!(s.cmod > 0.0, "centre opening {}", s.cmod);
 }
@@ -214,7 +215,7 @@ fn bulk_shear(probes: &[(String, [f64; 2])]) -> f64 {
 /// bottom's reaction along x1, and the mean top displacement u1.
 fn shear_pd(method: &str) -> (f64, f64, f64, f64) {
     let p = shear_block(method);
-    let model = SpliceModel::new(&p).unwrap();
+    let model = splice_model(&p).unwrap();
     let s = model.solve(&model.precrack_broken).unwrap();
     let r = model.scene_responses(&s.u, &s.reactions).unwrap();
     let fx: f64 = (0..model.grid.n_nodes()).map(|n| model.f[2 * n]).sum();
@@ -310,7 +311,7 @@ fn pd_hole_under_tension_follows_kirsch() {
                 },
             }];
         }
-        let model = SpliceModel::new(&p).unwrap();
+        let model = splice_model(&p).unwrap();
         let s = model.solve(&model.precrack_broken).unwrap();
         let r = model.scene_responses(&s.u, &s.reactions).unwrap();
         (model, s.u, r)
@@ -403,7 +404,7 @@ fn bad_pd_scenes_are_refused_by_name() {
             radius: 0.1,
         },
     }];
-    let e = SpliceModel::new(&p).err().expect("refused");
+    let e = splice_model(&p).err().expect("refused");
     assert_eq!(e.param(), Some("hole[0]"), "{e}");
     assert!(e.to_string().contains("hybrid element"), "{e}");
     // inside the PD rectangle it is a PD hole
@@ -411,18 +412,18 @@ fn bad_pd_scenes_are_refused_by_name() {
         center: [1.0, 0.5],
         radius: 0.1,
     };
-    let m = SpliceModel::new(&p).unwrap();
+    let m = splice_model(&p).unwrap();
     assert!(m.material.iter().any(|&x| !x));
     // a crack tip outside the PD rectangle
     let mut p = shear_block("ccm_pd");
     p.cracks = vec![edge(Side::Left, 0.0, 0.525, 0.3, 0.0)];
-    let e = SpliceModel::new(&p).err().expect("refused");
+    let e = splice_model(&p).err().expect("refused");
     assert_eq!(e.param(), Some("pd.center"), "{e}");
     assert!(e.to_string().contains("crack.a0"), "{e}");
     // a crack through a grid node names its offset
     let mut p = shear_block("pd");
     p.cracks = vec![edge(Side::Left, 0.0, 0.5, 0.3, 0.0)];
-    let e = SpliceModel::new(&p).err().expect("refused");
+    let e = splice_model(&p).err().expect("refused");
     assert_eq!(e.param(), Some("crack.y"), "{e}");
 }
 
@@ -469,15 +470,15 @@ fn sla_on_region_scenes_fast_equals_oracle() {
             let r = run(&p, &go_on);
             force_screening(false);
             let r = r.unwrap();
-            assert_eq!(r.screened_steps > 0, screen, "{method}");
-            assert_eq!(r.grip, "regions");
+            assert_eq!(r.work.screened_steps > 0, screen, "{method}");
+            assert_eq!(r.run.grip, None, "supports and loads on regions");
             let t = p.material.elastic.thickness;
             for s in &r.history {
                 // the traction's mean stress is the applied one, lambda times 1
                 assert!((s.sigma22 - s.lambda).abs() <= 1e-9 * s.lambda, "{s:?}");
                 assert!(s.u0 > 0.0 && s.u0.is_finite());
             }
-            let top = &r.responses.regions[1].1;
+            let top = &r.reference.responses.regions[1].1;
             assert!((top.force[1] - 1.2 * t).abs() < 1e-9 * t);
             hist.push(r.history);
         }
@@ -537,10 +538,10 @@ fn sla_histories_carry_the_probes() {
             let r = run(&p, &go_on);
             force_screening(false);
             let r = r.unwrap();
-            assert_eq!(r.screened_steps > 0, screen, "{method}");
+            assert_eq!(r.work.screened_steps > 0, screen, "{method}");
             assert_eq!(r.history.len(), 30, "{method}");
             let s1 = &r.history[0];
-            for (k, (name, v)) in r.responses.probes.iter().enumerate() {
+            for (k, (name, v)) in r.reference.responses.probes.iter().enumerate() {
                 for c in 0..2 {
                     let want = s1.lambda * v[c];
                     let tol = 1e-9 * (want.abs() + s1.lambda * v[0].hypot(v[1]));
@@ -599,7 +600,7 @@ fn kirsch_errors(dx: f64, rule: HoleVolumes) -> [f64; 3] {
             radius: a,
         },
     }];
-    let model = SpliceModel::new(&p).unwrap();
+    let model = splice_model(&p).unwrap();
     let s = model.solve(&model.precrack_broken).unwrap();
     let r = model.scene_responses(&s.u, &s.reactions).unwrap();
     let u = s.u;

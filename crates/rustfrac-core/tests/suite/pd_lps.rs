@@ -6,7 +6,7 @@
 use crate::common;
 
 use common::{go_on, pd_plate, rel, set_precrack};
-use rustfrac_core::pd::sla::run;
+use rustfrac_core::pd::analysis::{run, splice_model};
 use rustfrac_core::pd::splice::SpliceModel;
 use rustfrac_core::problem::{validate, Grip, Influence, PdModel, Plane, Problem, SlaEngine};
 
@@ -52,7 +52,7 @@ fn patch_test_linear_field_is_exact_in_the_bulk() {
     for plane in [Plane::Strain, Plane::Stress] {
         for inf in [Influence::Constant, Influence::Conical] {
             let p = lps_plate(3.0, 3.0, 0.1, 3, 0.3, plane, inf);
-            let model = SpliceModel::new(&p).unwrap();
+            let model = splice_model(&p).unwrap();
             let lps = model.lps.as_ref().expect("an LPS model");
             let grid = &model.grid;
             let u: Vec<f64> = (0..grid.n_nodes())
@@ -127,7 +127,7 @@ fn uniaxial_compliance_converges_to_the_closed_form() {
         for dx in [0.2, 0.1, 0.05] {
             let p = lps_plate(2.0, 4.0, dx, 3, 0.3, plane, Influence::Constant)
                 .with_grip(Grip::Traction);
-            let model = SpliceModel::new(&p).unwrap();
+            let model = splice_model(&p).unwrap();
             let sol = model.solve(&model.precrack_broken).unwrap();
             let (e, nu) = (p.material.elastic.e, p.material.elastic.nu);
             let sigma = p.boundary.plate_load().traction;
@@ -168,8 +168,8 @@ fn lps_at_nu_quarter_matches_bond_based_in_the_bulk() {
         .with_grip(Grip::Traction);
     let mut p_bond = p_lps.clone();
     p_bond.pd_mut().model = PdModel::Bond;
-    let ml = SpliceModel::new(&p_lps).unwrap();
-    let mb = SpliceModel::new(&p_bond).unwrap();
+    let ml = splice_model(&p_lps).unwrap();
+    let mb = splice_model(&p_bond).unwrap();
     assert_eq!(ml.bonds, mb.bonds);
     let lps = ml.lps.as_ref().unwrap();
     assert!(lps.a().abs() < 1e-12 * lps.consts.mu);
@@ -233,7 +233,7 @@ fn sla_breaks_along_the_crack_and_dissipates_about_g0() {
         .unwrap();
     let peak = h[ipk].sigma22;
     let last = h.last().unwrap().sigma22;
-    let model = SpliceModel::new(&p).unwrap();
+    let model = splice_model(&p).unwrap();
     let delta = model.pd.delta;
     let broken: Vec<usize> = h.iter().flat_map(|s| s.bonds.iter().copied()).collect();
     let off_line = broken
@@ -246,7 +246,7 @@ fn sla_breaks_along_the_crack_and_dissipates_about_g0() {
         .count();
     let (w, t) = (p.domain.width, p.material.elastic.thickness);
     let sref: Vec<f64> = h.iter().map(|s| s.sigma22 / s.lambda).collect();
-    let separated = r.status.name() == "separated";
+    let separated = r.run.status.name() == "separated";
     let mut dissipated = 0.0;
     for k in 0..h.len() {
         let next = if k + 1 < h.len() {
@@ -268,7 +268,7 @@ fn sla_breaks_along_the_crack_and_dissipates_about_g0() {
         "LPS SLA: {} steps ({}), peak sigma22 {peak:.4} at step {}, last {last:.4}; {} bonds \
          broken, {off_line} off the crack line; G / G0 = {g_over_g0:.4} over da = {da:.3}",
         h.len(),
-        r.status.name(),
+        r.run.status.name(),
         ipk + 1,
         broken.len()
     );

@@ -4,9 +4,11 @@
 //! the scene key's refusal.
 
 use crate::common;
+use rustfrac_core::pd::analysis::splice_model;
+use rustfrac_core::problem::Calibration;
 
 use common::{coarse, go_on, pd_plate, pd_strip, same_sla_history, set_precrack};
-use rustfrac_core::pd::sla::run;
+use rustfrac_core::pd::analysis::run;
 use rustfrac_core::pd::splice::SpliceModel;
 use rustfrac_core::pd::{family_stencil, Grid};
 use rustfrac_core::problem::value::{Table, Value};
@@ -49,7 +51,12 @@ fn uniform_tension_is_closer_to_the_closed_form_with_the_correction() {
         let mut p = pd_plate("pd", 2.0, 4.0, 0.1, 3).with_grip(Grip::Traction);
         set_precrack(&mut p, 0.0, 0.0);
         let p = with_correction(p, c);
-        let model = SpliceModel::with_precrack(&p, vec![[1.05, 1.05], [1.05, 2.95]]).unwrap();
+        let model = SpliceModel::with_precrack(
+            &p,
+            vec![[1.05, 1.05], [1.05, 2.95]],
+            Calibration::continuum(),
+        )
+        .unwrap();
         let sol = model.solve(&model.precrack_broken).unwrap();
         let sigma = p.boundary.plate_load().traction;
         let e = p.material.elastic.e;
@@ -135,7 +142,7 @@ fn bulk_nodes_and_bonds_get_factor_one_exactly() {
     let mut p = pd_plate("pd", 3.0, 3.0, 0.1, 3);
     set_precrack(&mut p, 1.05, 1.55);
     let p = with_correction(p, SurfaceCorrection::Energy);
-    let model = SpliceModel::new(&p).unwrap();
+    let model = splice_model(&p).unwrap();
     let sf = model.surface.as_ref().unwrap();
     let g = &model.grid;
     let delta = model.pd.delta;
@@ -200,7 +207,7 @@ fn lattice_family_is_the_models_bonds() {
         },
     ];
     let p = with_correction(p, SurfaceCorrection::Energy);
-    let model = SpliceModel::new(&p).unwrap();
+    let model = splice_model(&p).unwrap();
     let sf = model.surface.as_ref().unwrap();
     let nn = model.grid.n_nodes();
     let mut own = vec![[0.0f64; 2]; nn];
@@ -257,7 +264,7 @@ fn factors_do_not_depend_on_the_pd_region() {
     p.pd_mut().surface_correction = SurfaceCorrection::Energy;
     let (dx, m) = (p.pd().unwrap().dx, p.pd().unwrap().m);
     p.pd_mut().regions = pd_region::initial(&p, dx, m, &a);
-    let small = SpliceModel::new(&p).unwrap();
+    let small = splice_model(&p).unwrap();
     let mut grown = small.pd_method().regions.clone();
     grown.push([0.3, 9.3, 4.7, 11.7]);
     let big = small.with_regions(grown).unwrap();
@@ -305,7 +312,9 @@ fn fast_engines_match_the_oracle_with_the_correction() {
     let oracle = run(&with_correction(coarse(false, n), e), &go_on).unwrap();
     let plain = run(&coarse(true, n), &go_on).unwrap();
     let w1 = same_sla_history(&fast, &oracle, n);
-    assert!(fast.surface_correction.is_some() && plain.surface_correction.is_none());
+    assert!(
+        fast.constants.surface_correction.is_some() && plain.constants.surface_correction.is_none()
+    );
     // the correction changes the run (else this test proves nothing about it)
     assert!((fast.history[0].lambda / plain.history[0].lambda - 1.0).abs() > 1e-4);
 
@@ -319,13 +328,13 @@ fn fast_engines_match_the_oracle_with_the_correction() {
         |fast: bool| common::with_adaptive(with_correction(coarse(fast, 320), e), 1.5, 2.5);
     let fast = run(&adaptive(true), &go_on).unwrap();
     let oracle = run(&adaptive(false), &go_on).unwrap();
-    assert!(!fast.switches.is_empty());
-    assert_eq!(fast.switches.len(), oracle.switches.len());
+    assert!(!fast.region.switches.is_empty());
+    assert_eq!(fast.region.switches.len(), oracle.region.switches.len());
     let w3 = same_sla_history(&fast, &oracle, 320);
     println!(
         "fast vs oracle with the correction: coarse CCM-PD {n} steps {w1:.2e}; pure PD strip {ns} \
          steps {w2:.2e}; adaptive 320 steps, {} switches {w3:.2e}",
-        fast.switches.len()
+        fast.region.switches.len()
     );
     for w in [w1, w2, w3] {
         assert!(w < 1e-8, "{w}");

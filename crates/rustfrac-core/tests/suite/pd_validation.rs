@@ -1,9 +1,11 @@
 //! Peridynamics validation: gamma from exact partial areas, constants, energy density of bulk nodes,
 //! pure PD model under linear fields.
 
-use rustfrac_core::pd::sla::run;
+use rustfrac_core::pd::analysis::run;
+use rustfrac_core::pd::analysis::splice_model;
 use rustfrac_core::pd::splice::SpliceModel;
 use rustfrac_core::pd::{family_stencil, find_bonds, gamma, Grid, PdConstants, BYTES_PER_BOND};
+use rustfrac_core::problem::Calibration;
 use rustfrac_core::problem::{Domain, Problem};
 use rustfrac_core::problem::{Elastic, Plane};
 use rustfrac_core::Error;
@@ -141,7 +143,7 @@ fn bad_inputs_are_refused_with_reasons() {
     let base = Problem::paper("ccm_pd");
     let check = |p: Problem, name: &str| match run(&p, &|_, _| true) {
         Err(Error::InvalidInput { param, .. }) => assert_eq!(param, name),
-        other => panic!("{name}: {:?}", other.map(|r| r.status)),
+        other => panic!("{name}: {:?}", other.map(|r| r.run.status)),
     };
     let mut p = base.clone();
     p.pd_mut().dx = 0.07; // does not fit W = 11
@@ -167,6 +169,6 @@ fn bad_inputs_are_refused_with_reasons() {
     p.cracks.clear();
     p.pd_mut().dx = 0.1;
     p.material.g0 = 0.3;
-    assert!(SpliceModel::new(&p).is_ok());
-    assert!(SpliceModel::with_precrack(&p, vec![[0.0, 0.55]]).is_err());
+    assert!(splice_model(&p).is_ok());
+    assert!(SpliceModel::with_precrack(&p, vec![[0.0, 0.55]], Calibration::continuum()).is_err());
 }

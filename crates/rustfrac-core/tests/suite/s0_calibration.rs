@@ -8,11 +8,11 @@
 use crate::common;
 
 use common::{coarse, go_on, rel};
+use rustfrac_core::pd::analysis;
 use rustfrac_core::pd::calibration::{
     calibration, grid_energy_ratio, reference_strip, sla_energy_ratio, strip_release_ratio,
     STRIP_HEIGHT, STRIP_PRECRACK, STRIP_WIDTH,
 };
-use rustfrac_core::pd::sla;
 use rustfrac_core::problem::value::{Table, Value};
 use rustfrac_core::problem::Problem;
 use rustfrac_core::problem::S0Calibration;
@@ -69,17 +69,17 @@ fn calibration_factors() {
 /// CMOD scale by the factor (coarse CCM-PD plate, 40 steps), against the continuum run.
 #[test]
 fn calibration_scales_the_history_and_nothing_else() {
-    let base = sla::run(&coarse(true, 40), &go_on).unwrap();
+    let base = analysis::run(&coarse(true, 40), &go_on).unwrap();
     for rule in [S0Calibration::Grid, S0Calibration::Sla] {
         let mut p = coarse(true, 40);
         p.pd_mut().s0_calibration = rule;
-        let r = sla::run(&p, &go_on).unwrap();
+        let r = analysis::run(&p, &go_on).unwrap();
         let f = calibration(rule, p.pd().unwrap().m).unwrap().factor;
         assert!(
             (f - 1.0).abs() > 1e-3,
             "{rule:?}: factor {f}: the test could not fail"
         );
-        assert!(rel(r.s0, f * base.s0) < 1e-14);
+        assert!(rel(r.constants.pd.s0, f * base.constants.pd.s0) < 1e-14);
         assert_eq!(r.history.len(), base.history.len());
         let mut worst = 0.0f64;
         for (x, y) in r.history.iter().zip(&base.history) {
@@ -103,7 +103,10 @@ fn calibration_scales_the_history_and_nothing_else() {
         );
         assert!(worst < 1e-9, "{rule:?}: {worst}");
         // the reference solution (no break) is the same
-        assert_eq!((r.sigma22, r.cmod), (base.sigma22, base.cmod));
+        assert_eq!(
+            (r.reference.sigma22, r.reference.cmod),
+            (base.reference.sigma22, base.reference.cmod)
+        );
     }
 }
 
@@ -152,7 +155,7 @@ fn sla_reference_strip_size_study() {
                 p = p.with_grip(rustfrac_core::problem::Grip::Clamped);
             }
             let r = strip_release_ratio(&p).unwrap();
-            let steps = sla::run(&p, &go_on).unwrap().history.len();
+            let steps = analysis::run(&p, &go_on).unwrap().history.len();
             println!(
                 "m = {m}, {w} x {h} horizons: G_sla / G0 = {r:.5} ({steps} steps, {:.2} s){}",
                 t.elapsed().as_secs_f64(),

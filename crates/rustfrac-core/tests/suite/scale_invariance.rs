@@ -21,7 +21,7 @@ use rustfrac_core::fe::loading::sigma22;
 use rustfrac_core::fe::mesh::Mesh;
 use rustfrac_core::fe::FemModel;
 use rustfrac_core::fem_driver::{self, FemPlateResult};
-use rustfrac_core::pd::sla;
+use rustfrac_core::pd::analysis;
 use rustfrac_core::problem::{Boundary, Domain, Problem, SlaParams};
 use rustfrac_core::problem::{Elastic, Plane};
 use rustfrac_core::problem::{Grip, PlateLoad};
@@ -390,31 +390,46 @@ fn ccm_pd_sla_is_scale_invariant() {
 
 fn pd_case(method: &str, grip: Grip, scales: &[(f64, f64, f64)]) -> f64 {
     let steps = 12;
-    let r0 = sla::run(&pd_params(1.0, 1.0, 1.0, steps, method, grip), &go_on).unwrap();
+    let r0 = analysis::run(&pd_params(1.0, 1.0, 1.0, steps, method, grip), &go_on).unwrap();
     assert_eq!(r0.history.len(), steps);
     let mut worst = 0.0f64;
     for &(l, e, t) in scales {
-        let r = sla::run(&pd_params(l, e, t, steps, method, grip), &go_on).unwrap();
+        let r = analysis::run(&pd_params(l, e, t, steps, method, grip), &go_on).unwrap();
         let tag = format!("{method} {grip:?} l={l:e} e={e:e} t={t:e}");
-        assert_eq!(r.status, r0.status, "{tag}");
-        assert_eq!(r.n_precrack_bonds, r0.n_precrack_bonds, "{tag}");
-        assert_eq!(r.n_removed_elements, r0.n_removed_elements, "{tag}");
-        let (got, want) = ([r.sigma22, r.cmod], [r0.sigma22, r0.cmod]);
+        assert_eq!(r.run.status, r0.run.status, "{tag}");
+        assert_eq!(
+            r.counts.n_precrack_bonds, r0.counts.n_precrack_bonds,
+            "{tag}"
+        );
+        assert_eq!(
+            r.counts.n_removed_elements, r0.counts.n_removed_elements,
+            "{tag}"
+        );
+        let (got, want) = (
+            [r.reference.sigma22, r.reference.cmod],
+            [r0.reference.sigma22, r0.reference.cmod],
+        );
         check_sigma_cmod(&tag, got, want, e, l, &mut worst);
-        check(&format!("{tag} s0"), r.s0, r0.s0, r0.s0, &mut worst);
+        check(
+            &format!("{tag} s0"),
+            r.constants.pd.s0,
+            r0.constants.pd.s0,
+            r0.constants.pd.s0,
+            &mut worst,
+        );
         check(
             &format!("{tag} gamma"),
-            r.gamma,
-            r0.gamma,
-            r0.gamma,
+            r.constants.pd.gamma,
+            r0.constants.pd.gamma,
+            r0.constants.pd.gamma,
             &mut worst,
         );
         // c = 48 E gamma / (5 pi h delta^3) (eq. 47)
         check(
             &format!("{tag} c"),
-            r.c * t * l.powi(3) / e,
-            r0.c,
-            r0.c,
+            r.constants.pd.c * t * l.powi(3) / e,
+            r0.constants.pd.c,
+            r0.constants.pd.c,
             &mut worst,
         );
         assert_eq!(r.history.len(), r0.history.len(), "{tag}");
@@ -435,7 +450,7 @@ fn pd_case(method: &str, grip: Grip, scales: &[(f64, f64, f64)]) -> f64 {
                 &mut worst,
             );
         }
-        for (a, b) in r.damage.iter().zip(&r0.damage) {
+        for (a, b) in r.final_state.damage.iter().zip(&r0.final_state.damage) {
             assert_eq!(a, b, "{tag}: damage differs");
         }
     }

@@ -2,11 +2,12 @@
 //! during the run, checkpoints and bit-for-bit resume, refusal of foreign or corrupt checkpoints.
 
 use crate::common;
+use rustfrac_core::pd::analysis::run;
 
 use common::{coarse, go_on};
 use rustfrac_core::pd::cost::auto_refactor_every;
 use rustfrac_core::pd::sla::checkpoint;
-use rustfrac_core::pd::sla::{run, CcmPdResult};
+use rustfrac_core::pd::sla::CcmPdResult;
 use rustfrac_core::problem::{Probe, ProbeKind, Problem};
 use rustfrac_core::Error;
 use rustfrac_core::WarningKind;
@@ -28,32 +29,36 @@ fn long_run_keeps_the_solver_memory_bounded() {
     let n = 3000;
     let r = run(&coarse(true, n), &go_on).unwrap();
     let n_updates: usize = r.history.iter().map(|s| s.bonds.len()).sum::<usize>()
-        + r.detached_nodes.iter().filter(|d| d.0 > 0).count();
-    let np = 2 * r.n_pd_nodes; // upper bound of the free PD dofs
+        + r.final_state
+            .detached_nodes
+            .iter()
+            .filter(|d| d.0 > 0)
+            .count();
+    let np = 2 * r.counts.n_pd_nodes; // upper bound of the free PD dofs
     println!(
         "{} steps ({}), {} PD nodes, {} bonds; re-condensation every {} updates (auto), {} condensations, at most {} update vectors held; {} updates ({} groundings of detached nodes); SLA {:.2} s; peak RSS {:.0} MB; history row {} B + bonds",
         r.history.len(),
-        r.status,
-        r.n_pd_nodes,
-        r.n_bonds,
-        r.refactor_interval,
-        r.n_refactorisations,
-        r.max_update_rank,
+        r.run.status,
+        r.counts.n_pd_nodes,
+        r.counts.n_bonds,
+        r.run.solver.refactor_interval,
+        r.work.n_refactorisations,
+        r.work.max_update_rank,
         n_updates,
-        r.detached_nodes.len(),
-        r.sla_seconds,
-        r.peak_memory_bytes.unwrap_or(0) as f64 / 1e6,
+        r.final_state.detached_nodes.len(),
+        r.timings.sla_seconds,
+        r.timings.peak_memory_bytes.unwrap_or(0) as f64 / 1e6,
         std::mem::size_of::<rustfrac_core::pd::sla::SlaStep>()
     );
-    assert_eq!(r.history.len(), n, "{}", r.status);
-    assert!(r.refactor_interval <= auto_refactor_every(np));
-    assert!(r.refactor_interval >= 64);
+    assert_eq!(r.history.len(), n, "{}", r.run.status);
+    assert!(r.run.solver.refactor_interval <= auto_refactor_every(np));
+    assert!(r.run.solver.refactor_interval >= 64);
     // the bound holds and is reached: the update vectors are recycled, not accumulated
-    assert!(r.max_update_rank <= r.refactor_interval);
-    assert_eq!(r.max_update_rank, r.refactor_interval);
-    assert!(r.n_refactorisations > (n_updates - 1) / r.refactor_interval);
+    assert!(r.work.max_update_rank <= r.run.solver.refactor_interval);
+    assert_eq!(r.work.max_update_rank, r.run.solver.refactor_interval);
+    assert!(r.work.n_refactorisations > (n_updates - 1) / r.run.solver.refactor_interval);
     // the final state is a regular solution
-    assert!(r.u_final.iter().all(|v| v.is_finite()));
+    assert!(r.final_state.u.iter().all(|v| v.is_finite()));
 
     // first 400 steps: automatic re-condensation = no re-condensation = oracle (to 1e-8)
     let m = 400;
@@ -61,7 +66,7 @@ fn long_run_keeps_the_solver_memory_bounded() {
     p.pd_mut().sla.refactor_every = 1_000_000;
     let unbounded = run(&p, &go_on).unwrap();
     let oracle = run(&coarse(false, m), &go_on).unwrap();
-    assert_eq!(unbounded.max_update_rank, m);
+    assert_eq!(unbounded.work.max_update_rank, m);
     let mut worst = 0.0f64;
     for k in 0..m {
         let (a, b, c) = (&r.history[k], &unbounded.history[k], &oracle.history[k]);
@@ -91,10 +96,15 @@ fn nodes_detached_during_the_sla_are_grounded() {
     p.pd_mut().m = 2;
     p.pd_mut().sla.tie_tol = 1e-6;
     let r = run(&p, &go_on).unwrap();
-    let during: Vec<_> = r.detached_nodes.iter().filter(|d| d.0 > 0).collect();
+    let during: Vec<_> = r
+        .final_state
+        .detached_nodes
+        .iter()
+        .filter(|d| d.0 > 0)
+        .collect();
     println!(
         "m = 2: {} after {} steps; detached during the SLA (step, node): {:?}; warnings {:?}",
-        r.status,
+        r.run.status,
         r.history.len(),
         during,
         r.warnings
@@ -132,12 +142,12 @@ fn same(a: &CcmPdResult, b: &CcmPdResult) {
         assert_eq!(x.sigma22.to_bits(), y.sigma22.to_bits());
         assert_eq!(x.cmod.to_bits(), y.cmod.to_bits());
     }
-    assert_eq!(a.status, b.status);
-    assert_eq!(a.broken, b.broken);
-    assert_eq!(a.damage, b.damage);
-    assert_eq!(a.detached_nodes, b.detached_nodes);
+    assert_eq!(a.run.status, b.run.status);
+    assert_eq!(a.final_state.broken, b.final_state.broken);
+    assert_eq!(a.final_state.damage, b.final_state.damage);
+    assert_eq!(a.final_state.detached_nodes, b.final_state.detached_nodes);
     let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-    assert_eq!(bits(&a.u_final), bits(&b.u_final));
+    assert_eq!(bits(&a.final_state.u), bits(&b.final_state.u));
 }
 
 /// 2N + k steps straight against N steps with checkpoints every N, stopped (step limit, and a
@@ -175,27 +185,30 @@ fn checkpoint_and_resume_are_bit_for_bit() {
         p.pd_mut().sla.checkpoint_every = n;
         p.pd_mut().sla.checkpoint_path = Some(path.clone());
         let first = run(&p, &go_on).unwrap();
-        assert_eq!(first.n_checkpoints, 1);
+        assert_eq!(first.run.n_checkpoints, 1);
         let mut q = base.clone();
         q.pd_mut().sla.resume_from = Some(path.clone());
         let resumed = run(&q, &go_on).unwrap();
-        assert_eq!(resumed.resumed_steps, n);
+        assert_eq!(resumed.run.resumed_steps, n);
         same(&straight, &resumed);
-        assert_eq!(straight.damage_at, resumed.damage_at);
+        assert_eq!(
+            straight.final_state.damage_at,
+            resumed.final_state.damage_at
+        );
 
         // (b) cancelled from the progress callback after step N + 2: a checkpoint is written then
         let stop = n + 2;
         let cancel = move |s: usize, _: usize| s < stop;
         let c = run(&p, &cancel).unwrap();
-        assert_eq!(c.status.name(), "cancelled");
+        assert_eq!(c.run.status.name(), "cancelled");
         assert_eq!(c.history.len(), stop);
-        assert_eq!(c.n_checkpoints, 2);
+        assert_eq!(c.run.n_checkpoints, 2);
         let resumed = run(&q, &go_on).unwrap();
-        assert_eq!(resumed.resumed_steps, stop);
+        assert_eq!(resumed.run.resumed_steps, stop);
         same(&straight, &resumed);
         println!(
             "fast = {fast}: {total} steps straight = checkpoint at {n} / cancel at {stop} + resume, bit for bit ({} condensations straight)",
-            straight.n_refactorisations
+            straight.work.n_refactorisations
         );
         // written atomically: no temporary file is left next to the checkpoint
         let names: Vec<_> = std::fs::read_dir(&dir)
@@ -223,7 +236,7 @@ fn foreign_or_corrupt_checkpoints_are_refused() {
             assert!(expected.contains(what), "{expected}");
             println!("refused ({what}): {expected}");
         }
-        other => panic!("{what}: {:?}", other.map(|r| r.status)),
+        other => panic!("{what}: {:?}", other.map(|r| r.run.status)),
     };
     // a different model (horizon) and a different solver option: refused
     let mut q = coarse(true, 20);
@@ -237,7 +250,7 @@ fn foreign_or_corrupt_checkpoints_are_refused() {
     // the same model resumes (and may change the step limit)
     let mut q = coarse(true, 20);
     q.pd_mut().sla.resume_from = Some(path.clone());
-    assert_eq!(run(&q, &go_on).unwrap().resumed_steps, 10);
+    assert_eq!(run(&q, &go_on).unwrap().run.resumed_steps, 10);
     // a flipped byte: checksum
     let mut bytes = std::fs::read(&path).unwrap();
     let mid = bytes.len() / 2;
@@ -338,7 +351,7 @@ fn hostile_checkpoints_are_refused() {
                     t.elapsed().as_secs_f64()
                 );
             }
-            other => panic!("{what}: {:?}", other.map(|r| r.status)),
+            other => panic!("{what}: {:?}", other.map(|r| r.run.status)),
         }
     };
     // a FIFO (opening it would block) and a directory
@@ -420,7 +433,7 @@ fn a_centre_checkpoint_does_not_resume_an_exact_run() {
     run(&p, &go_on).unwrap();
     let mut q = coarse(true, 8);
     q.pd_mut().sla.resume_from = Some(path.clone());
-    assert_eq!(run(&q, &go_on).unwrap().resumed_steps, 4);
+    assert_eq!(run(&q, &go_on).unwrap().run.resumed_steps, 4);
     q.pd_mut().hole_volumes = rustfrac_core::problem::HoleVolumes::Exact;
     assert!(matches!(
         run(&q, &go_on),
@@ -448,7 +461,7 @@ fn checkpoints_of_earlier_versions_are_refused() {
     );
     let mut q = coarse(true, 10);
     q.pd_mut().sla.resume_from = Some(path.clone());
-    assert_eq!(run(&q, &go_on).unwrap().resumed_steps, 6);
+    assert_eq!(run(&q, &go_on).unwrap().run.resumed_steps, 6);
     for version in 1..checkpoint::VERSION {
         let mut old = b[..b.len() - 8].to_vec();
         old[8..12].copy_from_slice(&version.to_le_bytes());
@@ -463,7 +476,7 @@ fn checkpoints_of_earlier_versions_are_refused() {
                 assert_eq!(param, "pd.resume_from");
                 assert!(expected.contains("earlier model fingerprint"), "{expected}");
             }
-            other => panic!("version {version}: {:?}", other.map(|r| r.status)),
+            other => panic!("version {version}: {:?}", other.map(|r| r.run.status)),
         }
     }
     let _ = std::fs::remove_dir_all(&dir);

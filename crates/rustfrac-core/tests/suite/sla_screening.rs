@@ -7,9 +7,10 @@
 //! for bit.
 
 use crate::common;
+use rustfrac_core::pd::analysis::run;
 
 use common::{coarse, go_on, pd_plate, pd_strip, same_sla_history};
-use rustfrac_core::pd::sla::{force_screening, run, CcmPdResult};
+use rustfrac_core::pd::sla::{force_screening, CcmPdResult};
 use rustfrac_core::problem::Grip;
 use rustfrac_core::problem::{Problem, SlaEngine, SurfaceCorrection};
 
@@ -33,24 +34,24 @@ fn check(name: &str, p: &Problem, most: f64) -> f64 {
     let oracle = run(&with_engine(p.clone(), SlaEngine::Oracle), &go_on).unwrap();
     let n = fast.history.len();
     assert!(n > 0, "{name}: no step");
-    assert_eq!(fast.status, oracle.status, "{name}");
+    assert_eq!(fast.run.status, oracle.run.status, "{name}");
     assert_eq!(n, oracle.history.len(), "{name}");
     let worst = same_sla_history(&fast, &oracle, n);
-    let bonds = fast.n_bonds as f64;
-    let cleared = 1.0 - fast.screened_bonds as f64 / (fast.screened_steps as f64 * bonds);
+    let bonds = fast.counts.n_bonds as f64;
+    let cleared = 1.0 - fast.work.screened_bonds as f64 / (fast.work.screened_steps as f64 * bonds);
     println!(
         "{name}: {n} steps ({}), {} screened, {:.0} bonds evaluated a step of {bonds}, max rel \
          difference to the oracle {worst:.2e}",
-        fast.status,
-        fast.screened_steps,
-        fast.screened_bonds as f64 / fast.screened_steps as f64
+        fast.run.status,
+        fast.work.screened_steps,
+        fast.work.screened_bonds as f64 / fast.work.screened_steps as f64
     );
     assert!(worst < 1e-8, "{name}: {worst:.2e}");
     // every step of the fast solver was screened (a step ending the run is not counted)
     assert!(
-        fast.screened_steps + 1 >= n,
+        fast.work.screened_steps + 1 >= n,
         "{name}: {}",
-        fast.screened_steps
+        fast.work.screened_steps
     );
     assert!(
         cleared > most,
@@ -112,7 +113,7 @@ fn separation_and_surface_correction_screened() {
 fn adaptive_region_screened_matches_oracle() {
     let p = common::with_adaptive(coarse(true, 320), 1.5, 2.5);
     let fast = screened(&p);
-    assert!(!fast.switches.is_empty());
+    assert!(!fast.region.switches.is_empty());
     check("adaptive coarse CCM-PD", &p, 0.5);
 }
 
@@ -122,7 +123,7 @@ fn size_rule_and_checkpoint_resume() {
     let base = with_engine(coarse(true, 87), SlaEngine::Sparse);
     let plain = run(&base, &go_on).unwrap();
     assert_eq!(
-        plain.screened_steps, 0,
+        plain.work.screened_steps, 0,
         "a small case is not screened by size"
     );
     let straight = screened(&base);
@@ -134,14 +135,14 @@ fn size_rule_and_checkpoint_resume() {
     p.pd_mut().sla.max_steps = 45;
     p.pd_mut().sla.checkpoint_every = 40;
     p.pd_mut().sla.checkpoint_path = Some(path.clone());
-    assert_eq!(screened(&p).n_checkpoints, 1);
+    assert_eq!(screened(&p).run.n_checkpoints, 1);
     let mut q = base.clone();
     q.pd_mut().sla.resume_from = Some(path);
     let resumed = screened(&q);
-    assert_eq!(resumed.resumed_steps, 40);
+    assert_eq!(resumed.run.resumed_steps, 40);
     assert_eq!(straight.history, resumed.history);
     let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-    assert_eq!(bits(&straight.u_final), bits(&resumed.u_final));
+    assert_eq!(bits(&straight.final_state.u), bits(&resumed.final_state.u));
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -155,7 +156,7 @@ fn bonds_with_an_fem_end_break_screened() {
     p.pd_mut().sla.refactor_every = 50;
     let r = screened(&p);
     assert_eq!(
-        r.interface_distance_min,
+        r.region.interface_distance_min,
         Some(0.0),
         "no bond with an FEM end broke"
     );

@@ -4,9 +4,10 @@
 //! engine's choice reported; and an ignored paper-scale run (pure PD, 52 k nodes).
 
 use crate::common;
+use rustfrac_core::pd::analysis::run;
 
 use common::{coarse, go_on, pd_plate, pd_strip, rel};
-use rustfrac_core::pd::sla::{force_lu_form, run, CcmPdResult};
+use rustfrac_core::pd::sla::{force_lu_form, CcmPdResult};
 use rustfrac_core::problem::Grip;
 use rustfrac_core::problem::{Problem, SlaEngine};
 use std::path::PathBuf;
@@ -19,7 +20,7 @@ fn with_engine(mut p: Problem, e: SlaEngine) -> Problem {
 /// Same bonds at every step, load factors (and sigma22, CMOD) within `tol` relative.
 fn agree(a: &CcmPdResult, oracle: &CcmPdResult, tol: f64) {
     assert_eq!(a.history.len(), oracle.history.len());
-    assert_eq!(a.status, oracle.status);
+    assert_eq!(a.run.status, oracle.run.status);
     let mut worst = 0.0f64;
     for (x, y) in a.history.iter().zip(&oracle.history) {
         assert_eq!(x.bonds, y.bonds, "step {}", x.step);
@@ -52,14 +53,26 @@ fn ccm_pd_sparse_matches_oracle() {
     let dense = run(&with_engine(p.clone(), SlaEngine::Dense), &go_on).unwrap();
     let p_lu = p.clone();
     let oracle = run(&with_engine(p, SlaEngine::Oracle), &go_on).unwrap();
-    println!("sparse: {}\noracle: {}", sparse.solver, oracle.solver);
-    assert!(sparse.solver.contains("bordered"), "{}", sparse.solver);
-    assert!(oracle.solver.starts_with("oracle"), "{}", oracle.solver);
+    println!(
+        "sparse: {}\noracle: {}",
+        sparse.run.solver.describe(),
+        oracle.run.solver.describe()
+    );
+    assert!(
+        sparse.run.solver.describe().contains("bordered"),
+        "{}",
+        sparse.run.solver.describe()
+    );
+    assert!(
+        oracle.run.solver.describe().starts_with("oracle"),
+        "{}",
+        oracle.run.solver.describe()
+    );
     assert_eq!(sparse.history.len(), steps);
     assert!(
-        sparse.n_refactorisations >= 3,
+        sparse.work.n_refactorisations >= 3,
         "{}",
-        sparse.n_refactorisations
+        sparse.work.n_refactorisations
     );
     agree(&sparse, &oracle, 1e-8);
     agree(&dense, &oracle, 1e-8);
@@ -69,9 +82,12 @@ fn ccm_pd_sparse_matches_oracle() {
     force_lu_form(false);
     let lu = lu.unwrap();
     assert!(
-        lu.solver.contains("the LU of S in 1 model(s)"),
+        lu.run
+            .solver
+            .describe()
+            .contains("the LU of S in 1 model(s)"),
         "{}",
-        lu.solver
+        lu.run.solver.describe()
     );
     agree(&lu, &oracle, 1e-8);
 }
@@ -88,16 +104,16 @@ fn sparse_engine_reuses_inverse_columns() {
     let oracle = run(&with_engine(p, SlaEngine::Oracle), &go_on).unwrap();
     println!(
         "{} columns for {steps} breaks, {} factorisation(s)",
-        sparse.inverse_columns, sparse.n_refactorisations
+        sparse.work.inverse_columns, sparse.work.n_refactorisations
     );
-    assert_eq!(sparse.n_refactorisations, 1);
-    assert!(sparse.inverse_columns > 0);
+    assert_eq!(sparse.work.n_refactorisations, 1);
+    assert!(sparse.work.inverse_columns > 0);
     assert!(
-        sparse.inverse_columns < 2 * steps,
+        sparse.work.inverse_columns < 2 * steps,
         "{} columns",
-        sparse.inverse_columns
+        sparse.work.inverse_columns
     );
-    assert_eq!(oracle.inverse_columns, 0);
+    assert_eq!(oracle.work.inverse_columns, 0);
     agree(&sparse, &oracle, 1e-8);
 }
 
@@ -112,17 +128,17 @@ fn pure_pd_sparse_matches_oracle() {
     p.pd_mut().sla.refactor_every = 30;
     let sparse = run(&with_engine(p.clone(), SlaEngine::Sparse), &go_on).unwrap();
     let oracle = run(&with_engine(p, SlaEngine::Oracle), &go_on).unwrap();
-    println!("sparse: {}", sparse.solver);
+    println!("sparse: {}", sparse.run.solver.describe());
     assert!(
-        sparse.solver.contains("sparse Cholesky"),
+        sparse.run.solver.describe().contains("sparse Cholesky"),
         "{}",
-        sparse.solver
+        sparse.run.solver.describe()
     );
     assert_eq!(sparse.history.len(), steps);
     assert!(
-        sparse.n_refactorisations >= 4,
+        sparse.work.n_refactorisations >= 4,
         "{}",
-        sparse.n_refactorisations
+        sparse.work.n_refactorisations
     );
     agree(&sparse, &oracle, 1e-8);
 }
@@ -140,12 +156,12 @@ fn sparse_detects_separation_like_the_oracle() {
         let oracle = run(&pd_strip(false, grip), &go_on).unwrap();
         println!(
             "grip {grip:?}: sparse {} after {} steps, oracle {} after {}",
-            sparse.status,
+            sparse.run.status,
             sparse.history.len(),
-            oracle.status,
+            oracle.run.status,
             oracle.history.len()
         );
-        assert_eq!(sparse.status.name(), "separated");
+        assert_eq!(sparse.run.status.name(), "separated");
         agree(&sparse, &oracle, 1e-8);
     }
 }
@@ -158,13 +174,23 @@ fn auto_choice_is_reported() {
     let mut p = Problem::paper("ccm_pd");
     p.pd_mut().sla.max_steps = 0;
     let r = run(&p, &go_on).unwrap();
-    println!("paper: {}", r.solver);
-    assert!(r.solver.starts_with("fast (FEM condensed"), "{}", r.solver);
-    assert!(r.solver.contains("auto") && r.solver.contains("estimated"));
+    println!("paper: {}", r.run.solver.describe());
+    assert!(
+        r.run.solver.describe().starts_with("fast (FEM condensed"),
+        "{}",
+        r.run.solver.describe()
+    );
+    assert!(
+        r.run.solver.describe().contains("auto") && r.run.solver.describe().contains("estimated")
+    );
     p.pd_mut().regions = vec![[0.0, 10.5 - 0.835, 11.0, 10.5 + 0.835]];
     let r = run(&p, &go_on).unwrap();
-    println!("widened: {}", r.solver);
-    assert!(r.solver.starts_with("fast, sparse"), "{}", r.solver);
+    println!("widened: {}", r.run.solver.describe());
+    assert!(
+        r.run.solver.describe().starts_with("fast, sparse"),
+        "{}",
+        r.run.solver.describe()
+    );
 }
 
 fn tmpdir(name: &str) -> PathBuf {
@@ -190,19 +216,19 @@ fn sparse_checkpoint_and_resume_are_bit_for_bit() {
     p.pd_mut().sla.max_steps = n + 5;
     p.pd_mut().sla.checkpoint_every = n;
     p.pd_mut().sla.checkpoint_path = Some(path.clone());
-    assert_eq!(run(&p, &go_on).unwrap().n_checkpoints, 1);
+    assert_eq!(run(&p, &go_on).unwrap().run.n_checkpoints, 1);
     let mut q = base.clone();
     q.pd_mut().sla.resume_from = Some(path.clone());
     let resumed = run(&q, &go_on).unwrap();
-    assert_eq!(resumed.resumed_steps, n);
+    assert_eq!(resumed.run.resumed_steps, n);
     assert_eq!(straight.history, resumed.history);
     for (x, y) in straight.history.iter().zip(&resumed.history) {
         assert_eq!(x.lambda.to_bits(), y.lambda.to_bits());
         assert_eq!(x.cmod.to_bits(), y.cmod.to_bits());
     }
-    assert_eq!(straight.broken, resumed.broken);
+    assert_eq!(straight.final_state.broken, resumed.final_state.broken);
     let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-    assert_eq!(bits(&straight.u_final), bits(&resumed.u_final));
+    assert_eq!(bits(&straight.final_state.u), bits(&resumed.final_state.u));
     // a checkpoint of the sparse engine is refused by the dense one (other solver option)
     let mut d = with_engine(base, SlaEngine::Dense);
     d.pd_mut().sla.resume_from = Some(path);
@@ -225,16 +251,17 @@ fn paper_grid_pure_pd_sparse_matches_oracle() {
     let oracle = run(&with_engine(p.clone(), SlaEngine::Oracle), &go_on).unwrap();
     println!(
         "sparse {:.1} s, oracle {:.1} s for {ORACLE_STEPS} steps",
-        sparse.sla_seconds, oracle.sla_seconds
+        sparse.timings.sla_seconds, oracle.timings.sla_seconds
     );
     agree(&sparse, &oracle, 1e-8);
     p.pd_mut().sla.max_steps = 300;
     let long = run(&p, &go_on).unwrap();
     println!(
         "auto, 300 steps: {} ({:.1} s)",
-        long.solver, long.sla_seconds
+        long.run.solver.describe(),
+        long.timings.sla_seconds
     );
-    assert!(long.solver.starts_with("fast, sparse"));
+    assert!(long.run.solver.describe().starts_with("fast, sparse"));
     assert_eq!(long.history.len(), 300);
     assert_eq!(long.history[..ORACLE_STEPS], sparse.history[..]);
     assert!(long.history.iter().all(|s| s.lambda.is_finite()));

@@ -10,6 +10,12 @@ pub(super) fn rows(t: &mut Table) {
     // --- XFEM ---
     t.at(xfem, Fields);
     t.add(
+        "reactions",
+        Floats(NODE_DOFS),
+        FORCE,
+        "nodal reactions K u - f of the standard dofs at the reference load, interleaved [r1, r2]",
+    );
+    t.add(
         "u_enriched",
         Floats(&[Var("n_dofs")]),
         LENGTH,
@@ -155,13 +161,14 @@ pub(super) fn rows(t: &mut Table) {
         "tip_history_kink_angle",
         Floats(TIP_ROWS),
         RAD,
-        "every tip's kink angle (tip frame) of the maximum circumferential stress criterion",
+        "every tip's kink angle (tip frame) of the maximum circumferential stress criterion, in \
+         radians (the scene's crack.angle is in degrees)",
     );
     t.add(
         "tip_history_r_I",
         Floats(TIP_ROWS),
         LENGTH,
-        "every tip's SIF q-radius (0 at the origin)",
+        "every tip's SIF q-radius (NaN at the origin: not computed)",
     );
     t.add(
         "tip_history_grows",
@@ -187,6 +194,86 @@ pub(super) fn rows(t: &mut Table) {
         Ints(&[PlusOne("n_snapshots")]),
         TEXT,
         "start of each snapshot in snapshot_cells (and the end)",
+    );
+
+    t.add(
+        "state_rows",
+        Ints(&[Var("n_states")]),
+        TEXT,
+        "growth runs: the history row of each kept whole-plate state (xfem.state_every: every \
+         k-th growth step and the last; row 0, the unloaded origin, has none)",
+    );
+    t.add(
+        "state_u",
+        Floats(&[Var("n_states"), Twice("n_nodes")]),
+        LENGTH,
+        "each state's nodal displacements at its critical load, interleaved [u1, u2] (the \
+         standard dofs)",
+    );
+    t.add(
+        "state_stress",
+        Floats(&[Var("n_states"), Var("n_elements"), Fixed(3)]),
+        STRESS,
+        "each state's element stresses [s11, s22, s12] at its critical load: the mean of the \
+         enriched stress at the element's 2 x 2 Gauss points",
+    );
+    t.add(
+        "state_enrichment",
+        Floats(&[Var("n_states"), Var("n_nodes")]),
+        TEXT,
+        "each state's node enrichment for its cracks: 0 standard, 1 Heaviside, 2 tip",
+    );
+    t.add(
+        "state_cut_offsets",
+        Ints(&[PlusOne("n_states")]),
+        TEXT,
+        "start of each state's cut polygons in state_cut_element (and the end)",
+    );
+    t.add(
+        "state_cut_points",
+        Floats(&[Var("n_state_cut_points"), Fixed(2)]),
+        LENGTH,
+        "the cut polygons of every state (the enriched elements of that state's cracks, 2 x 2 \
+         cells per element split along the crack): their vertices, polygon after polygon \
+         (state_cut_point_offsets)",
+    );
+    t.add(
+        "state_cut_disp",
+        Floats(&[Var("n_state_cut_points"), Fixed(2)]),
+        LENGTH,
+        "each state cut-polygon vertex's own displacement at the state's critical load",
+    );
+    t.add(
+        "state_cut_point_offsets",
+        Ints(&[PlusOne("n_state_cut_cells")]),
+        TEXT,
+        "start of each state cut polygon in state_cut_points (and the end)",
+    );
+    t.add(
+        "state_cut_element",
+        Ints(&[Var("n_state_cut_cells")]),
+        TEXT,
+        "the element each state cut polygon belongs to",
+    );
+    t.add(
+        "state_cut_stress",
+        Floats(&[Var("n_state_cut_cells"), Fixed(3)]),
+        STRESS,
+        "the enriched stress [s11, s22, s12] at each state cut polygon's vertex centroid, at \
+         the state's critical load",
+    );
+    t.add(
+        "state_cracks",
+        Floats(&[Var("n_state_crack_points"), Fixed(2)]),
+        LENGTH,
+        "the crack polylines of every state (the cracks its solve ran on), crack after crack \
+         and state after state (state_cracks_offsets)",
+    );
+    t.add(
+        "state_cracks_offsets",
+        Ints(&[PlusOne("n_state_cracks")]),
+        TEXT,
+        "start of crack c of state k in state_cracks at index k n_cracks + c (and the end)",
     );
 
     t.at(xfem, History);
@@ -245,7 +332,7 @@ pub(super) fn rows(t: &mut Table) {
         "kink_angle",
         Floats(ROWS),
         RAD,
-        "kink angle of the most critical tip's extension (tip frame)",
+        "kink angle of the most critical tip's extension (tip frame), in radians",
     )
     .when(GROWTH);
     t.add("tip_x", Floats(ROWS), LENGTH, "x1 of the most critical tip")
@@ -256,14 +343,15 @@ pub(super) fn rows(t: &mut Table) {
         "r_I",
         Floats(ROWS),
         LENGTH,
-        "the q-radius of the SIFs, shrunk where a hole would enter the domain (0 at the origin)",
+        "the q-radius of the SIFs, shrunk where a hole would enter the domain (NaN at the origin: \
+         not computed)",
     )
     .when(GROWTH);
     t.add(
         "condition",
         Floats(ROWS),
         ONE,
-        "condition estimate of each step's solve (0 at the origin)",
+        "condition estimate of each step's solve (NaN at the origin: no solve)",
     )
     .when("a growth run with the condition estimate (run(..., condition=True))");
 

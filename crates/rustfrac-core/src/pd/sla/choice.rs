@@ -6,6 +6,7 @@ use super::fast::{
     bordered_analysis, dense_lead, schur_pattern, Fast, FemPart, SchurKind, SparseFactor,
 };
 use super::oracle::Oracle;
+use super::result::SolverUsed;
 use crate::error::{Error, Result};
 use crate::la::{Cholesky, CscMatrix};
 use crate::pd::cost::{CostEstimate, EngineKind};
@@ -17,8 +18,9 @@ use std::time::Instant;
 
 /// The solver ([`choose`]): the oracle when `fast = false` or `pd.engine = "oracle"`, else the
 /// condensation with the form of the condensed system (dense LU or sparse factor) the scene
-/// asks for or, for `"auto"`, the cheaper by the cost model ([`CostEstimate`]). Returns it, its
-/// description (the choice and the estimates) and the re-condensation interval (0 for the oracle).
+/// asks for or, for `"auto"`, the cheaper by the cost model ([`CostEstimate`]). Returns it and
+/// what it is ([`SolverUsed`]: the form, its description with the choice and the estimates, and
+/// the re-condensation interval, 0 for the oracle).
 /// The cost model's symbolic analysis (then, for the dense form, the LU of S's PD block; for the
 /// sparse CCM-PD form, K_PP's analysis and Cholesky, `fast/base.rs`) and the condensation's FEM part
 /// ([`FemPart`]) do not depend on each other: they run at once, the analysis on its own thread
@@ -29,15 +31,16 @@ pub(super) fn engine_for<'a>(
     k0: &Arc<CscMatrix>,
     (broken, springs0): (&[bool], &[Spring]),
     probe_dofs: &[usize],
-) -> Result<(Box<dyn Engine + 'a>, String, usize)> {
+) -> Result<(Box<dyn Engine + 'a>, SolverUsed)> {
     // the LPS's break is no rank-1 change: the oracle rebuilds its matrix (`pd::lps`)
     if sla.engine == SlaEngine::Oracle || model.lps.is_some() {
-        let solver = "oracle (sparse LU refactorised every step)".to_string();
-        return Ok((
-            Box::new(Oracle::new(model, broken, springs0, k0)?),
-            solver,
-            0,
-        ));
+        let solver = SolverUsed {
+            engine: SlaEngine::Oracle,
+            description: "oracle (sparse LU refactorised every step)".into(),
+            refactor_interval: 0,
+            lu_fallbacks: 0,
+        };
+        return Ok((Box::new(Oracle::new(model, broken, springs0, k0)?), solver));
     }
     // the choice, then the LU of the dense S's PD block (it does not depend on the FEM part);
     // pure PD has no FEM part to overlap: its whole LU is the leading stage, made on the main
@@ -81,9 +84,16 @@ pub(super) fn engine_for<'a>(
         (c.kind, c.analysed, c.first_s),
         lead,
     )?;
-    let solver = format!("{}; {}; {}", c.name, c.why, c.est.describe());
-    let refactor_interval = f.refactor_every;
-    Ok((Box::new(f), solver, refactor_interval))
+    let solver = SolverUsed {
+        engine: match c.kind {
+            SchurKind::Dense => SlaEngine::Dense,
+            SchurKind::Sparse => SlaEngine::Sparse,
+        },
+        description: format!("{}; {}; {}", c.name, c.why, c.est.describe()),
+        refactor_interval: f.refactor_every,
+        lu_fallbacks: 0,
+    };
+    Ok((Box::new(f), solver))
 }
 
 /// The form of the condensed system the cost model chose ([`engine_for`]).

@@ -3,27 +3,25 @@
 
 use super::grounding::DEBRIS_LIMIT;
 use super::memory::peak_memory_bytes;
-use super::result::CcmPdResult;
+use super::result::{
+    CcmPdResult, Constants, FinalState, Geometry, ModelCounts, ReferenceState, RegionRecord,
+    RunSummary, SolverUsed, SolverWork, Timings,
+};
 use super::state::RunState;
 use super::switch::in_final_numbering;
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::pd::splice::{SpliceModel, StaticSolution};
 use crate::pd::{damage, BYTES_PER_BOND};
 use crate::warning::{Warning, WarningKind};
 
-/// What the driver knows of a run besides its state: the solver, its counters and the timings.
+/// What the driver knows of a run besides its state: the solver, its work and the timings.
 #[derive(Default)]
 pub(super) struct RunInfo {
-    pub(super) solver: String,
-    pub(super) refactor_interval: usize,
-    pub(super) n_refactorisations: usize,
-    pub(super) max_update_rank: usize,
-    pub(super) inverse_columns: usize,
-    /// models whose sparse form fell back from the bordered Cholesky to the LU of S (at the
-    /// condensation where K_PP was not symmetric positive definite, and from then on)
+    /// the last model's solver (its `lu_fallbacks` are counted in the field below)
+    pub(super) solver: Option<SolverUsed>,
+    pub(super) work: SolverWork,
+    /// models whose sparse form fell back from the bordered Cholesky to the LU of S
     pub(super) lu_fallbacks: usize,
-    pub(super) screened_steps: usize,
-    pub(super) screened_bonds: usize,
     pub(super) resumed_steps: usize,
     pub(super) n_checkpoints: usize,
     pub(super) setup_seconds: f64,
@@ -69,70 +67,77 @@ pub(super) fn results(
             ),
         ));
     }
-    let broken = st.broken;
     let nn = model.grid.n_nodes();
+    let p = &model.problem;
     Ok(CcmPdResult {
-        method: model.problem.method.name().into(),
-        grip: model.problem.boundary.name().into(),
-        solver: if info.lu_fallbacks > 0 {
-            format!(
-                "{}; the LU of S in {} model(s), from the condensation where K_PP was not \
-                 symmetric positive definite",
-                info.solver, info.lu_fallbacks
-            )
-        } else {
-            info.solver
+        run: RunSummary {
+            method: p.method.pd_variant().ok_or_else(|| Error::Internal {
+                detail: "an SLA run of a method other than PD or CCM-PD".into(),
+            })?,
+            grip: p.boundary.grips().map(|l| l.grip),
+            solver: SolverUsed {
+                lu_fallbacks: info.lu_fallbacks,
+                ..info.solver.ok_or_else(|| Error::Internal {
+                    detail: "an SLA run without a solver".into(),
+                })?
+            },
+            status: st.status,
+            resumed_steps: info.resumed_steps,
+            n_checkpoints: info.n_checkpoints,
         },
-        u: sol0.u,
-        u_final,
-        node_xy: (0..nn).map(|n| model.grid.xy(n)).collect(),
-        n_nodes: nn,
-        n_dofs: model.n_dofs(),
-        n_pd_nodes: model.pd_nodes.len(),
-        n_bonds: model.bonds.len(),
-        n_precrack_bonds: model.precrack_broken.iter().filter(|&&b| b).count(),
-        n_removed_elements: model.n_removed_elements,
-        bytes_per_bond: BYTES_PER_BOND,
-        gamma: model.pd.gamma,
-        c: model.pd.c,
-        s0: model.pd.s0,
-        delta: model.pd.delta,
-        sigma22: sol0.sigma22,
-        cmod: sol0.cmod,
-        out_of_balance: sol0.out_of_balance,
-        responses: Default::default(),
-        anchor_node: model.anchor,
-        anchor_xy: model.grid.xy(model.anchor),
+        counts: ModelCounts {
+            n_nodes: nn,
+            n_dofs: model.n_dofs(),
+            n_pd_nodes: model.pd_nodes.len(),
+            n_bonds: model.bonds.len(),
+            n_precrack_bonds: model.precrack_broken.iter().filter(|&&b| b).count(),
+            n_removed_elements: model.n_removed_elements,
+            bytes_per_bond: BYTES_PER_BOND,
+        },
+        constants: Constants {
+            pd: model.pd,
+            s0_calibration: model.s0_calibration,
+            surface_correction: model.surface.as_ref().map(|s| s.summary),
+        },
+        geometry: Geometry {
+            node_xy: (0..nn).map(|n| model.grid.xy(n)).collect(),
+            pd_nodes: model.pd_nodes.clone(),
+            pd_node_xy: model.pd_nodes.iter().map(|&n| model.grid.xy(n)).collect(),
+            bond_nodes: model
+                .bonds
+                .iter()
+                .map(|b| [b.i as usize, b.j as usize])
+                .collect(),
+            anchor_node: model.anchor,
+            anchor_xy: model.grid.xy(model.anchor),
+        },
+        reference: ReferenceState {
+            u: sol0.u,
+            sigma22: sol0.sigma22,
+            cmod: sol0.cmod,
+            out_of_balance: sol0.out_of_balance,
+            responses: Default::default(),
+            crack_length: p.cracks.first().map_or(0.0, |c| c.a0),
+        },
         history: st.history,
-        initial_crack_length: model.problem.cracks.first().map_or(0.0, |c| c.a0),
-        damage: damage(nn, &model.bonds, &broken, &model.pd_nodes),
-        damage_at: st.damage_at,
-        pd_node_xy: model.pd_nodes.iter().map(|&n| model.grid.xy(n)).collect(),
-        pd_nodes: model.pd_nodes.clone(),
-        bond_nodes: model
-            .bonds
-            .iter()
-            .map(|b| [b.i as usize, b.j as usize])
-            .collect(),
-        broken,
-        status: st.status,
-        n_refactorisations: info.n_refactorisations,
-        max_update_rank: info.max_update_rank,
-        inverse_columns: info.inverse_columns,
-        screened_steps: info.screened_steps,
-        screened_bonds: info.screened_bonds,
-        refactor_interval: info.refactor_interval,
-        detached_nodes,
+        final_state: FinalState {
+            u: u_final,
+            damage: damage(nn, &model.bonds, &st.broken, &model.pd_nodes),
+            damage_at: st.damage_at,
+            broken: st.broken,
+            detached_nodes,
+        },
+        region: RegionRecord {
+            regions: model.pd_method().regions.clone(),
+            switches: st.switches,
+            interface_distance_min: st.closest.is_finite().then(|| st.closest / model.pd.delta),
+        },
+        work: info.work,
+        timings: Timings {
+            setup_seconds: info.setup_seconds,
+            sla_seconds: info.sla_seconds,
+            peak_memory_bytes: peak_memory_bytes(),
+        },
         warnings,
-        resumed_steps: info.resumed_steps,
-        n_checkpoints: info.n_checkpoints,
-        setup_seconds: info.setup_seconds,
-        sla_seconds: info.sla_seconds,
-        peak_memory_bytes: peak_memory_bytes(),
-        regions: model.pd_method().regions.clone(),
-        switches: st.switches,
-        interface_distance_min: st.closest.is_finite().then(|| st.closest / model.pd.delta),
-        surface_correction: model.surface.as_ref().map(|s| s.summary),
-        s0_calibration: model.s0_calibration,
     })
 }

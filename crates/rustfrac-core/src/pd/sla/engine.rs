@@ -73,6 +73,13 @@ pub(super) fn all_stretches(model: &SpliceModel, broken: &[bool], u: &[f64], out
     }
 }
 
+/// A state whose displacements grew beyond this factor of the engine's first state's is not
+/// accurate: a part of the body floats (its displacement set by round-off) or the updates of the
+/// fast engine lost their accuracy. The oracle then reports a separation; the fast engine first
+/// recomputes the state by a fresh condensation (the exact path) and separates only if that
+/// state grew too.
+pub(super) const U_GROWTH_SEPARATED: f64 = 1e4;
+
 pub(super) fn separated(detail: String) -> Error {
     Error::Separated { detail }
 }

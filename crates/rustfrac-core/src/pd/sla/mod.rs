@@ -1,5 +1,6 @@
 //! Sequentially linear analysis (SLA, Ni et al. 2019; paper section 3) of the CCM-PD (or pure PD)
-//! plate, and the driver the Python bindings call ([`run`]).
+//! plate on a model whose s0 calibration is made above it ([`run_calibrated`]; the entry point
+//! that makes it, and that the Python bindings call, is [`crate::pd::analysis::run`]).
 //!
 //! Each step solves the current (linear) model once at the reference load, breaks the bond with
 //! the smallest load factor lambda = s0 / s and records the response at that load. The run
@@ -33,8 +34,9 @@
 //! broken-bond sequence and the history are written; `resume_from` replays them and continues, bit
 //! for bit the same as an uninterrupted run.
 //!
-//! Entry point: [`run`]`(&problem, &|step, max_steps| true)` (or [`run_reporting`], whose callback
-//! reads an [`SlaProgress`]: the crack's advance towards a crack-length stop) for a
+//! Entry point: [`crate::pd::analysis::run`]`(&problem, &|step, max_steps| true)` (or
+//! [`crate::pd::analysis::run_reporting`], whose callback reads an [`SlaProgress`]: the crack's
+//! advance towards a crack-length stop) for a
 //! [`crate::problem::Problem`] of method "pd" or "ccm_pd" (start from `Problem::paper("ccm_pd")`
 //! and change what you need: `p.pd_mut().sla.max_steps = 100`; return `false` from the callback to
 //! stop: status [`SlaStatus::Cancelled`]), then read [`CcmPdResult`]. Every rule of the problem is
@@ -69,5 +71,9 @@ pub use fast::{force_lu_form, force_screening};
 pub use grounding::DEBRIS_LIMIT;
 pub use memory::peak_memory_bytes;
 pub use progress::SlaProgress;
-pub use result::{CcmPdResult, RegionSwitch, SlaStatus, SlaStep};
-pub use run::{run, run_model, run_reporting};
+pub use result::{
+    CcmPdResult, Constants, FinalState, Geometry, ModelCounts, ReferenceState, RegionRecord,
+    RegionSwitch, RunSummary, SlaStatus, SlaStep, SolverUsed, SolverWork, Timings,
+};
+pub use run::{run_calibrated, run_model};
+pub use steps::stop_at_loaded_boundary;

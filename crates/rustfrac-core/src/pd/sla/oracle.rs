@@ -1,7 +1,7 @@
 //! The oracle solver (`fast = false`): reassemble the splice matrix and refactorise it (sparse LU,
 //! symbolic analysis reused) at every step. Slow, simple, the reference of the fast solver.
 
-use super::engine::{separated, Engine, State, Update};
+use super::engine::{separated, Engine, State, Update, U_GROWTH_SEPARATED};
 use crate::error::Result;
 use crate::la::Lu;
 use crate::la::{CscMatrix, Reduction};
@@ -73,7 +73,7 @@ impl Engine for Oracle<'_> {
         let umax = s.u.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         if self.u_scale == 0.0 {
             self.u_scale = umax;
-        } else if umax > 1e4 * self.u_scale {
+        } else if umax > U_GROWTH_SEPARATED * self.u_scale {
             return Err(separated(format!(
                 "displacements grew from {:.3e} to {umax:.3e} (singular system)",
                 self.u_scale

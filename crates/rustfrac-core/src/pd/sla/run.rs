@@ -1,4 +1,4 @@
-//! The SLA run ([`run`], section 3): build the model and the solver, replay a checkpoint, run
+//! The SLA run ([`run_calibrated`], section 3): build the model and the solver, replay a checkpoint, run
 //! the steps (`steps.rs`), grow an adaptive region between them (`switch.rs`), collect the
 //! results (`collect.rs`).
 
@@ -14,33 +14,30 @@ use super::resume::{checkpoint_sizes, Replay};
 use super::state::RunState;
 use crate::error::Result;
 use crate::pd::splice::{SpliceModel, StaticSolution};
-use crate::problem::{validate, Problem};
+use crate::problem::{validate, Calibration, Problem};
 use std::sync::Arc;
 use std::time::Instant;
 
-/// Runs a CCM-PD (or pure PD) problem: linear solution at the reference load, then the SLA.
-/// `progress(step, max_steps)` is called after every step; returning `false` stops the run
-/// (status [`SlaStatus::Cancelled`], a checkpoint is written first when `checkpoint_path` is set).
-pub fn run(p: &Problem, progress: &(dyn Fn(usize, usize) -> bool + Sync)) -> Result<CcmPdResult> {
-    run_reporting(p, &|s: &SlaProgress| progress(s.step, s.max_steps))
-}
-
-/// [`run`] with a callback that reads the whole [`SlaProgress`] after every step (the crack's
-/// advance towards `pd.stop_crack_length` besides the step).
-pub fn run_reporting(
+/// Runs a CCM-PD (or pure PD) problem whose critical stretch is scaled by `s0` (the calibration
+/// of its `pd.s0_calibration`; `crate::pd::analysis::run` makes it): linear solution at the
+/// reference load, then the SLA. `progress` reads the whole [`SlaProgress`] after every step;
+/// returning `false` stops the run (status [`SlaStatus::Cancelled`], a checkpoint is written
+/// first when `checkpoint_path` is set).
+pub fn run_calibrated(
     p: &Problem,
+    s0: Calibration,
     progress: &(dyn Fn(&SlaProgress) -> bool + Sync),
 ) -> Result<CcmPdResult> {
     validate::problem(p)?;
     validate::reference_load(p)?;
     keep_large_blocks_mmapped();
     let t0 = Instant::now();
-    let model = SpliceModel::new(p)?;
+    let model = SpliceModel::new(p, s0)?;
     timing("model built", t0);
     run_from(&model, t0, progress)
 }
 
-/// [`run`] on a model built by hand ([`SpliceModel::with_precrack`]).
+/// The SLA on a model built by hand ([`SpliceModel::with_precrack`]).
 pub fn run_model(
     model: &SpliceModel,
     progress: &(dyn Fn(usize, usize) -> bool + Sync),
@@ -52,11 +49,41 @@ pub fn run_model(
     })
 }
 
+/// The rigid-body modes of the model's stiffness, as FEM and XFEM check theirs: every connected
+/// part of the material (linked by the intact bonds and the FEM elements; the largest and every
+/// one of more than [`DEBRIS_LIMIT`] nodes, smaller fragments are grounded) held by the scene's conditions on its
+/// own material nodes ([`crate::fe::Dirichlet::check_rigid_modes_by_part`]: refused naming the
+/// free mode and the part, a body cut in two by a hole included).
+fn check_rigid_modes(model: &SpliceModel) -> Result<()> {
+    let mat = |n: usize| model.material.get(n).is_none_or(|&m| m);
+    let bc = crate::fe::Dirichlet {
+        dofs: (model.bc.dofs.iter().copied())
+            .filter(|&(d, _)| mat(d / 2))
+            .collect(),
+    };
+    let bonds = (model.bonds.iter().zip(&model.precrack_broken))
+        .filter(|(_, &pre)| !pre)
+        .map(|(b, _)| [b.i as usize, b.j as usize]);
+    let edges = model
+        .elements
+        .iter()
+        .flat_map(|e| (0..4).map(move |k| [e[k], e[(k + 1) % 4]]));
+    let xy: Vec<[f64; 2]> = (0..model.grid.n_nodes())
+        .map(|n| model.grid.xy(n))
+        .collect();
+    bc.check_rigid_modes_by_part(
+        &xy,
+        bonds.chain(edges).filter(|&[a, b]| mat(a) && mat(b)),
+        super::DEBRIS_LIMIT,
+    )
+}
+
 fn run_from(
     model0: &SpliceModel,
     t0: Instant,
     progress: &(dyn Fn(&SlaProgress) -> bool + Sync),
 ) -> Result<CcmPdResult> {
+    check_rigid_modes(model0)?;
     let sla = &model0.pd_method().sla;
     let adaptive = model0.pd_method().adaptive;
     let mut st = RunState::new(model0);
@@ -96,8 +123,7 @@ fn run_from(
         timing("matrix assembled", t0);
         st.probes = model.probe_functionals()?;
         let probe_dofs: Vec<usize> = st.probes.iter().flat_map(|p| p.dofs()).collect();
-        let (mut engine, solver, refactor_interval) =
-            engine_for(model, sla, &k, (&st.broken, &springs), &probe_dofs)?;
+        let (mut engine, solver) = engine_for(model, sla, &k, (&st.broken, &springs), &probe_dofs)?;
         timing("engine ready", t0);
         if let (Some(ts), Some(sw)) = (switch_start.take(), st.switches.last_mut()) {
             // a switch costs the new model and its solver
@@ -111,8 +137,7 @@ fn run_from(
             sol0 = Some((s, responses));
         }
         drop(k);
-        info.solver = solver;
-        info.refactor_interval = refactor_interval;
+        info.solver = Some(solver);
         let sigma0 = sol0.as_ref().map_or(0.0, |s| s.0.sigma22);
         // the replayed steps of this model; then the next switch, or the live steps
         let grow = match replay.as_mut() {
@@ -133,13 +158,14 @@ fn run_from(
                 st.steps(sla, model, engine.as_mut(), fp, sigma0, progress)?
             }
         };
-        info.n_refactorisations += engine.n_refactorisations();
-        info.max_update_rank = info.max_update_rank.max(engine.max_update_rank());
-        info.inverse_columns += engine.inverse_columns();
-        info.lu_fallbacks += engine.lu_fallbacks();
+        let w = &mut info.work;
+        w.n_refactorisations += engine.n_refactorisations();
+        w.max_update_rank = w.max_update_rank.max(engine.max_update_rank());
+        w.inverse_columns += engine.inverse_columns();
         let (ss, sb) = engine.screening();
-        info.screened_steps += ss;
-        info.screened_bonds += sb;
+        w.screened_steps += ss;
+        w.screened_bonds += sb;
+        info.lu_fallbacks += engine.lu_fallbacks();
         let Some(centres) = grow else {
             break if st.status == SlaStatus::Separated {
                 Vec::new()
@@ -164,7 +190,7 @@ fn run_from(
         s0.u = reference_field(model)?;
     }
     let mut r = results(model, st, s0, u_final, info)?;
-    r.responses = responses;
+    r.reference.responses = responses;
     Ok(r)
 }
 

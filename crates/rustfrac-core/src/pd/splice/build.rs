@@ -16,7 +16,6 @@ use crate::fe::q4::element_stiffness;
 use crate::fe::quadrature::{subquad_rule, QPoint};
 use crate::la::Pattern;
 use crate::memory;
-use crate::pd::calibration::calibration;
 use crate::pd::cost::{factor_nnz_guess, CostEstimate};
 use crate::pd::lps::{LpsConstants, LpsModel};
 use crate::pd::surface_correction::energy_factors;
@@ -29,19 +28,22 @@ use crate::warning::{Warning, WarningKind};
 
 impl SpliceModel {
     /// The model of a PD or CCM-PD problem (its rules checked first, [`validate::problem`]),
-    /// pre-cracked by the problem's edge crack ([`Problem::pd_precrack`]).
-    pub fn new(p: &Problem) -> Result<Self> {
-        Self::build(p, p.pd_precrack(), p.pd_mouth_vertex())
+    /// pre-cracked by the problem's edge crack ([`Problem::pd_precrack`]), its critical stretch
+    /// scaled by `s0`, the calibration of the scene's `pd.s0_calibration` (made above the SLA,
+    /// `crate::pd::analysis`, since its `"sla"` rule runs an SLA; an error if its rule is not
+    /// the scene's).
+    pub fn new(p: &Problem, s0: Calibration) -> Result<Self> {
+        Self::build(p, p.pd_precrack(), p.pd_mouth_vertex(), s0)
     }
 
     /// [`SpliceModel::new`] with another pre-crack: any polyline (plate coordinates, mouth first;
     /// validated here: inside the plate, passing between grid nodes), e.g. a closed loop.
-    pub fn with_precrack(p: &Problem, precrack: Vec<[f64; 2]>) -> Result<Self> {
-        Self::build(p, precrack, 0)
+    pub fn with_precrack(p: &Problem, precrack: Vec<[f64; 2]>, s0: Calibration) -> Result<Self> {
+        Self::build(p, precrack, 0, s0)
     }
 
     /// The model with `precrack`, its CMOD read at vertex `mouth` of the polyline.
-    fn build(p: &Problem, precrack: Vec<[f64; 2]>, mouth: usize) -> Result<Self> {
+    fn build(p: &Problem, precrack: Vec<[f64; 2]>, mouth: usize, s0: Calibration) -> Result<Self> {
         validate::problem(p)?;
         let Some(pm) = p.pd() else {
             return Err(Error::invalid(
@@ -51,7 +53,7 @@ impl SpliceModel {
             ));
         };
         let all_pd = matches!(p.method, Method::Pd(_));
-        let (grid, pd, s0_calibration) = grid_and_constants(p, pm)?;
+        let (grid, pd) = grid_and_constants(p, pm, s0)?;
         let mut material = holes::material_nodes(&p.domain, &grid);
         let (is_pd, pd_nodes, warnings) = node_classes(pm, &grid, &material)?;
         let fd = holes::fem_domain(&p.domain, &grid, &pm.regions, all_pd)?;
@@ -147,7 +149,7 @@ impl SpliceModel {
             cmod_nodes,
             mouth,
             surface,
-            s0_calibration,
+            s0_calibration: s0,
         })
     }
 
@@ -156,7 +158,7 @@ impl SpliceModel {
     pub fn with_regions(&self, regions: Vec<[f64; 4]>) -> Result<Self> {
         let mut p = self.problem.clone();
         p.pd_mut().regions = regions;
-        Self::build(&p, self.precrack.clone(), self.mouth)
+        Self::build(&p, self.precrack.clone(), self.mouth, self.s0_calibration)
     }
 }
 
@@ -179,8 +181,8 @@ fn memory_estimate(n_nodes: usize, n_pd: usize, m: usize) -> f64 {
 
 /// The grid (its fit and node count are rules of the problem, [`validate::problem`]; graded
 /// away from the PD rectangles with `pd.fem_grading` > 1, `graded.rs`) and the PD constants on
-/// its uniform spacing, s0 calibrated by `pd.s0_calibration` ([`crate::pd::calibration`]).
-fn grid_and_constants(p: &Problem, pm: &PdMethod) -> Result<(Grid, PdConstants, Calibration)> {
+/// its uniform spacing, s0 scaled by the calibration `cal` of `pd.s0_calibration`.
+fn grid_and_constants(p: &Problem, pm: &PdMethod, cal: Calibration) -> Result<(Grid, PdConstants)> {
     let d = &p.domain;
     let fit = |len: f64| validate::grid_count(len, pm.dx).expect("checked by validate::problem");
     let (nx, ny) = (fit(d.width), fit(d.height));
@@ -189,12 +191,20 @@ fn grid_and_constants(p: &Problem, pm: &PdMethod) -> Result<(Grid, PdConstants, 
         PdModel::Bond => PdConstants::new(&p.material.elastic, p.material.g0, dx, pm.m)?,
         PdModel::Lps => lps_constants(p, pm, dx)?.pd_constants(),
     };
-    let cal = calibration(pm.s0_calibration, pm.m)?;
+    if cal.rule != pm.s0_calibration {
+        return Err(Error::Internal {
+            detail: format!(
+                "the splice model was handed the s0 calibration '{}' for pd.s0_calibration = '{}'",
+                cal.rule.name(),
+                pm.s0_calibration.name()
+            ),
+        });
+    }
     if pm.s0_calibration != S0Calibration::Continuum {
         pd.s0 *= cal.factor;
     }
     let grid = graded::grid(pm, nx, ny, dx);
-    Ok((grid, pd, cal))
+    Ok((grid, pd))
 }
 
 /// The LPS constants of the problem on spacing `dx` ([`crate::pd::lps`]).

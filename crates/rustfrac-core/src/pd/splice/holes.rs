@@ -32,8 +32,8 @@
 //! Holes in the FEM part of CCM-PD (a hole whose bounding box lies in no PD rectangle, a *FEM
 //! hole*) are a fictitious domain on the grid's Q4 elements, the rule of FEM and XFEM
 //! ([`FictitiousDomain`], `fe/fictitious.rs`): an element with FEM nodes only is integrated over
-//! its material part (cut), dropped (void) or kept whole; a FEM node is removed by the
-//! small-fraction rule ([`DEFAULT_MIN_SUPPORT_FRACTION`] of its support), not by the centre rule.
+//! its material part (cut), dropped (void) or kept whole; a FEM node is removed when its support
+//! holds no material ([`FictitiousDomain::is_removed`]), not by the centre rule.
 //! A FEM hole cutting a hybrid element (PD and FEM nodes: the band at a PD rectangle's boundary)
 //! is refused: its PD rows would need partial volumes, its FEM rows a cut element of mixed
 //! nodes. Holes inside a PD rectangle keep the centre rule (bit for bit as before).
@@ -78,8 +78,7 @@ pub(super) fn fem_domain(
     FictitiousDomain::new(&mesh, &fem, 2, DEFAULT_MIN_SUPPORT_FRACTION)
 }
 
-/// The material flags with FEM holes: a FEM node is material iff the small-fraction rule keeps
-/// it and no PD hole holds it by the centre rule; PD nodes keep the centre rule (`material`).
+/// The material flags with FEM holes: a FEM node is material iff its support holds material and no PD hole holds it by the centre rule; PD nodes keep the centre rule (`material`).
 pub(super) fn fem_material(
     d: &Domain,
     grid: &Grid,

@@ -263,6 +263,7 @@ impl XfemCase {
             da: g.da,
             a_stop: g.a_stop,
             kink_rule: rustfrac_core::problem::KinkRule::Hoop,
+            state_every: 0,
         });
         x.condition = self.condition;
         p

@@ -174,6 +174,7 @@ impl<'a> Fast<'a> {
             n_fact: 0,
             lu_fallbacks: 0,
             u_full: model.prescribed.clone(),
+            u_scale: 0.0,
             resp_coef: fun.resp_coef,
             wh: fun.wh,
             sig_bonds: Vec::new(),

@@ -29,7 +29,7 @@ pub(super) use base::SparseFactor;
 pub(super) use condensation::{bordered_analysis, dense_lead, schur_pattern, FemPart};
 pub use screening::force_screening;
 
-use super::engine::{all_stretches, separated, Engine, State, Update};
+use super::engine::{all_stretches, separated, Engine, State, Update, U_GROWTH_SEPARATED};
 use crate::error::Result;
 use crate::la::Cholesky;
 use crate::la::{CscMatrix, Reduction};
@@ -117,6 +117,9 @@ pub(super) struct Fast<'a> {
     /// then on: the base is the LU's)
     lu_fallbacks: usize,
     u_full: Vec<f64>,
+    /// largest |u| at the needed dofs of the first state (0 before it): the scale of the
+    /// accuracy check of [`Engine::state`]
+    u_scale: f64,
     /// the matrix at the start (its FEM rows never change)
     k0: Arc<CscMatrix>,
     /// pure PD's S for the first condensation, built by the cost model (`schur_pattern`)
@@ -129,56 +132,38 @@ pub(super) struct Fast<'a> {
 }
 
 impl Engine for Fast<'_> {
+    /// The state from the SMW updates, checked: displacements (at the dofs every state computes)
+    /// beyond [`U_GROWTH_SEPARATED`] times the first state's are recomputed by a fresh
+    /// condensation of the current model, and a separation when they stay so (the oracle's
+    /// rule), so an inaccurate update is never returned.
     fn state(&mut self) -> Result<State> {
-        let y = self.smw_coefficients();
-        all_finite(&y)?;
-        if self.scr.on {
-            // x only where the state needs it, u at the ring dofs it reads; the bonds' ends as
-            // `stretches` evaluates them
-            self.scr.epoch = self.scr.epoch.wrapping_add(1);
-            if self.scr.stamp.len() != self.p_dofs.len()
-                || self.scr.ring_stamp.len() != self.ring.len()
-                || self.scr.epoch == 0
-            {
-                self.scr.stamp = vec![0; self.p_dofs.len()];
-                self.scr.ring_stamp = vec![0; self.ring.len()];
-                self.scr.epoch = 1;
-            }
-            for &p in &self.needed {
-                self.u_full[self.p_dofs[p]] = self.x_at(p, &y);
-                self.scr.stamp[p] = self.scr.epoch;
-            }
-            self.scr.y = y;
-            for i in 0..self.ring_needed.len() {
-                self.ring_at(self.ring_needed[i]);
-            }
-        } else {
-            let x = self.x_full(&y);
-            all_finite(&x)?;
-            for (&d, &xv) in self.p_dofs.iter().zip(&x) {
-                self.u_full[d] = xv;
-            }
-            let xpc: Vec<f64> = self.pc.iter().map(|&p| x[p]).collect();
-            let mut u = std::mem::take(&mut self.u_full);
-            self.ring_into(&xpc, true, &mut u);
-            self.u_full = u;
-            self.scr.y = y;
+        let st = self.updated_state()?;
+        let umax = self.needed_umax();
+        if self.u_scale == 0.0 {
+            self.u_scale = umax;
         }
-        all_finite(self.needed.iter().map(|&p| &self.u_full[self.p_dofs[p]]))?;
-        all_finite(self.ring_needed.iter().map(|&r| &self.u_full[self.ring[r]]))?;
-        let at = |nz: &[(usize, f64)]| -> f64 {
-            nz.iter()
-                .map(|&(p, c)| c * self.u_full[self.p_dofs[p]])
-                .sum()
-        };
-        let mut sigma22 = self.sig_const + at(&self.sig_nz);
-        for (c, dofs, bv) in &self.sig_bonds {
-            let bu: f64 = (0..4).map(|t| bv[t] * self.u_full[dofs[t]]).sum();
-            sigma22 -= c * bu;
+        if umax <= U_GROWTH_SEPARATED * self.u_scale {
+            return Ok(st);
         }
-        let cmod = self.cmod_const + at(&self.cmod_nz);
-        self.scr.ynorm = self.scr.y.iter().map(|v| v * v).sum::<f64>().sqrt();
-        Ok(State { sigma22, cmod })
+        let t0 = std::time::Instant::now();
+        let k = self.model.assemble_with(&self.broken, &self.springs);
+        self.condense(&k).map_err(|e| {
+            separated(format!(
+                "displacements grew from {:.3e} to {umax:.3e}, and the re-condensed system is \
+                 singular: {e}",
+                self.u_scale
+            ))
+        })?;
+        super::engine::timing("fast: state recomputed by a fresh condensation", t0);
+        let st = self.updated_state()?;
+        let fresh = self.needed_umax();
+        if fresh > U_GROWTH_SEPARATED * self.u_scale {
+            return Err(separated(format!(
+                "displacements grew from {:.3e} to {fresh:.3e} (re-condensed: singular system)",
+                self.u_scale
+            )));
+        }
+        Ok(st)
     }
 
     fn stretches(
@@ -268,6 +253,66 @@ impl Engine for Fast<'_> {
 }
 
 impl Fast<'_> {
+    /// The state from the SMW updates (unchecked: [`Engine::state`] checks it).
+    fn updated_state(&mut self) -> Result<State> {
+        let y = self.smw_coefficients();
+        all_finite(&y)?;
+        if self.scr.on {
+            // x only where the state needs it, u at the ring dofs it reads; the bonds' ends as
+            // `stretches` evaluates them
+            self.scr.epoch = self.scr.epoch.wrapping_add(1);
+            if self.scr.stamp.len() != self.p_dofs.len()
+                || self.scr.ring_stamp.len() != self.ring.len()
+                || self.scr.epoch == 0
+            {
+                self.scr.stamp = vec![0; self.p_dofs.len()];
+                self.scr.ring_stamp = vec![0; self.ring.len()];
+                self.scr.epoch = 1;
+            }
+            for &p in &self.needed {
+                self.u_full[self.p_dofs[p]] = self.x_at(p, &y);
+                self.scr.stamp[p] = self.scr.epoch;
+            }
+            self.scr.y = y;
+            for i in 0..self.ring_needed.len() {
+                self.ring_at(self.ring_needed[i]);
+            }
+        } else {
+            let x = self.x_full(&y);
+            all_finite(&x)?;
+            for (&d, &xv) in self.p_dofs.iter().zip(&x) {
+                self.u_full[d] = xv;
+            }
+            let xpc: Vec<f64> = self.pc.iter().map(|&p| x[p]).collect();
+            let mut u = std::mem::take(&mut self.u_full);
+            self.ring_into(&xpc, true, &mut u);
+            self.u_full = u;
+            self.scr.y = y;
+        }
+        all_finite(self.needed.iter().map(|&p| &self.u_full[self.p_dofs[p]]))?;
+        all_finite(self.ring_needed.iter().map(|&r| &self.u_full[self.ring[r]]))?;
+        let at = |nz: &[(usize, f64)]| -> f64 {
+            nz.iter()
+                .map(|&(p, c)| c * self.u_full[self.p_dofs[p]])
+                .sum()
+        };
+        let mut sigma22 = self.sig_const + at(&self.sig_nz);
+        for (c, dofs, bv) in &self.sig_bonds {
+            let bu: f64 = (0..4).map(|t| bv[t] * self.u_full[dofs[t]]).sum();
+            sigma22 -= c * bu;
+        }
+        let cmod = self.cmod_const + at(&self.cmod_nz);
+        self.scr.ynorm = self.scr.y.iter().map(|v| v * v).sum::<f64>().sqrt();
+        Ok(State { sigma22, cmod })
+    }
+
+    /// The largest |u| at the dofs every state computes (the needed P and ring dofs).
+    fn needed_umax(&self) -> f64 {
+        let p = self.needed.iter().map(|&p| self.u_full[self.p_dofs[p]]);
+        let r = self.ring_needed.iter().map(|&r| self.u_full[self.ring[r]]);
+        p.chain(r).fold(0.0f64, |a, v| a.max(v.abs()))
+    }
+
     /// Z_ring x_pc: one matrix-vector product (SIMD kernels).
     fn z_ring_times(&self, xpc: &[f64]) -> Vec<f64> {
         let npc = self.pc.len();
