@@ -224,5 +224,9 @@ fn kink_rule_is_refused_by_name() {
     }
     let default = xfem::run(&Problem::from_scene(&t).unwrap(), &common::quiet).unwrap();
     assert_eq!(explicit.crack, default.crack);
-    assert_eq!(explicit.history, default.history);
+    // by their Debug text: row 0's r_I and condition are NaN (not computed), and NaN != NaN
+    assert_eq!(
+        format!("{:?}", explicit.history),
+        format!("{:?}", default.history)
+    );
 }

@@ -36,8 +36,9 @@ use std::path::Path;
 const MAGIC: &[u8; 8] = b"RFSLACK\0";
 /// Format version of the checkpoint files written and read. Versions 1 to 3 (without the probes,
 /// without the region switches, and all three with the earlier model fingerprint, a hand
-/// projection of the problem) are refused with a message saying so.
-pub const VERSION: u32 = 4;
+/// projection of the problem) and 4 (a fingerprint without `pd.model` and `pd.influence`) are
+/// refused with a message saying so.
+pub const VERSION: u32 = 5;
 
 /// A growth of the adaptive region as a checkpoint stores it: the first step solved on the
 /// grown region and the midpoints of the bonds that grew it ([`crate::problem::pd_region`]
