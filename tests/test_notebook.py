@@ -252,7 +252,11 @@ def test_damage_ridge_follows_the_pd_crack(results: dict[str, rf.Result]) -> Non
 def test_fem_crack_path_is_the_seam(results: dict[str, rf.Result]) -> None:
     lines = plotting.plot_crack_path(results["fem"]).axes[0].lines
     (seam,) = [ln for ln in lines if ln.get_label() == "seam crack"]
-    np.testing.assert_allclose(seam.get_xydata(), [[0.0, 10.5], [1.1, 10.5]])
+    # what the mesh cuts: along the grid line nearest x2 = 10.5, to the first node at or beyond
+    # a0 = 1.1 (h = 0.25 on 44 x 83)
+    y = results["fem"].meta["seam_y"]
+    assert abs(y - 10.5) <= 0.5 * 21 / 83 + 1e-12
+    np.testing.assert_allclose(seam.get_xydata(), [[0.0, y], [1.25, y]])
 
 
 def test_plots_refuse_results_without_their_data(results: dict[str, rf.Result]) -> None:

@@ -24,6 +24,7 @@ __all__ = [
     "run",
     "scene_constants",
     "scene_schema",
+    "scene_warnings",
     "solve_fem_grid",
 ]
 

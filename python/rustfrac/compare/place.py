@@ -18,9 +18,24 @@ from .plan import PD_DOFS_BUDGET, SLA_STEPS_PER_SPACING_M3, Plan, fitting_spacin
 __all__ = ["adaptive_instead", "place", "with_sla_length"]
 
 
+def _held_path(p: Plan, xfem_path: np.ndarray) -> np.ndarray:
+    """What the rectangle must hold: the grown XFEM path and, when it is inclined, the whole
+    pre-crack (the core refuses a CCM-PD pre-crack whose inclined part leaves the rectangle: in
+    the FEM part it would cut the elements into a staircase that leaves nodes without
+    stiffness)."""
+    lines = p.xfem.crack_polylines()
+    if not lines:
+        return xfem_path
+    pre = np.asarray(lines[0], dtype=float)
+    d = np.abs(np.diff(pre, axis=0))
+    inclined = bool(np.any((d[:, 1] > 1e-12 * d[:, 0]) & (d[:, 0] > 1e-12 * d[:, 1])))
+    return np.vstack([pre, xfem_path]) if inclined else xfem_path
+
+
 def place(p: Plan, xfem_path: np.ndarray, final_tip: Sequence[float] | None) -> Scene:
     """The CCM-PD scene of plan ``p`` with its rectangle (the stated one, or
-    :func:`~rustfrac.pd_region.pd_region` around ``xfem_path``), its SLA steps and its stop length.
+    :func:`~rustfrac.pd_region.pd_region` around ``xfem_path``, an inclined pre-crack included),
+    its SLA steps and its stop length.
     Coarsens an automatic dx to keep the budget ``PD_DOFS_BUDGET``; refuses a given dx / rectangle
     beyond it unless ``p.allow_slow``."""
     if p.adaptive:
@@ -35,9 +50,10 @@ def place(p: Plan, xfem_path: np.ndarray, final_tip: Sequence[float] | None) -> 
     if p.dx_auto and p.region_given is None:
         cands += [v for v in fitting_spacings(w, hgt, p.dx * (1 - 1e-9)) if v > p.dx]
     box: Box | None = p.region_given
+    held_path = _held_path(p, xfem_path)
     for dx in cands:
         box = p.region_given or pd_region(
-            xfem_path,
+            held_path,
             (w, hgt),
             dx,
             p.m,
