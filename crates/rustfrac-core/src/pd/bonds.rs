@@ -214,3 +214,24 @@ pub fn damage(n_nodes: usize, bonds: &[Bond], broken: &[bool], nodes: &[usize]) 
         .map(|&n| if tot[n] > 0.0 { brk[n] / tot[n] } else { 0.0 })
         .collect()
 }
+
+/// The bonds of every node, both ends (CSR over nodes: pointers, bond ids).
+pub fn incidence(nn: usize, bonds: &[Bond]) -> (Vec<usize>, Vec<u32>) {
+    let mut node_bond_ptr = vec![0usize; nn + 1];
+    for b in bonds {
+        node_bond_ptr[b.i as usize + 1] += 1;
+        node_bond_ptr[b.j as usize + 1] += 1;
+    }
+    for n in 0..nn {
+        node_bond_ptr[n + 1] += node_bond_ptr[n];
+    }
+    let mut fill = node_bond_ptr.clone();
+    let mut node_bonds = vec![0u32; node_bond_ptr[nn]];
+    for (k, b) in bonds.iter().enumerate() {
+        for n in [b.i as usize, b.j as usize] {
+            node_bonds[fill[n]] = k as u32;
+            fill[n] += 1;
+        }
+    }
+    (node_bond_ptr, node_bonds)
+}

@@ -8,21 +8,7 @@ use rustfrac_core::fem_driver;
 use rustfrac_core::problem::value::{Table, Value};
 use rustfrac_core::problem::Problem;
 
-fn s(v: &str) -> Value {
-    Value::Str(v.into())
-}
-fn f(v: f64) -> Value {
-    Value::Float(v)
-}
-fn pair(a: f64, b: f64) -> Value {
-    Value::List(vec![f(a), f(b)])
-}
-fn tbl(kv: &[(&str, Value)]) -> Value {
-    Value::Table(kv.iter().map(|(k, v)| (k.to_string(), v.clone())).collect())
-}
-fn scene(kv: &[(&str, Value)]) -> Table {
-    kv.iter().map(|(k, v)| (k.to_string(), v.clone())).collect()
-}
+use crate::common::scene_values::{f, pair, s, scene, tbl};
 
 /// The key a scene is refused by.
 fn refused(t: &Table) -> String {

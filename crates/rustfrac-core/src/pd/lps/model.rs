@@ -90,22 +90,7 @@ impl LpsModel {
             m[i] += w * l2 * vol[j];
             m[j] += w * l2 * vol[i];
         }
-        let mut ptr = vec![0usize; nn + 1];
-        for b in bonds {
-            ptr[b.i as usize + 1] += 1;
-            ptr[b.j as usize + 1] += 1;
-        }
-        for n in 0..nn {
-            ptr[n + 1] += ptr[n];
-        }
-        let mut fill = ptr.clone();
-        let mut node_bonds = vec![0u32; ptr[nn]];
-        for (k, b) in bonds.iter().enumerate() {
-            for n in [b.i as usize, b.j as usize] {
-                node_bonds[fill[n]] = k as u32;
-                fill[n] += 1;
-            }
-        }
+        let (ptr, node_bonds) = crate::pd::bonds::incidence(nn, bonds);
         let mut rows_of = Vec::with_capacity(bonds.len() + nn);
         for b in bonds {
             let (i, j) = (b.i as usize, b.j as usize);

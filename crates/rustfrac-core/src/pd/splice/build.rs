@@ -94,7 +94,7 @@ impl SpliceModel {
         let layers = if all_pd { pm.m } else { 1 };
         let lo = loading(p, layers, &grid, &material)?;
         let cmod_nodes = precrack::mouth_nodes(&crack, mouth, &grid);
-        let (node_bond_ptr, node_bonds) = incidence(grid.n_nodes(), &bonds);
+        let (node_bond_ptr, node_bonds) = crate::pd::bonds::incidence(grid.n_nodes(), &bonds);
         let surface = match pm.surface_correction {
             SurfaceCorrection::None => None,
             SurfaceCorrection::Energy => Some(energy_factors(
@@ -385,25 +385,4 @@ fn blocks(
     let ndof = 2 * grid.n_nodes();
     let pattern = Pattern::new(ndof, &rows_of, &cols_of)?;
     Ok((rows_of, cols_of, pattern))
-}
-
-/// The bonds of every node, both ends (CSR over nodes: pointers, bond ids).
-fn incidence(nn: usize, bonds: &[Bond]) -> (Vec<usize>, Vec<u32>) {
-    let mut node_bond_ptr = vec![0usize; nn + 1];
-    for b in bonds {
-        node_bond_ptr[b.i as usize + 1] += 1;
-        node_bond_ptr[b.j as usize + 1] += 1;
-    }
-    for n in 0..nn {
-        node_bond_ptr[n + 1] += node_bond_ptr[n];
-    }
-    let mut fill = node_bond_ptr.clone();
-    let mut node_bonds = vec![0u32; node_bond_ptr[nn]];
-    for (k, b) in bonds.iter().enumerate() {
-        for n in [b.i as usize, b.j as usize] {
-            node_bonds[fill[n]] = k as u32;
-            fill[n] += 1;
-        }
-    }
-    (node_bond_ptr, node_bonds)
 }
