@@ -373,7 +373,11 @@ def test_summary_splits_the_job_time(fast_run: tuple[Path, dict]) -> None:
     assert parts == pytest.approx(t["total"], rel=1e-9, abs=1e-9)
     # Fig. 8b is drawn while CCM-PD computes: inside the computation's time, not beside it
     assert 0.0 < t["figures_beside_runs"] < t["compute"]
-    assert t["compute"] >= sum(summary["times_s"].values()) - 1e-9  # the runs are inside it
+    # the runs are inside it: the XFEM runs one after the other, CCM-PD beside them in a worker
+    # thread (so the sum of all runs may exceed it: that flaked under load)
+    times = summary["times_s"]
+    in_turn = sum(v for k, v in times.items() if k != "ccm_pd")
+    assert t["compute"] >= max(in_turn, times.get("ccm_pd", 0.0)) - 1e-9
     assert "Job time: computation" in (out / "summary.md").read_text()
 
 
